@@ -1,0 +1,80 @@
+// Nearest hit over spheres and planes; mirrors src/cpu/intersect.rs.
+//
+// Self-intersection is prevented without an epsilon: a ray that leaves a
+// surface carries that primitive's id. A plane cannot be met again; a sphere
+// is met again only by a ray leaving it inwards, at t = -2 (o - c).d.
+// Primitive ids: spheres first, then planes; NONE for an eye ray.
+
+// Distance to a sphere along a unit-direction ray; negative for a miss.
+float intersect_sphere(Ray r, vec3 center, float radius, bool from_self) {
+    vec3 f = r.origin - center;
+    float b = dot(f, r.dir);
+    if (from_self) {
+        return -2.0 * b;
+    }
+    // The discriminant from the perpendicular distance to the centre rather
+    // than b^2 - c, which loses every digit when the sphere is small against
+    // its distance (Ray Tracing Gems ch. 7).
+    vec3 l = f - r.dir * b;
+    float disc = radius * radius - dot(l, l);
+    if (disc < 0.0) {
+        return -1.0;
+    }
+    float c = dot(f, f) - radius * radius;
+    float root = sqrt(disc);
+    // The stable root pair: q never cancels, and t0 = c/q is the other root.
+    float q = b >= 0.0 ? -b - root : -b + root;
+    float t0 = c / q;
+    float t1 = q;
+    float near = min(t0, t1);
+    float far = max(t0, t1);
+    return near > 0.0 ? near : far;
+}
+
+float intersect_plane(Ray r, vec3 point, vec3 normal, bool from_self) {
+    if (from_self) {
+        return -1.0;
+    }
+    float denom = dot(r.dir, normal);
+    if (denom == 0.0) {
+        return -1.0;
+    }
+    return dot(point - r.origin, normal) / denom;
+}
+
+// The nearest hit. Besides t and the primitive's id it carries what shading
+// needs of the primitive, picked up in the loop where the primitive's data
+// is already loaded: reading it again by a per-pixel index would cost one
+// load per lane.
+struct Hit {
+    float t;
+    uint prim;
+    uint material;
+    vec4 shape;             // a sphere's centre and radius; a plane's normal
+};
+
+// The nearest hit with t in (0, t_max).
+bool intersect_scene(Ray r, uint from, float t_max, out Hit hit) {
+    hit = Hit(t_max, NONE, 0u, vec4(0.0));
+    SCENE_LOOP for (uint i = 0u; i < SPHERE_COUNT; i++) {
+        vec4 s = spheres[i].center_radius;
+        float t = intersect_sphere(r, s.xyz, s.w, from == i);
+        if (t > 0.0 && t < hit.t) {
+            hit = Hit(t, i, spheres[i].meta.x, s);
+        }
+    }
+    SCENE_LOOP for (uint i = 0u; i < PLANE_COUNT; i++) {
+        uint id = SPHERE_COUNT + i;
+        vec4 n = planes[i].normal;
+        float t = intersect_plane(r, planes[i].point.xyz, n.xyz, from == id);
+        if (t > 0.0 && t < hit.t) {
+            hit = Hit(t, id, planes[i].meta.x, n);
+        }
+    }
+    return hit.prim != NONE;
+}
+
+// The outward normal at p.
+vec3 surface(Hit hit, vec3 p) {
+    return hit.prim < SPHERE_COUNT ? (p - hit.shape.xyz) / hit.shape.w : hit.shape.xyz;
+}

@@ -1,0 +1,31 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+
+// One invocation per pixel of the current tile: the mean of the pixel's
+// samples*samples eye rays, each traced to the fixed depth.
+
+layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
+
+#include "bindings.glsl"
+#include "ray.glsl"
+#include "intersect.glsl"
+#include "shade.glsl"
+#include "trace.glsl"
+
+void main() {
+    uvec2 local = gl_GlobalInvocationID.xy;
+    if (local.x >= tile.rect.z || local.y >= tile.rect.w) {
+        return;
+    }
+    uint x = tile.rect.x + local.x;
+    uint y = tile.rect.y + local.y;
+    uint samples = g.size.z;
+    vec3 sum = vec3(0.0);
+    for (uint j = 0u; j < samples; j++) {
+        for (uint i = 0u; i < samples; i++) {
+            sum += trace(primary_ray(x, y, i, j));
+        }
+    }
+    pixels[local.y * tile.rect.z + local.x] = vec4(sum * (1.0 / float(samples * samples)), 1.0);
+}

@@ -1,0 +1,76 @@
+// Local Blinn-Phong shading with hard shadows (SPEC §3); mirrors
+// src/cpu/shade.rs.
+
+// x^n with SPEC's conventions: x^0 = 1 (also for x = 0), and 0 for x <= 0
+// otherwise; GLSL's pow leaves both undefined.
+float spec_pow(float x, float n) {
+    if (n == 0.0) {
+        return 1.0;
+    }
+    if (x <= 0.0) {
+        return 0.0;
+    }
+    return pow(x, n);
+}
+
+// Whether anything lies on the shadow ray strictly between 0 and dist.
+bool occluded(Ray r, uint from, float dist) {
+    SCENE_LOOP for (uint i = 0u; i < SPHERE_COUNT; i++) {
+        vec4 s = spheres[i].center_radius;
+        float t = intersect_sphere(r, s.xyz, s.w, from == i);
+        if (t > 0.0 && t < dist) {
+            return true;
+        }
+    }
+    SCENE_LOOP for (uint i = 0u; i < PLANE_COUNT; i++) {
+        float t = intersect_plane(r, planes[i].point.xyz, planes[i].normal.xyz, from == SPHERE_COUNT + i);
+        if (t > 0.0 && t < dist) {
+            return true;
+        }
+    }
+    return false;
+}
+
+// The sum of every light's contribution at p, where n faces the viewer.
+vec3 shade(vec3 p, vec3 n, vec3 v, Material m, uint from) {
+    vec3 local = vec3(0.0);
+    SCENE_LOOP for (uint k = 0u; k < LIGHT_COUNT; k++) {
+        Light light = lights[k];
+        uint kind = light.meta.x;
+        vec3 l;
+        float dist;
+        float att;
+        if (kind == LIGHT_DIRECTIONAL) {
+            l = -light.direction.xyz;
+            dist = INF;
+            att = 1.0;
+        } else {
+            vec3 to_light = light.position.xyz - p;
+            dist = length(to_light);
+            vec3 a = light.attenuation.xyz;
+            att = 1.0 / (a.x + a.y * dist + a.z * dist * dist);
+            l = to_light / dist;
+        }
+        vec3 ambient = light.ambient.rgb * m.ambient.rgb;
+        // A light exactly at p has no direction: it adds its ambient term only.
+        if (dist == 0.0) {
+            local += ambient * att;
+            continue;
+        }
+        float spot = 1.0;
+        if (kind == LIGHT_SPOT) {
+            float cos_theta = dot(-l, light.direction.xyz);
+            spot = cos_theta >= light.spot.x ? spec_pow(cos_theta, light.spot.y) : 0.0;
+        }
+        vec3 contribution = ambient;
+        float n_dot_l = dot(n, l);
+        if (n_dot_l > 0.0 && !(g.counts.w != 0u && occluded(Ray(p, l), from, dist))) {
+            vec3 h = normalize(l + v);
+            float n_dot_h = max(dot(n, h), 0.0);
+            contribution += light.diffuse.rgb * m.diffuse.rgb * n_dot_l
+                          + light.specular.rgb * m.specular.rgb * spec_pow(n_dot_h, m.params.x);
+        }
+        local += contribution * (att * spot);
+    }
+    return local;
+}

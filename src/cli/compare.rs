@@ -1,0 +1,123 @@
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+use serde_json::json;
+
+use glint::gpu;
+use glint::raster::diff::{self, ErrorFigures, Tolerance};
+use glint::raster::io;
+
+use super::render::{render_cpu, render_gpu_timed};
+use super::{DeviceArgs, Precision, SceneArgs};
+
+#[derive(Args)]
+pub struct CompareArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+    /// Write a heat-map of the GPU's per-pixel error against the reference.
+    #[arg(long, value_name = "FILE")]
+    diff_out: Option<PathBuf>,
+    #[command(flatten)]
+    device: DeviceArgs,
+}
+
+pub fn format_figures(f: &ErrorFigures) -> String {
+    format!(
+        "max_abs {:.3e}  rmse {:.3e}  psnr {}  over 1/255 {:.4}%  nonfinite {}",
+        f.max_abs,
+        f.rmse,
+        if f.psnr_db.is_finite() {
+            format!("{:.1} dB", f.psnr_db)
+        } else {
+            "inf".to_owned()
+        },
+        100.0 * f.frac_over_1_255,
+        f.nonfinite
+    )
+}
+
+pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
+    let scene = a.scene.load()?;
+    let (gpu_image, renderer, gpu_times) = render_gpu_timed(&scene, &a.device)?;
+    let (reference, _, cpu64_s) = render_cpu(&scene, Precision::F64);
+    let (cpu32_image, _, cpu32_s) = render_cpu(&scene, Precision::F32);
+    let gpu_err = diff::figures(&gpu_image, &reference)?;
+    let cpu32_err = diff::figures(&cpu32_image, &reference)?;
+    let tolerance = Tolerance::default();
+    let violations = tolerance.violations(&gpu_err);
+    if let Some(path) = &a.diff_out {
+        io::write(path, &diff::heat_map(&gpu_image, &reference)?, false)?;
+    }
+    let threads = rayon::current_num_threads();
+    let info = renderer.device_info();
+    let setup: gpu::SetupTimes = renderer.setup;
+    if a.json {
+        let out = json!({
+            "scene": a.scene.scene,
+            "width": scene.width,
+            "height": scene.height,
+            "samples": scene.samples,
+            "max_depth": scene.max_depth,
+            "device": info,
+            "cpu_threads": threads,
+            "setup": setup,
+            "gpu_f32": { "seconds": gpu_times.total_s(), "times": gpu_times, "error": gpu_err },
+            "cpu_f32": { "seconds": cpu32_s, "error": cpu32_err },
+            "cpu_f64": { "seconds": cpu64_s },
+            "tolerance": tolerance,
+            "pass": violations.is_empty(),
+            "violations": violations,
+        });
+        println!("{out}");
+    } else {
+        println!(
+            "scene      {} ({}x{}, {} spp, depth {})",
+            a.scene.scene.display(),
+            scene.width,
+            scene.height,
+            scene.samples * scene.samples,
+            scene.max_depth
+        );
+        println!("device     {} ({}, {})", info.name, info.kind, info.driver);
+        println!(
+            "setup      device {:.3} s, shader compile {:.3} s, pipeline {:.3} s (not in the times below)",
+            setup.device_s, setup.compile_s, setup.pipeline_s
+        );
+        println!(
+            "gpu f32    {:.3} s  (upload {:.3}, dispatch {:.3}, readback {:.3})",
+            gpu_times.total_s(),
+            gpu_times.upload_s,
+            gpu_times.dispatch_s,
+            gpu_times.readback_s
+        );
+        println!(
+            "cpu f32    {cpu32_s:.3} s  ({threads} threads)  {:.2}x the GPU's time",
+            cpu32_s / gpu_times.total_s()
+        );
+        println!("cpu f64    {cpu64_s:.3} s  ({threads} threads)  reference");
+        println!("gpu error  {}", format_figures(&gpu_err));
+        println!("cpu32 err  {}", format_figures(&cpu32_err));
+        println!(
+            "tolerance  over 1/255 <= {:.2}%, rmse <= {:.1e}, no non-finite value: {}",
+            100.0 * tolerance.frac_over_1_255,
+            tolerance.rmse,
+            if violations.is_empty() {
+                "pass"
+            } else {
+                "FAIL"
+            }
+        );
+        for v in &violations {
+            println!("           {v}");
+        }
+    }
+    Ok(if violations.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}

@@ -1,0 +1,113 @@
+//! Command-line parsing and dispatch. Every failure a user can cause comes
+//! back as an error with context; `main` prints it and exits 2.
+
+mod compare;
+mod diff;
+mod info;
+mod progress;
+mod render;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use glint::gpu::GpuOptions;
+use glint::scene::{Overrides, Scene};
+
+#[derive(Parser)]
+#[command(
+    name = "glint",
+    version,
+    about = "Headless Whitted-style ray tracer: a Vulkan compute shader checked against a CPU reference"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene to PNG, PFM or EXR.
+    Render(render::RenderArgs),
+    /// Render on the GPU (f32) and with the CPU f64 reference; print the error and the times; exit 1 over tolerance.
+    Compare(compare::CompareArgs),
+    /// The error figures of image A against reference image B.
+    Diff(diff::DiffArgs),
+    /// List the Vulkan devices and what they support.
+    Info(info::InfoArgs),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Backend {
+    Gpu,
+    Cpu,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Precision {
+    F32,
+    F64,
+}
+
+/// The scene and the settings that override its own.
+#[derive(Args)]
+pub struct SceneArgs {
+    /// The scene file (TOML, see SPEC §1).
+    scene: PathBuf,
+    /// Image width in pixels (1..=16384).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels (1..=16384).
+    #[arg(long)]
+    height: Option<u32>,
+    /// Supersampling grid side: samples² rays per pixel (1..=16).
+    #[arg(long)]
+    samples: Option<u32>,
+    /// Ray segments per pixel: 1 = primary rays only (1..=64).
+    #[arg(long)]
+    max_depth: Option<u32>,
+}
+
+impl SceneArgs {
+    pub fn load(&self) -> anyhow::Result<Scene> {
+        let overrides = Overrides {
+            width: self.width,
+            height: self.height,
+            samples: self.samples,
+            max_depth: self.max_depth,
+        };
+        Ok(Scene::load(&self.scene, &overrides)?)
+    }
+}
+
+/// Which Vulkan device to use, and where to find shader files.
+#[derive(Args)]
+pub struct DeviceArgs {
+    /// Use the first Vulkan device whose name contains NAME (see `glint info`).
+    #[arg(long, value_name = "NAME")]
+    device: Option<String>,
+    /// Look for shader files (main.comp, shade.glsl, ...) in DIR before the built-in ones; repeatable.
+    #[arg(short = 'I', long = "include", value_name = "DIR")]
+    include: Vec<PathBuf>,
+}
+
+impl DeviceArgs {
+    pub fn options(&self) -> anyhow::Result<GpuOptions> {
+        for dir in &self.include {
+            anyhow::ensure!(dir.is_dir(), "-I {}: not a directory", dir.display());
+        }
+        let mut options = GpuOptions::from_env(self.device.clone());
+        options.include_dirs = self.include.clone();
+        Ok(options)
+    }
+}
+
+pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
+    match cli.command {
+        Command::Render(a) => render::run(&a),
+        Command::Compare(a) => compare::run(&a),
+        Command::Diff(a) => diff::run(&a),
+        Command::Info(a) => info::run(&a),
+    }
+}

@@ -1,0 +1,97 @@
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{bail, Context};
+use clap::Args;
+
+use glint::raster::{io, Image};
+use glint::scene::Scene;
+use glint::{cpu, gpu};
+
+use super::{progress, Backend, DeviceArgs, Precision, SceneArgs};
+
+#[derive(Args)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Output file: .png, .pfm or .exr [default: the scene's name with .png]
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    #[arg(long, value_enum, default_value = "gpu")]
+    backend: Backend,
+    /// Arithmetic precision [default: f32 on the GPU, f64 on the CPU]
+    #[arg(long, value_enum)]
+    precision: Option<Precision>,
+    #[command(flatten)]
+    device: DeviceArgs,
+}
+
+pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
+    let output = match &a.output {
+        Some(o) => o.clone(),
+        None => PathBuf::from(a.scene.scene.file_stem().unwrap_or_default()).with_extension("png"),
+    };
+    // Refuse a bad output name before spending time on the render.
+    io::Format::of(&output)?;
+    let scene = a.scene.load()?;
+    let (image, label, seconds) = match (a.backend, a.precision) {
+        (Backend::Gpu, Some(Precision::F64)) => {
+            bail!("the GPU renders in f32; use --backend cpu --precision f64 for the f64 reference")
+        }
+        (Backend::Gpu, _) => render_gpu(&scene, &a.device)?,
+        (Backend::Cpu, p) => render_cpu(&scene, p.unwrap_or(Precision::F64)),
+    };
+    io::write(&output, &image, scene.srgb).with_context(|| "cannot write the image")?;
+    eprintln!(
+        "rendered {}x{} ({} spp, depth {}) with {label} in {seconds:.3} s -> {}",
+        scene.width,
+        scene.height,
+        scene.samples * scene.samples,
+        scene.max_depth,
+        output.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+pub fn render_gpu(scene: &Scene, device: &DeviceArgs) -> anyhow::Result<(Image, String, f64)> {
+    let (image, renderer, times) = render_gpu_timed(scene, device)?;
+    Ok((
+        image,
+        format!("GPU f32 on {}", renderer.device_info().name),
+        times.total_s(),
+    ))
+}
+
+/// Renders on the GPU, returning the renderer too for its device and setup times.
+pub fn render_gpu_timed(
+    scene: &Scene,
+    device: &DeviceArgs,
+) -> anyhow::Result<(Image, gpu::Renderer, gpu::RenderTimes)> {
+    let mut renderer = gpu::Renderer::new(&device.options()?)?;
+    renderer.prepare_for(scene)?;
+    let bar = progress::bar(scene.pixel_count(), "gpu f32");
+    let (image, times) = renderer.render(scene, &|n| bar.inc(n))?;
+    bar.finish_and_clear();
+    Ok((image, renderer, times))
+}
+
+pub fn render_cpu(scene: &Scene, precision: Precision) -> (Image, String, f64) {
+    let bar = progress::bar(
+        u64::from(scene.height),
+        &format!("cpu {precision:?}").to_lowercase(),
+    );
+    let start = Instant::now();
+    let image = match precision {
+        Precision::F32 => cpu::render_rows::<f32>(scene, &|n| bar.inc(n)),
+        Precision::F64 => cpu::render_rows::<f64>(scene, &|n| bar.inc(n)),
+    };
+    let seconds = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    let threads = rayon::current_num_threads();
+    (
+        image,
+        format!("CPU {precision:?} on {threads} threads").replace("F", "f"),
+        seconds,
+    )
+}

@@ -1,0 +1,49 @@
+//! The CPU reference renderer: SPEC §2-3 in f32 or f64, one function per
+//! stage of the shader (ray, intersect, shade, trace) so that a disagreement
+//! points at one stage.
+
+pub mod intersect;
+pub mod ray;
+pub mod real;
+pub mod shade;
+pub mod trace;
+pub mod world;
+
+use rayon::prelude::*;
+
+use crate::raster::Image;
+use crate::scene::Scene;
+
+pub use real::Real;
+use world::World;
+
+/// Renders `scene` in precision `R`, rows in parallel.
+pub fn render<R: Real>(scene: &Scene) -> Image {
+    render_rows::<R>(scene, &|_| {})
+}
+
+/// As [`render`], calling `progress(rows_done)` as rows finish.
+pub fn render_rows<R: Real>(scene: &Scene, progress: &(dyn Fn(u64) + Sync)) -> Image {
+    let world = World::<R>::new(scene);
+    let (width, height, samples) = (world.width, world.height, world.samples);
+    let inv = R::one() / R::of(f64::from(samples * samples));
+    let mut pixels = vec![[0.0f32; 3]; scene.pixel_count() as usize];
+    pixels
+        .par_chunks_mut(width as usize)
+        .enumerate()
+        .for_each(|(y, row)| {
+            for (x, px) in row.iter_mut().enumerate() {
+                let mut sum = real::Vec3::zero();
+                for j in 0..samples {
+                    for i in 0..samples {
+                        let ray = ray::primary_ray(&world, x as u32, y as u32, i, j);
+                        sum += trace::trace(&world, ray);
+                    }
+                }
+                let c = sum * inv;
+                *px = [c.x.to_f32(), c.y.to_f32(), c.z.to_f32()];
+            }
+            progress(1);
+        });
+    Image::new(width, height, pixels)
+}

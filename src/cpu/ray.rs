@@ -1,0 +1,35 @@
+//! Eye rays through the virtual screen (SPEC §2); mirrors shaders/ray.glsl.
+
+use super::real::{Real, Vec3};
+use super::world::World;
+
+#[derive(Debug, Clone, Copy)]
+pub struct Ray<R> {
+    pub origin: Vec3<R>,
+    /// Unit length.
+    pub dir: Vec3<R>,
+}
+
+impl<R: Real> Ray<R> {
+    pub fn at(&self, t: R) -> Vec3<R> {
+        self.origin + self.dir * t
+    }
+}
+
+/// The eye ray for sample (i, j) of pixel (x, y).
+pub fn primary_ray<R: Real>(w: &World<R>, x: u32, y: u32, i: u32, j: u32) -> Ray<R> {
+    let half = R::of(0.5);
+    let two = R::of(2.0);
+    let n = R::of(f64::from(w.samples));
+    let u = two * (R::of(f64::from(x)) + (R::of(f64::from(i)) + half) / n)
+        / R::of(f64::from(w.width))
+        - R::one();
+    let v = R::one()
+        - two * (R::of(f64::from(y)) + (R::of(f64::from(j)) + half) / n)
+            / R::of(f64::from(w.height));
+    let to_pixel = w.to_screen + w.screen_right * u + w.screen_up * v;
+    Ray {
+        origin: w.eye,
+        dir: to_pixel.normalize(),
+    }
+}

@@ -1,0 +1,116 @@
+//! The scalar the reference is generic over (f32 to match the shader, f64 as
+//! the oracle) and a 3-vector over it.
+
+use std::fmt::Debug;
+use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
+
+use num_traits::Float;
+
+pub trait Real: Float + Debug + Send + Sync + AddAssign + 'static {
+    const NAME: &'static str;
+    fn of(v: f64) -> Self;
+    fn to_f32(self) -> f32;
+}
+
+impl Real for f32 {
+    const NAME: &'static str = "f32";
+    fn of(v: f64) -> Self {
+        v as f32
+    }
+    fn to_f32(self) -> f32 {
+        self
+    }
+}
+
+impl Real for f64 {
+    const NAME: &'static str = "f64";
+    fn of(v: f64) -> Self {
+        v
+    }
+    fn to_f32(self) -> f32 {
+        self as f32
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Vec3<R> {
+    pub x: R,
+    pub y: R,
+    pub z: R,
+}
+
+impl<R: Real> Vec3<R> {
+    pub fn new(x: R, y: R, z: R) -> Self {
+        Self { x, y, z }
+    }
+    pub fn splat(v: R) -> Self {
+        Self::new(v, v, v)
+    }
+    pub fn zero() -> Self {
+        Self::splat(R::zero())
+    }
+    pub fn of(v: glam::DVec3) -> Self {
+        Self::new(R::of(v.x), R::of(v.y), R::of(v.z))
+    }
+    pub fn dot(self, o: Self) -> R {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+    pub fn length(self) -> R {
+        self.dot(self).sqrt()
+    }
+    pub fn normalize(self) -> Self {
+        self * self.length().recip()
+    }
+    pub fn is_finite(self) -> bool {
+        self.x.is_finite() && self.y.is_finite() && self.z.is_finite()
+    }
+}
+
+impl<R: Real> Add for Vec3<R> {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        Self::new(self.x + o.x, self.y + o.y, self.z + o.z)
+    }
+}
+
+impl<R: Real> AddAssign for Vec3<R> {
+    fn add_assign(&mut self, o: Self) {
+        *self = *self + o;
+    }
+}
+
+impl<R: Real> Sub for Vec3<R> {
+    type Output = Self;
+    fn sub(self, o: Self) -> Self {
+        Self::new(self.x - o.x, self.y - o.y, self.z - o.z)
+    }
+}
+
+impl<R: Real> Neg for Vec3<R> {
+    type Output = Self;
+    fn neg(self) -> Self {
+        Self::new(-self.x, -self.y, -self.z)
+    }
+}
+
+impl<R: Real> Mul<R> for Vec3<R> {
+    type Output = Self;
+    fn mul(self, s: R) -> Self {
+        Self::new(self.x * s, self.y * s, self.z * s)
+    }
+}
+
+/// Per-channel product of two colours.
+impl<R: Real> Mul for Vec3<R> {
+    type Output = Self;
+    fn mul(self, o: Self) -> Self {
+        Self::new(self.x * o.x, self.y * o.y, self.z * o.z)
+    }
+}
+
+impl<R: Real> Div<R> for Vec3<R> {
+    type Output = Self;
+    fn div(self, s: R) -> Self {
+        Self::new(self.x / s, self.y / s, self.z / s)
+    }
+}

@@ -1,0 +1,84 @@
+//! Local Blinn-Phong shading with hard shadows (SPEC §3); mirrors
+//! shaders/shade.glsl.
+
+use crate::scene::LightKind;
+
+use super::intersect::{intersect_plane, intersect_sphere};
+use super::ray::Ray;
+use super::real::{Real, Vec3};
+use super::world::{MaterialR, World};
+
+/// x^n with SPEC's conventions: x^0 = 1 (also for x = 0), and 0 for x <= 0
+/// otherwise; GLSL's pow leaves both undefined.
+pub fn spec_pow<R: Real>(x: R, n: R) -> R {
+    if n == R::zero() {
+        R::one()
+    } else if x <= R::zero() {
+        R::zero()
+    } else {
+        x.powf(n)
+    }
+}
+
+/// Whether anything lies on the shadow ray strictly between 0 and `dist`.
+pub fn occluded<R: Real>(w: &World<R>, ray: &Ray<R>, from: usize, dist: R) -> bool {
+    let base = w.spheres.len();
+    w.spheres.iter().enumerate().any(|(i, s)| {
+        intersect_sphere(ray, s.center, s.radius, from == i).is_some_and(|t| t < dist)
+    }) || w.planes.iter().enumerate().any(|(i, p)| {
+        intersect_plane(ray, p.point, p.normal, from == base + i).is_some_and(|t| t < dist)
+    })
+}
+
+/// The sum of every light's contribution at `p`, where `n` faces the viewer.
+pub fn shade<R: Real>(
+    w: &World<R>,
+    p: Vec3<R>,
+    n: Vec3<R>,
+    v: Vec3<R>,
+    m: &MaterialR<R>,
+    from: usize,
+) -> Vec3<R> {
+    let mut local = Vec3::zero();
+    for light in &w.lights {
+        let (l, dist, att) = match light.kind {
+            LightKind::Directional => (-light.direction, R::infinity(), R::one()),
+            LightKind::Point | LightKind::Spot => {
+                let to_light = light.position - p;
+                let dist = to_light.length();
+                let a = light.attenuation;
+                let att = (a.x + a.y * dist + a.z * dist * dist).recip();
+                (to_light / dist, dist, att)
+            }
+        };
+        let ambient = light.ambient * m.ambient;
+        // A light exactly at p has no direction: it adds its ambient term only.
+        if dist == R::zero() {
+            local += ambient * att;
+            continue;
+        }
+        let spot = match light.kind {
+            LightKind::Spot => {
+                let cos_theta = (-l).dot(light.direction);
+                if cos_theta >= light.cos_cutoff {
+                    spec_pow(cos_theta, light.exponent)
+                } else {
+                    R::zero()
+                }
+            }
+            _ => R::one(),
+        };
+        let mut contribution = ambient;
+        let n_dot_l = n.dot(l);
+        if n_dot_l > R::zero()
+            && !(w.shadows && occluded(w, &Ray { origin: p, dir: l }, from, dist))
+        {
+            let h = (l + v).normalize();
+            let n_dot_h = n.dot(h).max(R::zero());
+            contribution += light.diffuse * m.diffuse * n_dot_l
+                + light.specular * m.specular * spec_pow(n_dot_h, m.shininess);
+        }
+        local += contribution * (att * spot);
+    }
+    local
+}

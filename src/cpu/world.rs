@@ -1,0 +1,118 @@
+//! The scene in the reference's scalar type: what the shader's buffers hold.
+
+use crate::scene::{LightKind, Scene};
+
+use super::real::{Real, Vec3};
+
+pub struct World<R> {
+    pub eye: Vec3<R>,
+    /// screen_center - eye, taken in f64 before rounding, as the GPU gets it:
+    /// far from the origin the eye and the screen share most of their digits.
+    pub to_screen: Vec3<R>,
+    pub screen_right: Vec3<R>,
+    pub screen_up: Vec3<R>,
+    pub spheres: Vec<SphereR<R>>,
+    pub planes: Vec<PlaneR<R>>,
+    pub materials: Vec<MaterialR<R>>,
+    pub lights: Vec<LightR<R>>,
+    pub background: Vec3<R>,
+    pub shadows: bool,
+    pub max_depth: u32,
+    pub width: u32,
+    pub height: u32,
+    pub samples: u32,
+}
+
+pub struct SphereR<R> {
+    pub center: Vec3<R>,
+    pub radius: R,
+    pub material: usize,
+}
+
+pub struct PlaneR<R> {
+    pub point: Vec3<R>,
+    pub normal: Vec3<R>,
+    pub material: usize,
+}
+
+pub struct MaterialR<R> {
+    pub ambient: Vec3<R>,
+    pub diffuse: Vec3<R>,
+    pub specular: Vec3<R>,
+    pub shininess: R,
+    pub reflectivity: R,
+}
+
+pub struct LightR<R> {
+    pub kind: LightKind,
+    pub position: Vec3<R>,
+    pub direction: Vec3<R>,
+    pub ambient: Vec3<R>,
+    pub diffuse: Vec3<R>,
+    pub specular: Vec3<R>,
+    pub attenuation: Vec3<R>,
+    pub cos_cutoff: R,
+    pub exponent: R,
+}
+
+impl<R: Real> World<R> {
+    pub fn new(scene: &Scene) -> Self {
+        let cam = &scene.camera;
+        Self {
+            eye: Vec3::of(cam.eye),
+            to_screen: Vec3::of(cam.screen_center - cam.eye),
+            screen_right: Vec3::of(cam.screen_right),
+            screen_up: Vec3::of(cam.screen_up),
+            spheres: scene
+                .spheres
+                .iter()
+                .map(|s| SphereR {
+                    center: Vec3::of(s.center),
+                    radius: R::of(s.radius),
+                    material: s.material as usize,
+                })
+                .collect(),
+            planes: scene
+                .planes
+                .iter()
+                .map(|p| PlaneR {
+                    point: Vec3::of(p.point),
+                    normal: Vec3::of(p.normal),
+                    material: p.material as usize,
+                })
+                .collect(),
+            materials: scene
+                .materials
+                .iter()
+                .map(|m| MaterialR {
+                    ambient: Vec3::of(m.ambient),
+                    diffuse: Vec3::of(m.diffuse),
+                    specular: Vec3::of(m.specular),
+                    shininess: R::of(m.shininess),
+                    reflectivity: R::of(m.reflectivity),
+                })
+                .collect(),
+            lights: scene
+                .lights
+                .iter()
+                .map(|l| LightR {
+                    kind: l.kind,
+                    position: Vec3::of(l.position),
+                    direction: Vec3::of(l.direction),
+                    ambient: Vec3::of(l.ambient),
+                    diffuse: Vec3::of(l.diffuse),
+                    specular: Vec3::of(l.specular),
+                    attenuation: Vec3::of(l.attenuation),
+                    cos_cutoff: R::of(l.cos_cutoff),
+                    exponent: R::of(l.exponent),
+                })
+                .collect(),
+            background: Vec3::of(scene.background),
+            shadows: scene.shadows,
+            max_depth: scene.max_depth,
+            width: scene.width,
+            height: scene.height,
+            samples: scene.samples,
+        }
+    }
+}

@@ -1,0 +1,41 @@
+use ash::vk;
+
+const INSTALL_HINT: &str =
+    "on Debian or Ubuntu run `sudo apt-get install libvulkan1 mesa-vulkan-drivers` \
+     for lavapipe (Vulkan on the CPU), or render with --backend cpu";
+
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    #[error("cannot load the Vulkan loader (libvulkan.so.1): {0}; {INSTALL_HINT}")]
+    NoLoader(String),
+    #[error("no Vulkan 1.2 device with a compute queue was found; {INSTALL_HINT}")]
+    NoDevice,
+    #[error("no Vulkan device matches \"{wanted}\"; the devices are: {available}")]
+    NoMatchingDevice { wanted: String, available: String },
+    #[error("validation was asked for but VK_LAYER_KHRONOS_validation is not installed (Debian: apt-get install vulkan-validationlayers)")]
+    NoValidationLayer,
+    #[error("{what} failed: {result}")]
+    Vk {
+        what: &'static str,
+        result: vk::Result,
+    },
+    #[error("no memory type for {0} on this device")]
+    NoMemoryType(&'static str),
+    #[error("the shader does not compile:\n{0}")]
+    Shader(String),
+    #[error("the Vulkan validation layer reported {} message(s):\n{}", .0.len(), .0.join("\n"))]
+    Validation(Vec<String>),
+    #[error("{0}")]
+    Unsupported(String),
+}
+
+/// Attaches what was being done to a raw Vulkan result.
+pub trait VkContext<T> {
+    fn doing(self, what: &'static str) -> Result<T, GpuError>;
+}
+
+impl<T> VkContext<T> for Result<T, vk::Result> {
+    fn doing(self, what: &'static str) -> Result<T, GpuError> {
+        self.map_err(|result| GpuError::Vk { what, result })
+    }
+}

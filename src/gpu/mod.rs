@@ -1,0 +1,275 @@
+//! The GPU renderer: SPEC §2-3 as a Vulkan compute shader, one invocation
+//! per pixel, large images in tiles.
+
+pub mod compile;
+pub mod error;
+pub mod layout;
+pub mod variant;
+pub mod vk;
+
+use std::collections::HashMap;
+use std::time::{Duration, Instant};
+
+use ash::vk as raw;
+use glam::UVec4;
+
+use crate::raster::Image;
+use crate::scene::Scene;
+pub use error::GpuError;
+use layout::{TileRect, Uploads};
+use variant::Variant;
+use vk::buffer::Buffer;
+use vk::command::OneShot;
+use vk::device::{Device, DeviceInfo};
+use vk::instance::Instance;
+use vk::pipeline::ComputePipeline;
+
+/// Rays per dispatch at most: small enough that no single dispatch runs long
+/// enough to trip a desktop GPU's watchdog, large enough to fill one.
+const RAYS_PER_DISPATCH: u64 = 1 << 22;
+const WORKGROUP: u32 = 8;
+
+#[derive(Debug, Clone, Default)]
+pub struct GpuOptions {
+    /// Pick the first device whose name contains this.
+    pub device: Option<String>,
+    /// Enable the Khronos validation layer and fail on any message.
+    pub validate: bool,
+    /// Directories searched for shader files ahead of the built-in ones.
+    pub include_dirs: Vec<std::path::PathBuf>,
+}
+
+impl GpuOptions {
+    /// Validation is also switched on by GLINT_VALIDATION=1 (the tests set it).
+    pub fn from_env(device: Option<String>) -> Self {
+        let validate = std::env::var("GLINT_VALIDATION").is_ok_and(|v| v == "1");
+        Self {
+            device,
+            validate,
+            include_dirs: Vec::new(),
+        }
+    }
+}
+
+/// One-time costs, apart from any render: opening the device, and compiling
+/// the scene's shader variant and creating its pipeline (zero when cached).
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct SetupTimes {
+    pub device_s: f64,
+    pub compile_s: f64,
+    pub pipeline_s: f64,
+}
+
+/// The cost of one render.
+#[derive(Debug, Clone, Copy, Default, serde::Serialize)]
+pub struct RenderTimes {
+    pub upload_s: f64,
+    pub dispatch_s: f64,
+    pub readback_s: f64,
+}
+
+impl RenderTimes {
+    pub fn total_s(&self) -> f64 {
+        self.upload_s + self.dispatch_s + self.readback_s
+    }
+}
+
+/// Field order is drop order: the pipelines and commands go before the
+/// device, the device before the instance.
+pub struct Renderer {
+    pipelines: HashMap<Variant, ComputePipeline>,
+    commands: OneShot,
+    sources: compile::Sources,
+    device: Device,
+    instance: Instance,
+    pub setup: SetupTimes,
+}
+
+fn secs(d: Duration) -> f64 {
+    d.as_secs_f64()
+}
+
+impl Renderer {
+    pub fn new(opts: &GpuOptions) -> Result<Self, GpuError> {
+        let t0 = Instant::now();
+        let instance = Instance::new(opts.validate)?;
+        let device = Device::open(&instance, opts.device.as_deref())?;
+        let commands = OneShot::new(&device)?;
+        let renderer = Self {
+            pipelines: HashMap::new(),
+            commands,
+            sources: compile::Sources {
+                dirs: opts.include_dirs.clone(),
+            },
+            device,
+            instance,
+            setup: SetupTimes {
+                device_s: secs(t0.elapsed()),
+                ..SetupTimes::default()
+            },
+        };
+        renderer.check_validation()?;
+        Ok(renderer)
+    }
+
+    pub fn device_info(&self) -> &DeviceInfo {
+        &self.device.info
+    }
+
+    fn check_validation(&self) -> Result<(), GpuError> {
+        let messages = self.instance.take_messages();
+        if messages.is_empty() {
+            Ok(())
+        } else {
+            Err(GpuError::Validation(messages))
+        }
+    }
+
+    /// Tile size in pixels: within the rays-per-dispatch budget and the
+    /// device's storage buffer range, whole rows where the image is narrow.
+    fn tile_size(&self, scene: &Scene) -> (u32, u32) {
+        let rays_per_pixel = u64::from(scene.samples * scene.samples);
+        let by_range = u64::from(self.device.info.max_storage_buffer_range) / 16;
+        let pixels = (RAYS_PER_DISPATCH / rays_per_pixel)
+            .min(by_range)
+            .max(u64::from(WORKGROUP * WORKGROUP));
+        let width = scene.width.min(2048);
+        let height = (pixels / u64::from(width)).clamp(1, u64::from(scene.height)) as u32;
+        (width, height)
+    }
+
+    /// Compiles the variant's shader and creates its pipeline, once per
+    /// variant; records the time it took in `setup`.
+    fn prepare(&mut self, variant: &Variant) -> Result<(), GpuError> {
+        if self.pipelines.contains_key(variant) {
+            return Ok(());
+        }
+        let t0 = Instant::now();
+        let defines = variant.defines();
+        let spirv = compile::compile(&self.sources, &defines)?;
+        let t1 = Instant::now();
+        let push_bytes = std::mem::size_of::<TileRect>() as u32;
+        let pipeline = ComputePipeline::new(
+            &self.device.raw,
+            &spirv,
+            &variant.descriptor_types(),
+            push_bytes,
+        )?;
+        self.setup.compile_s = secs(t1 - t0);
+        self.setup.pipeline_s = secs(t1.elapsed());
+        self.pipelines.insert(variant.clone(), pipeline);
+        self.check_validation()
+    }
+
+    /// Compiles what `scene` needs without rendering it, so that a timed
+    /// render measures the render alone.
+    pub fn prepare_for(&mut self, scene: &Scene) -> Result<(), GpuError> {
+        let variant = Variant::for_scene(scene, &Uploads::new(scene), &self.device.info);
+        self.prepare(&variant)
+    }
+
+    /// Renders `scene`, calling `progress(pixels)` as tiles finish.
+    pub fn render(
+        &mut self,
+        scene: &Scene,
+        progress: &dyn Fn(u64),
+    ) -> Result<(Image, RenderTimes), GpuError> {
+        let up = Uploads::new(scene);
+        let variant = Variant::for_scene(scene, &up, &self.device.info);
+        self.prepare(&variant)?;
+        let pipeline = &self.pipelines[&variant];
+
+        let mut times = RenderTimes::default();
+        let t0 = Instant::now();
+        let usage = variant.scene_buffer_usage();
+        let d = &self.device;
+        let globals = Buffer::with_data(
+            d,
+            &[up.globals],
+            raw::BufferUsageFlags::UNIFORM_BUFFER,
+            "the uniform block",
+        )?;
+        let spheres = Buffer::with_data(d, &up.spheres, usage, "spheres")?;
+        let planes = Buffer::with_data(d, &up.planes, usage, "planes")?;
+        let materials = Buffer::with_data(d, &up.materials, usage, "materials")?;
+        let lights = Buffer::with_data(d, &up.lights, usage, "lights")?;
+        let (tile_w, tile_h) = self.tile_size(scene);
+        let out_bytes = u64::from(tile_w) * u64::from(tile_h) * 16;
+        let out = Buffer::new(
+            d,
+            out_bytes,
+            raw::BufferUsageFlags::STORAGE_BUFFER,
+            "the output tile",
+        )?;
+        pipeline.bind(&[&globals, &spheres, &planes, &materials, &lights, &out]);
+        times.upload_s = secs(t0.elapsed());
+
+        let (width, height) = (scene.width, scene.height);
+        let mut pixels = vec![[0.0f32; 3]; scene.pixel_count() as usize];
+        for y0 in (0..height).step_by(tile_h as usize) {
+            for x0 in (0..width).step_by(tile_w as usize) {
+                let (w, h) = (tile_w.min(width - x0), tile_h.min(height - y0));
+                let t1 = Instant::now();
+                self.dispatch(pipeline, TileRect(UVec4::new(x0, y0, w, h)))?;
+                let t2 = Instant::now();
+                let tile: &[[f32; 4]] = out.read(w as usize * h as usize);
+                for (row, src) in tile.chunks_exact(w as usize).enumerate() {
+                    let start = (y0 as usize + row) * width as usize + x0 as usize;
+                    for (dst, s) in pixels[start..start + w as usize].iter_mut().zip(src) {
+                        *dst = [s[0], s[1], s[2]];
+                    }
+                }
+                times.dispatch_s += secs(t2 - t1);
+                times.readback_s += secs(t2.elapsed());
+                progress(u64::from(w) * u64::from(h));
+            }
+        }
+        self.check_validation()?;
+        Ok((Image::new(width, height, pixels), times))
+    }
+
+    fn dispatch(&self, p: &ComputePipeline, rect: TileRect) -> Result<(), GpuError> {
+        let groups = |n: u32| n.div_ceil(WORKGROUP);
+        self.commands.run(|dev, cb| unsafe {
+            dev.cmd_bind_pipeline(cb, raw::PipelineBindPoint::COMPUTE, p.pipeline);
+            dev.cmd_bind_descriptor_sets(
+                cb,
+                raw::PipelineBindPoint::COMPUTE,
+                p.layout,
+                0,
+                &[p.set],
+                &[],
+            );
+            dev.cmd_push_constants(
+                cb,
+                p.layout,
+                raw::ShaderStageFlags::COMPUTE,
+                0,
+                bytemuck::bytes_of(&rect),
+            );
+            dev.cmd_dispatch(cb, groups(rect.0.z), groups(rect.0.w), 1);
+            // Make the shader's writes visible to the host's read of the mapping.
+            let barrier = raw::MemoryBarrier::default()
+                .src_access_mask(raw::AccessFlags::SHADER_WRITE)
+                .dst_access_mask(raw::AccessFlags::HOST_READ);
+            dev.cmd_pipeline_barrier(
+                cb,
+                raw::PipelineStageFlags::COMPUTE_SHADER,
+                raw::PipelineStageFlags::HOST,
+                raw::DependencyFlags::empty(),
+                &[barrier],
+                &[],
+                &[],
+            );
+        })
+    }
+}
+
+/// Every Vulkan device, best first, for `glint info`.
+pub fn list_devices() -> Result<Vec<DeviceInfo>, GpuError> {
+    let instance = Instance::new(false)?;
+    Ok(vk::device::candidates(&instance)?
+        .into_iter()
+        .map(|c| c.info)
+        .collect())
+}

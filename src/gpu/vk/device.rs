@@ -1,0 +1,185 @@
+//! Choosing a physical device and opening a logical one with a compute queue.
+
+use std::ffi::CStr;
+
+use ash::vk;
+use serde::Serialize;
+
+use super::instance::Instance;
+use crate::gpu::error::{GpuError, VkContext};
+
+/// What `glint info` shows of a device and what the renderer needs to know.
+#[derive(Debug, Clone, Serialize)]
+pub struct DeviceInfo {
+    pub name: String,
+    pub kind: String,
+    pub api_version: String,
+    pub driver: String,
+    pub shader_float64: bool,
+    pub max_storage_buffer_range: u32,
+    pub max_uniform_buffer_range: u32,
+    pub max_compute_work_group_count: [u32; 3],
+    pub max_compute_work_group_invocations: u32,
+    pub compute_queue_family: Option<u32>,
+}
+
+/// A candidate, with the rank that orders the default choice.
+pub struct Candidate {
+    pub physical: vk::PhysicalDevice,
+    pub info: DeviceInfo,
+    rank: u32,
+    api: u32,
+}
+
+fn version(v: u32) -> String {
+    format!(
+        "{}.{}.{}",
+        vk::api_version_major(v),
+        vk::api_version_minor(v),
+        vk::api_version_patch(v)
+    )
+}
+
+/// Every device the instance sees, best first: discrete GPUs, integrated
+/// GPUs, virtual GPUs, then CPU implementations such as lavapipe.
+pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
+    let raw = &instance.raw;
+    let physicals =
+        unsafe { raw.enumerate_physical_devices() }.doing("vkEnumeratePhysicalDevices")?;
+    let mut out = Vec::new();
+    for physical in physicals {
+        let mut driver = vk::PhysicalDeviceDriverProperties::default();
+        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
+        unsafe { raw.get_physical_device_properties2(physical, &mut props2) };
+        let props = props2.properties;
+        let features = unsafe { raw.get_physical_device_features(physical) };
+        let families = unsafe { raw.get_physical_device_queue_family_properties(physical) };
+        let compute_queue_family = families
+            .iter()
+            .position(|f| f.queue_flags.contains(vk::QueueFlags::COMPUTE))
+            .map(|i| i as u32);
+        let cstr = |s: Result<&CStr, _>| {
+            s.map_or_else(
+                |_| "?".to_owned(),
+                |c: &CStr| c.to_string_lossy().into_owned(),
+            )
+        };
+        let (kind, rank) = match props.device_type {
+            vk::PhysicalDeviceType::DISCRETE_GPU => ("discrete GPU", 0),
+            vk::PhysicalDeviceType::INTEGRATED_GPU => ("integrated GPU", 1),
+            vk::PhysicalDeviceType::VIRTUAL_GPU => ("virtual GPU", 2),
+            vk::PhysicalDeviceType::CPU => ("CPU", 3),
+            _ => ("other", 4),
+        };
+        let limits = props.limits;
+        out.push(Candidate {
+            physical,
+            rank,
+            api: props.api_version,
+            info: DeviceInfo {
+                name: cstr(props.device_name_as_c_str()),
+                kind: kind.to_owned(),
+                api_version: version(props.api_version),
+                driver: format!(
+                    "{} {}",
+                    cstr(driver.driver_name_as_c_str()),
+                    cstr(driver.driver_info_as_c_str())
+                ),
+                shader_float64: features.shader_float64 == vk::TRUE,
+                max_storage_buffer_range: limits.max_storage_buffer_range,
+                max_uniform_buffer_range: limits.max_uniform_buffer_range,
+                max_compute_work_group_count: limits.max_compute_work_group_count,
+                max_compute_work_group_invocations: limits.max_compute_work_group_invocations,
+                compute_queue_family,
+            },
+        });
+    }
+    out.sort_by_key(|c| c.rank);
+    Ok(out)
+}
+
+fn usable(c: &Candidate) -> bool {
+    c.info.compute_queue_family.is_some() && c.api >= vk::API_VERSION_1_2
+}
+
+pub struct Device {
+    pub raw: ash::Device,
+    pub physical: vk::PhysicalDevice,
+    pub queue: vk::Queue,
+    pub queue_family: u32,
+    pub memory: vk::PhysicalDeviceMemoryProperties,
+    pub info: DeviceInfo,
+}
+
+impl Device {
+    /// Opens the best usable device, or the first whose name contains
+    /// `wanted` (case-insensitive).
+    pub fn open(instance: &Instance, wanted: Option<&str>) -> Result<Self, GpuError> {
+        let all = candidates(instance)?;
+        let chosen = match wanted {
+            Some(name) => {
+                let needle = name.to_lowercase();
+                all.iter()
+                    .find(|c| c.info.name.to_lowercase().contains(&needle) && usable(c))
+                    .ok_or_else(|| GpuError::NoMatchingDevice {
+                        wanted: name.to_owned(),
+                        available: if all.is_empty() {
+                            "(none)".to_owned()
+                        } else {
+                            all.iter()
+                                .map(|c| c.info.name.clone())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        },
+                    })?
+            }
+            None => all.iter().find(|c| usable(c)).ok_or(GpuError::NoDevice)?,
+        };
+        let queue_family = chosen.info.compute_queue_family.ok_or(GpuError::NoDevice)?;
+        let priorities = [1.0f32];
+        let queue_info = vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(queue_family)
+            .queue_priorities(&priorities);
+        let features =
+            vk::PhysicalDeviceFeatures::default().shader_float64(chosen.info.shader_float64);
+        let info = vk::DeviceCreateInfo::default()
+            .queue_create_infos(std::slice::from_ref(&queue_info))
+            .enabled_features(&features);
+        let raw = unsafe { instance.raw.create_device(chosen.physical, &info, None) }
+            .doing("vkCreateDevice")?;
+        let queue = unsafe { raw.get_device_queue(queue_family, 0) };
+        let memory = unsafe {
+            instance
+                .raw
+                .get_physical_device_memory_properties(chosen.physical)
+        };
+        Ok(Self {
+            raw,
+            physical: chosen.physical,
+            queue,
+            queue_family,
+            memory,
+            info: chosen.info.clone(),
+        })
+    }
+
+    /// A memory type allowed by `type_bits` with all of `flags`.
+    pub fn memory_type(&self, type_bits: u32, flags: vk::MemoryPropertyFlags) -> Option<u32> {
+        (0..self.memory.memory_type_count).find(|&i| {
+            type_bits & (1 << i) != 0
+                && self.memory.memory_types[i as usize]
+                    .property_flags
+                    .contains(flags)
+        })
+    }
+}
+
+impl Drop for Device {
+    fn drop(&mut self) {
+        // SAFETY: the objects made from this device are dropped before it.
+        unsafe {
+            let _ = self.raw.device_wait_idle();
+            self.raw.destroy_device(None);
+        }
+    }
+}

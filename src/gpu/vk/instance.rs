@@ -1,0 +1,173 @@
+//! The Vulkan instance, with the Khronos validation layer and a messenger
+//! that collects every message it sends when validation is on.
+
+use std::ffi::{c_void, CStr};
+use std::sync::Mutex;
+
+use ash::{ext::debug_utils, vk};
+
+use crate::gpu::error::{GpuError, VkContext};
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+
+/// Messages from the validation layer, shared with the callback.
+#[derive(Default)]
+pub struct Messages(Mutex<Vec<String>>);
+
+impl Messages {
+    pub fn take(&self) -> Vec<String> {
+        std::mem::take(&mut *self.0.lock().unwrap_or_else(|e| e.into_inner()))
+    }
+}
+
+struct Messenger {
+    loader: debug_utils::Instance,
+    raw: vk::DebugUtilsMessengerEXT,
+    // Boxed so that the address handed to the callback stays put.
+    messages: Box<Messages>,
+}
+
+pub struct Instance {
+    messenger: Option<Messenger>,
+    pub raw: ash::Instance,
+    pub entry: ash::Entry,
+}
+
+unsafe extern "system" fn on_message(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    _types: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user: *mut c_void,
+) -> vk::Bool32 {
+    // SAFETY: Vulkan hands back the pointer given at creation, which points
+    // into the boxed `Messages` that outlives the messenger; `data` is valid
+    // for the call.
+    let (messages, data) = unsafe { (&*(user as *const Messages), &*data) };
+    let text = if data.p_message.is_null() {
+        "(no message)".to_owned()
+    } else {
+        unsafe { CStr::from_ptr(data.p_message) }
+            .to_string_lossy()
+            .into_owned()
+    };
+    messages
+        .0
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push(format!("[{severity:?}] {text}"));
+    vk::FALSE
+}
+
+impl Instance {
+    pub fn new(validate: bool) -> Result<Self, GpuError> {
+        // SAFETY: loading libvulkan runs its initialisers; it is the system loader.
+        let entry = unsafe { ash::Entry::load() }.map_err(|e| GpuError::NoLoader(e.to_string()))?;
+        let app = vk::ApplicationInfo::default()
+            .application_name(c"glint")
+            .application_version(1)
+            .engine_name(c"glint")
+            .api_version(vk::API_VERSION_1_2);
+
+        let mut layers = Vec::new();
+        let mut extensions = Vec::new();
+        if validate {
+            let available = unsafe { entry.enumerate_instance_layer_properties() }
+                .doing("vkEnumerateInstanceLayerProperties")?;
+            let has_layer = available
+                .iter()
+                .any(|l| l.layer_name_as_c_str().is_ok_and(|n| n == VALIDATION_LAYER));
+            if !has_layer {
+                return Err(GpuError::NoValidationLayer);
+            }
+            layers.push(VALIDATION_LAYER.as_ptr());
+            extensions.push(debug_utils::NAME.as_ptr());
+        }
+
+        let messages = Box::<Messages>::default();
+        let mut messenger_info = vk::DebugUtilsMessengerCreateInfoEXT::default()
+            .message_severity(
+                vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
+                    | vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+            )
+            .message_type(
+                vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
+                    | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                    | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+            )
+            .pfn_user_callback(Some(on_message))
+            .user_data(&*messages as *const Messages as *mut c_void);
+
+        let mut info = vk::InstanceCreateInfo::default()
+            .application_info(&app)
+            .enabled_layer_names(&layers)
+            .enabled_extension_names(&extensions);
+        if validate {
+            // Chained too, so that instance creation and destruction are checked.
+            info = info.push_next(&mut messenger_info);
+        }
+        let raw = match unsafe { entry.create_instance(&info, None) } {
+            Ok(raw) => raw,
+            // The loader's answer when it finds no driver at all.
+            Err(vk::Result::ERROR_INCOMPATIBLE_DRIVER) => return Err(GpuError::NoDevice),
+            Err(result) => {
+                return Err(GpuError::Vk {
+                    what: "vkCreateInstance",
+                    result,
+                })
+            }
+        };
+
+        let messenger = if validate {
+            let loader = debug_utils::Instance::new(&entry, &raw);
+            match unsafe { loader.create_debug_utils_messenger(&messenger_info, None) } {
+                Ok(handle) => Some(Messenger {
+                    loader,
+                    raw: handle,
+                    messages,
+                }),
+                Err(result) => {
+                    unsafe { raw.destroy_instance(None) };
+                    return Err(GpuError::Vk {
+                        what: "vkCreateDebugUtilsMessengerEXT",
+                        result,
+                    });
+                }
+            }
+        } else {
+            None
+        };
+        Ok(Self {
+            messenger,
+            raw,
+            entry,
+        })
+    }
+
+    /// The validation messages since the last call; empty without validation.
+    pub fn take_messages(&self) -> Vec<String> {
+        self.messenger
+            .as_ref()
+            .map_or_else(Vec::new, |m| m.messages.take())
+    }
+
+    pub fn validating(&self) -> bool {
+        self.messenger.is_some()
+    }
+}
+
+impl Drop for Instance {
+    fn drop(&mut self) {
+        // SAFETY: every child object is gone (the device drops first).
+        unsafe {
+            if let Some(m) = self.messenger.take() {
+                m.loader.destroy_debug_utils_messenger(m.raw, None);
+                // Messages from destroying the instance itself would have no
+                // one to read them; they were checked at the last render.
+                self.raw.destroy_instance(None);
+                drop(m.messages);
+            } else {
+                self.raw.destroy_instance(None);
+            }
+        }
+    }
+}

@@ -1,0 +1,8 @@
+//! The Vulkan layer: one file per concept, thin RAII structs whose raw
+//! handles stay visible. Each frees its handles in reverse creation order.
+
+pub mod buffer;
+pub mod command;
+pub mod device;
+pub mod instance;
+pub mod pipeline;

@@ -1,0 +1,145 @@
+//! The compute pipeline: shader module, descriptor layout, pipeline layout,
+//! pipeline, and the descriptor set that binds the scene's buffers.
+
+use ash::vk;
+
+use super::buffer::Buffer;
+use crate::gpu::error::{GpuError, VkContext};
+
+/// One descriptor set of buffers, binding i of type `types[i]`.
+pub struct ComputePipeline {
+    pub pipeline: vk::Pipeline,
+    pub layout: vk::PipelineLayout,
+    pub set_layout: vk::DescriptorSetLayout,
+    pub pool: vk::DescriptorPool,
+    pub set: vk::DescriptorSet,
+    types: Vec<vk::DescriptorType>,
+    device: ash::Device,
+}
+
+impl ComputePipeline {
+    pub fn new(
+        device: &ash::Device,
+        spirv: &[u32],
+        types: &[vk::DescriptorType],
+        push_constant_bytes: u32,
+    ) -> Result<Self, GpuError> {
+        let mut p = Self {
+            pipeline: vk::Pipeline::null(),
+            layout: vk::PipelineLayout::null(),
+            set_layout: vk::DescriptorSetLayout::null(),
+            pool: vk::DescriptorPool::null(),
+            set: vk::DescriptorSet::null(),
+            types: types.to_vec(),
+            device: device.clone(),
+        };
+        // Built up field by field so that Drop frees whatever was made if a
+        // later step fails.
+        let bindings: Vec<_> = types
+            .iter()
+            .enumerate()
+            .map(|(b, ty)| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(b as u32)
+                    .descriptor_type(*ty)
+                    .descriptor_count(1)
+                    .stage_flags(vk::ShaderStageFlags::COMPUTE)
+            })
+            .collect();
+        let set_info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        p.set_layout = unsafe { device.create_descriptor_set_layout(&set_info, None) }
+            .doing("vkCreateDescriptorSetLayout")?;
+
+        let ranges = [vk::PushConstantRange::default()
+            .stage_flags(vk::ShaderStageFlags::COMPUTE)
+            .offset(0)
+            .size(push_constant_bytes)];
+        let set_layouts = [p.set_layout];
+        let layout_info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&set_layouts)
+            .push_constant_ranges(&ranges);
+        p.layout = unsafe { device.create_pipeline_layout(&layout_info, None) }
+            .doing("vkCreatePipelineLayout")?;
+
+        let module_info = vk::ShaderModuleCreateInfo::default().code(spirv);
+        let module = unsafe { device.create_shader_module(&module_info, None) }
+            .doing("vkCreateShaderModule")?;
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module)
+            .name(c"main");
+        let info = vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(p.layout);
+        let created =
+            unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
+        unsafe { device.destroy_shader_module(module, None) };
+        p.pipeline = created.map_err(|(_, result)| GpuError::Vk {
+            what: "vkCreateComputePipelines",
+            result,
+        })?[0];
+
+        let count = |t| types.iter().filter(|x| **x == t).count() as u32;
+        let sizes: Vec<_> = [
+            vk::DescriptorType::UNIFORM_BUFFER,
+            vk::DescriptorType::STORAGE_BUFFER,
+        ]
+        .into_iter()
+        .filter(|t| count(*t) > 0)
+        .map(|t| {
+            vk::DescriptorPoolSize::default()
+                .ty(t)
+                .descriptor_count(count(t))
+        })
+        .collect();
+        let pool_info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(1)
+            .pool_sizes(&sizes);
+        p.pool = unsafe { device.create_descriptor_pool(&pool_info, None) }
+            .doing("vkCreateDescriptorPool")?;
+        let alloc = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(p.pool)
+            .set_layouts(&set_layouts);
+        p.set = unsafe { device.allocate_descriptor_sets(&alloc) }
+            .doing("vkAllocateDescriptorSets")?[0];
+        Ok(p)
+    }
+
+    /// Points binding i at `buffers[i]`.
+    pub fn bind(&self, buffers: &[&Buffer]) {
+        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+            .iter()
+            .map(|b| {
+                [vk::DescriptorBufferInfo::default()
+                    .buffer(b.raw)
+                    .offset(0)
+                    .range(vk::WHOLE_SIZE)]
+            })
+            .collect();
+        let writes: Vec<_> = infos
+            .iter()
+            .enumerate()
+            .map(|(i, info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(self.set)
+                    .dst_binding(i as u32)
+                    .descriptor_type(self.types[i])
+                    .buffer_info(info)
+            })
+            .collect();
+        unsafe { self.device.update_descriptor_sets(&writes, &[]) };
+    }
+}
+
+impl Drop for ComputePipeline {
+    fn drop(&mut self) {
+        // Null handles are ignored by vkDestroy*, so a half-built pipeline frees cleanly.
+        unsafe {
+            self.device.destroy_descriptor_pool(self.pool, None);
+            self.device.destroy_pipeline(self.pipeline, None);
+            self.device.destroy_pipeline_layout(self.layout, None);
+            self.device
+                .destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}

@@ -1,0 +1,218 @@
+//! PNG, PFM and EXR files (SPEC §4). Writes go to a temporary file beside the
+//! target and are renamed over it, so a failed run leaves the old file whole.
+
+use std::fs::File;
+use std::io::{BufWriter, Read, Write};
+use std::path::{Path, PathBuf};
+
+use super::{quantize, Image};
+
+#[derive(Debug, thiserror::Error)]
+pub enum ImageIoError {
+    #[error("{}: unsupported image type (expected .png, .pfm or .exr)", .0.display())]
+    Format(PathBuf),
+    // Causes are part of the message rather than a `source`, so that a
+    // report of the error chain does not print them twice.
+    #[error("{}: {cause}", path.display())]
+    Io {
+        path: PathBuf,
+        cause: std::io::Error,
+    },
+    #[error("{}: {cause}", path.display())]
+    Codec {
+        path: PathBuf,
+        cause: image::ImageError,
+    },
+    #[error("{}: not a valid PFM file: {reason}", path.display())]
+    BadPfm { path: PathBuf, reason: String },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    Png,
+    Pfm,
+    Exr,
+}
+
+impl Format {
+    pub fn of(path: &Path) -> Result<Format, ImageIoError> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("png") => Ok(Format::Png),
+            Some("pfm") => Ok(Format::Pfm),
+            Some("exr") => Ok(Format::Exr),
+            _ => Err(ImageIoError::Format(path.to_owned())),
+        }
+    }
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> ImageIoError + '_ {
+    move |cause| ImageIoError::Io {
+        path: path.to_owned(),
+        cause,
+    }
+}
+
+/// Writes `img` to `path` in the format its extension names.
+pub fn write(path: &Path, img: &Image, srgb: bool) -> Result<(), ImageIoError> {
+    let format = Format::of(path)?;
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".glint-").suffix(".tmp");
+    // tempfile makes private files; an image is as readable as any new file.
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    let tmp = builder.tempfile_in(dir).map_err(io_err(path))?;
+    {
+        let mut out = BufWriter::new(tmp.as_file());
+        match format {
+            Format::Png => write_png(&mut out, img, srgb, path)?,
+            Format::Pfm => write_pfm(&mut out, img).map_err(io_err(path))?,
+            Format::Exr => write_exr(&mut out, img, path)?,
+        }
+        out.flush().map_err(io_err(path))?;
+    }
+    tmp.as_file().sync_all().map_err(io_err(path))?;
+    tmp.persist(path).map_err(|e| io_err(path)(e.error))?;
+    Ok(())
+}
+
+fn write_png(
+    out: &mut BufWriter<&File>,
+    img: &Image,
+    srgb: bool,
+    path: &Path,
+) -> Result<(), ImageIoError> {
+    let bytes: Vec<u8> = img
+        .pixels
+        .iter()
+        .flat_map(|p| p.map(|c| quantize(c, srgb)))
+        .collect();
+    let encoder = image::codecs::png::PngEncoder::new(out);
+    image::ImageEncoder::write_image(
+        encoder,
+        &bytes,
+        img.width,
+        img.height,
+        image::ExtendedColorType::Rgb8,
+    )
+    .map_err(|cause| ImageIoError::Codec {
+        path: path.to_owned(),
+        cause,
+    })
+}
+
+/// Standard PFM: little-endian (scale -1.0), rows bottom to top.
+fn write_pfm(out: &mut impl Write, img: &Image) -> std::io::Result<()> {
+    write!(out, "PF\n{} {}\n-1.0\n", img.width, img.height)?;
+    for row in img.pixels.chunks(img.width as usize).rev() {
+        for c in row.iter().flatten() {
+            out.write_all(&c.to_le_bytes())?;
+        }
+    }
+    Ok(())
+}
+
+fn write_exr(out: &mut BufWriter<&File>, img: &Image, path: &Path) -> Result<(), ImageIoError> {
+    let floats: Vec<f32> = img.pixels.iter().flatten().copied().collect();
+    let buffer = image::Rgb32FImage::from_raw(img.width, img.height, floats)
+        .expect("buffer size matches image");
+    let mut seekable = std::io::Cursor::new(Vec::new());
+    buffer
+        .write_to(&mut seekable, image::ImageFormat::OpenExr)
+        .map_err(|cause| ImageIoError::Codec {
+            path: path.to_owned(),
+            cause,
+        })?;
+    out.write_all(seekable.get_ref()).map_err(io_err(path))
+}
+
+/// Reads a PNG (as value/255, no curve undone), PFM or EXR file.
+pub fn read(path: &Path) -> Result<Image, ImageIoError> {
+    match Format::of(path)? {
+        Format::Pfm => {
+            let mut bytes = Vec::new();
+            File::open(path)
+                .and_then(|mut f| f.read_to_end(&mut bytes))
+                .map_err(io_err(path))?;
+            read_pfm(&bytes).map_err(|reason| ImageIoError::BadPfm {
+                path: path.to_owned(),
+                reason,
+            })
+        }
+        Format::Png | Format::Exr => {
+            let decoded = image::ImageReader::open(path)
+                .map_err(io_err(path))?
+                .with_guessed_format()
+                .map_err(io_err(path))?
+                .decode()
+                .map_err(|cause| ImageIoError::Codec {
+                    path: path.to_owned(),
+                    cause,
+                })?;
+            let rgb = decoded.to_rgb32f();
+            let (w, h) = rgb.dimensions();
+            let pixels = rgb.pixels().map(|p| p.0).collect();
+            Ok(Image::new(w, h, pixels))
+        }
+    }
+}
+
+/// Parses PFM bytes (colour "PF" only; either byte order).
+pub fn read_pfm(bytes: &[u8]) -> Result<Image, String> {
+    // The header is three whitespace-separated tokens after "PF".
+    let mut fields = Vec::new();
+    let mut pos = 0;
+    while fields.len() < 4 {
+        while pos < bytes.len() && bytes[pos].is_ascii_whitespace() {
+            pos += 1;
+        }
+        let start = pos;
+        while pos < bytes.len() && !bytes[pos].is_ascii_whitespace() {
+            pos += 1;
+        }
+        if start == pos {
+            return Err("truncated header".into());
+        }
+        fields.push(String::from_utf8_lossy(&bytes[start..pos]).into_owned());
+    }
+    pos += 1; // the single whitespace byte that ends the header
+    if fields[0] != "PF" {
+        return Err(format!("expected \"PF\" (colour), found \"{}\"", fields[0]));
+    }
+    let parse = |s: &str, what: &str| s.parse::<u32>().map_err(|_| format!("bad {what} \"{s}\""));
+    let (w, h) = (parse(&fields[1], "width")?, parse(&fields[2], "height")?);
+    let scale: f32 = fields[3]
+        .parse()
+        .map_err(|_| format!("bad scale \"{}\"", fields[3]))?;
+    let little = scale < 0.0;
+    let count = w as usize * h as usize;
+    let data = bytes.get(pos..).unwrap_or_default();
+    if data.len() != count * 12 {
+        return Err(format!(
+            "expected {} bytes of pixels for {w}x{h}, found {}",
+            count * 12,
+            data.len()
+        ));
+    }
+    let mut pixels = vec![[0.0f32; 3]; count];
+    for (k, chunk) in data.chunks_exact(4).enumerate() {
+        let b = [chunk[0], chunk[1], chunk[2], chunk[3]];
+        let v = if little {
+            f32::from_le_bytes(b)
+        } else {
+            f32::from_be_bytes(b)
+        };
+        let (pixel, channel) = (k / 3, k % 3);
+        let (row_from_bottom, x) = (pixel / w as usize, pixel % w as usize);
+        let y = h as usize - 1 - row_from_bottom;
+        pixels[y * w as usize + x][channel] = v;
+    }
+    Ok(Image::new(w, h, pixels))
+}

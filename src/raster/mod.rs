@@ -1,0 +1,48 @@
+//! Linear RGB float images, their files (SPEC §4) and their differences.
+
+pub mod diff;
+pub mod io;
+
+/// A linear RGB image, rows top to bottom.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<[f32; 3]>,
+}
+
+impl Image {
+    pub fn new(width: u32, height: u32, pixels: Vec<[f32; 3]>) -> Self {
+        assert_eq!(
+            pixels.len(),
+            width as usize * height as usize,
+            "pixel count"
+        );
+        Self {
+            width,
+            height,
+            pixels,
+        }
+    }
+
+    pub fn get(&self, x: u32, y: u32) -> [f32; 3] {
+        self.pixels[y as usize * self.width as usize + x as usize]
+    }
+}
+
+/// The sRGB transfer curve (IEC 61966-2-1) for one linear value in [0, 1].
+pub fn srgb_encode(c: f32) -> f32 {
+    if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// SPEC §4: round(255 * clamp(c, 0, 1)), after the sRGB curve if asked.
+/// NaN maps to 0, as `clamp` would leave it undefined.
+pub fn quantize(c: f32, srgb: bool) -> u8 {
+    let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
+    let c = if srgb { srgb_encode(c) } else { c };
+    (255.0 * c).round() as u8
+}

@@ -1,0 +1,134 @@
+//! The scene file as written (SPEC §1): typed serde structs, defaults applied,
+//! nothing checked beyond types. `validate` turns this into a [`super::Scene`].
+
+use std::collections::BTreeMap;
+
+use serde::Deserialize;
+
+pub type Triple = [f64; 3];
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    pub image: ImageFile,
+    #[serde(default)]
+    pub render: RenderFile,
+    pub camera: CameraFile,
+    #[serde(default)]
+    pub materials: BTreeMap<String, MaterialFile>,
+    #[serde(default)]
+    pub spheres: Vec<SphereFile>,
+    #[serde(default)]
+    pub planes: Vec<PlaneFile>,
+    #[serde(default)]
+    pub lights: Vec<LightFile>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImageFile {
+    pub width: i64,
+    pub height: i64,
+    #[serde(default = "one")]
+    pub samples: i64,
+    #[serde(default)]
+    pub srgb: bool,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RenderFile {
+    #[serde(default = "three")]
+    pub max_depth: i64,
+    #[serde(default = "yes")]
+    pub shadows: bool,
+    #[serde(default)]
+    pub background: Triple,
+}
+
+impl Default for RenderFile {
+    fn default() -> Self {
+        Self {
+            max_depth: three(),
+            shadows: yes(),
+            background: Triple::default(),
+        }
+    }
+}
+
+/// Both camera forms share one table; which keys are present picks the form.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraFile {
+    pub eye: Triple,
+    pub screen_center: Option<Triple>,
+    pub screen_right: Option<Triple>,
+    pub screen_up: Option<Triple>,
+    pub look_at: Option<Triple>,
+    pub up: Option<Triple>,
+    pub vfov: Option<f64>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialFile {
+    #[serde(default)]
+    pub ambient: Triple,
+    #[serde(default)]
+    pub diffuse: Triple,
+    #[serde(default)]
+    pub specular: Triple,
+    #[serde(default = "one_f")]
+    pub shininess: f64,
+    #[serde(default)]
+    pub reflectivity: f64,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphereFile {
+    pub center: Triple,
+    pub radius: f64,
+    pub material: String,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneFile {
+    pub point: Triple,
+    pub normal: Triple,
+    pub material: String,
+}
+
+/// One flat table for every light type: `validate` checks that each key
+/// present belongs to the light's type and that its required keys are there.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LightFile {
+    #[serde(rename = "type")]
+    pub kind: String,
+    pub position: Option<Triple>,
+    pub direction: Option<Triple>,
+    #[serde(default)]
+    pub ambient: Triple,
+    #[serde(default)]
+    pub diffuse: Triple,
+    #[serde(default)]
+    pub specular: Triple,
+    pub attenuation: Option<Triple>,
+    pub cutoff: Option<f64>,
+    pub exponent: Option<f64>,
+}
+
+fn one() -> i64 {
+    1
+}
+fn one_f() -> f64 {
+    1.0
+}
+fn three() -> i64 {
+    3
+}
+fn yes() -> bool {
+    true
+}

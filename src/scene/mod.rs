@@ -1,0 +1,114 @@
+//! The scene: read from TOML (SPEC §1), validated, and resolved into the
+//! form both renderers consume (materials by index, unit normals, the camera
+//! as an eye and a virtual screen).
+
+mod error;
+mod file;
+mod locate;
+mod validate;
+
+use std::path::Path;
+
+use glam::DVec3;
+
+pub use error::SceneError;
+pub use validate::{parse, Overrides};
+
+pub const MAX_SIZE: u32 = 16384;
+pub const MAX_SAMPLES: u32 = 16;
+pub const MAX_DEPTH: u32 = 64;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    pub width: u32,
+    pub height: u32,
+    pub samples: u32,
+    pub srgb: bool,
+    pub max_depth: u32,
+    pub shadows: bool,
+    pub background: DVec3,
+    pub camera: Camera,
+    pub materials: Vec<Material>,
+    pub spheres: Vec<Sphere>,
+    pub planes: Vec<Plane>,
+    pub lights: Vec<Light>,
+}
+
+/// SPEC §1 form (a): an eye and a virtual screen. Form (b) is converted to
+/// this on load.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    pub eye: DVec3,
+    pub screen_center: DVec3,
+    pub screen_right: DVec3,
+    pub screen_up: DVec3,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    pub name: String,
+    pub ambient: DVec3,
+    pub diffuse: DVec3,
+    pub specular: DVec3,
+    pub shininess: f64,
+    pub reflectivity: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sphere {
+    pub center: DVec3,
+    pub radius: f64,
+    pub material: u32,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Plane {
+    pub point: DVec3,
+    /// Unit length.
+    pub normal: DVec3,
+    pub material: u32,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum LightKind {
+    Point,
+    Directional,
+    Spot,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Light {
+    pub kind: LightKind,
+    /// Point and spot lights; zero for directional ones.
+    pub position: DVec3,
+    /// Unit length: the way a directional light travels, a spot light's axis.
+    pub direction: DVec3,
+    pub ambient: DVec3,
+    pub diffuse: DVec3,
+    pub specular: DVec3,
+    /// [c, l, q]: 1 / (c + l d + q d²).
+    pub attenuation: DVec3,
+    /// cos(cutoff) of a spot light.
+    pub cos_cutoff: f64,
+    pub exponent: f64,
+}
+
+impl Scene {
+    /// Reads and validates a scene file, then applies command-line overrides.
+    pub fn load(path: &Path, overrides: &Overrides) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|cause| SceneError::Read {
+            path: path.to_owned(),
+            cause,
+        })?;
+        parse(&text, path, overrides)
+    }
+
+    pub fn pixel_count(&self) -> u64 {
+        u64::from(self.width) * u64::from(self.height)
+    }
+
+    /// Primary rays per image.
+    pub fn ray_count(&self) -> u64 {
+        self.pixel_count() * u64::from(self.samples * self.samples)
+    }
+}

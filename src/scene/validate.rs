@@ -1,0 +1,450 @@
+//! Checks a parsed [`SceneFile`] against SPEC §1 and resolves it into a
+//! [`Scene`]. Every error carries the key path, which [`Located`] turns into
+//! a line and column of the file.
+
+use std::path::Path;
+
+use glam::DVec3;
+
+use super::file::{CameraFile, LightFile, MaterialFile, SceneFile, Triple};
+use super::locate::{KeyPath, Located};
+use super::{
+    Camera, Light, LightKind, Material, Plane, Scene, SceneError, Sphere, MAX_DEPTH, MAX_SAMPLES,
+    MAX_SIZE,
+};
+
+/// Command-line values that replace the scene's own.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Overrides {
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    pub samples: Option<u32>,
+    pub max_depth: Option<u32>,
+}
+
+/// Parses and validates scene text; `file` is only used in messages.
+pub fn parse(text: &str, file: &Path, overrides: &Overrides) -> Result<Scene> {
+    let located = Located::new(text);
+    let raw: SceneFile = toml::from_str(text).map_err(|e| toml_error(&e, file, &located))?;
+    let check = Check {
+        file,
+        located: &located,
+    };
+    let mut scene = check.scene(raw, overrides)?;
+    apply_overrides(&mut scene, overrides)?;
+    Ok(scene)
+}
+
+fn toml_error(e: &toml::de::Error, file: &Path, located: &Located) -> SceneError {
+    let span = e.span().unwrap_or(0..0);
+    let at = located.line_col(span.start);
+    let message = e.message().trim().to_owned();
+    match located.path_at(&span) {
+        Some(key) => SceneError::Invalid {
+            file: file.to_owned(),
+            line: at.line,
+            column: at.column,
+            key: key.to_string(),
+            message,
+        },
+        None => SceneError::Syntax {
+            file: file.to_owned(),
+            line: at.line,
+            column: at.column,
+            message,
+        },
+    }
+}
+
+fn root() -> KeyPath {
+    KeyPath::default()
+}
+
+struct Check<'a> {
+    file: &'a Path,
+    located: &'a Located,
+}
+
+type Result<T> = std::result::Result<T, SceneError>;
+
+impl Check<'_> {
+    fn err<T>(&self, path: &KeyPath, message: impl Into<String>) -> Result<T> {
+        let at = self.located.find(path);
+        Err(SceneError::Invalid {
+            file: self.file.to_owned(),
+            line: at.map_or(1, |a| a.line),
+            column: at.map_or(1, |a| a.column),
+            key: path.to_string(),
+            message: message.into(),
+        })
+    }
+
+    fn int_in(&self, path: &KeyPath, v: i64, lo: u32, hi: u32) -> Result<u32> {
+        if v < i64::from(lo) || v > i64::from(hi) {
+            return self.err(path, format!("must be in {lo}..={hi}, got {v}"));
+        }
+        Ok(v as u32)
+    }
+
+    fn finite(&self, path: &KeyPath, v: f64) -> Result<f64> {
+        if !v.is_finite() {
+            return self.err(path, format!("must be a finite number, got {v}"));
+        }
+        Ok(v)
+    }
+
+    fn vector(&self, path: &KeyPath, t: Triple) -> Result<DVec3> {
+        for (i, c) in t.iter().enumerate() {
+            self.finite(&path.index(i), *c)?;
+        }
+        Ok(DVec3::from_array(t))
+    }
+
+    /// A colour or coefficient triple: finite and non-negative.
+    fn colour(&self, path: &KeyPath, t: Triple) -> Result<DVec3> {
+        let v = self.vector(path, t)?;
+        if let Some(i) = t.iter().position(|c| *c < 0.0) {
+            return self.err(&path.index(i), format!("must be >= 0, got {}", t[i]));
+        }
+        Ok(v)
+    }
+
+    /// A direction: finite, non-zero, returned at unit length.
+    fn direction(&self, path: &KeyPath, t: Triple) -> Result<DVec3> {
+        let v = self.vector(path, t)?;
+        // Scale first so that tiny and huge (but finite) vectors normalize too.
+        let scaled = v / v.abs().max_element();
+        let unit = scaled.normalize_or_zero();
+        if unit == DVec3::ZERO || !unit.is_finite() {
+            return self.err(path, "must be a non-zero vector");
+        }
+        Ok(unit)
+    }
+
+    fn scene(&self, raw: SceneFile, overrides: &Overrides) -> Result<Scene> {
+        let image = root().key("image");
+        let render = root().key("render");
+        let width = self.int_in(&image.key("width"), raw.image.width, 1, MAX_SIZE)?;
+        let height = self.int_in(&image.key("height"), raw.image.height, 1, MAX_SIZE)?;
+        let samples = self.int_in(&image.key("samples"), raw.image.samples, 1, MAX_SAMPLES)?;
+        let max_depth =
+            self.int_in(&render.key("max_depth"), raw.render.max_depth, 1, MAX_DEPTH)?;
+        let background = self.colour(&render.key("background"), raw.render.background)?;
+
+        let names: Vec<&String> = raw.materials.keys().collect();
+        let materials = raw
+            .materials
+            .iter()
+            .map(|(name, m)| self.material(&root().key("materials").key(name), name, m))
+            .collect::<Result<Vec<_>>>()?;
+        let material_index = |path: &KeyPath, name: &str| -> Result<u32> {
+            match names.iter().position(|n| n.as_str() == name) {
+                Some(i) => Ok(i as u32),
+                None if names.is_empty() => self.err(
+                    path,
+                    format!("unknown material \"{name}\" (the scene defines no [materials])"),
+                ),
+                None => self.err(
+                    path,
+                    format!(
+                        "unknown material \"{name}\" (defined: {})",
+                        names
+                            .iter()
+                            .map(|n| n.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                ),
+            }
+        };
+
+        let mut spheres = Vec::with_capacity(raw.spheres.len());
+        for (i, s) in raw.spheres.iter().enumerate() {
+            let path = root().key("spheres").index(i);
+            let radius = self.finite(&path.key("radius"), s.radius)?;
+            if radius <= 0.0 {
+                return self.err(&path.key("radius"), format!("must be > 0, got {radius}"));
+            }
+            spheres.push(Sphere {
+                center: self.vector(&path.key("center"), s.center)?,
+                radius,
+                material: material_index(&path.key("material"), &s.material)?,
+            });
+        }
+
+        let mut planes = Vec::with_capacity(raw.planes.len());
+        for (i, p) in raw.planes.iter().enumerate() {
+            let path = root().key("planes").index(i);
+            planes.push(Plane {
+                point: self.vector(&path.key("point"), p.point)?,
+                normal: self.direction(&path.key("normal"), p.normal)?,
+                material: material_index(&path.key("material"), &p.material)?,
+            });
+        }
+
+        let lights = raw
+            .lights
+            .iter()
+            .enumerate()
+            .map(|(i, l)| self.light(&root().key("lights").index(i), l))
+            .collect::<Result<Vec<_>>>()?;
+
+        let final_width = overrides.width.unwrap_or(width);
+        let final_height = overrides.height.unwrap_or(height);
+        let aspect = f64::from(final_width) / f64::from(final_height);
+        let camera = self.camera(&root().key("camera"), &raw.camera, aspect)?;
+
+        Ok(Scene {
+            width,
+            height,
+            samples,
+            srgb: raw.image.srgb,
+            max_depth,
+            shadows: raw.render.shadows,
+            background,
+            camera,
+            materials,
+            spheres,
+            planes,
+            lights,
+        })
+    }
+
+    fn material(&self, path: &KeyPath, name: &str, m: &MaterialFile) -> Result<Material> {
+        let shininess = self.finite(&path.key("shininess"), m.shininess)?;
+        if shininess < 0.0 {
+            return self.err(
+                &path.key("shininess"),
+                format!("must be >= 0, got {shininess}"),
+            );
+        }
+        let reflectivity = self.finite(&path.key("reflectivity"), m.reflectivity)?;
+        if !(0.0..=1.0).contains(&reflectivity) {
+            return self.err(
+                &path.key("reflectivity"),
+                format!("must be in [0, 1], got {reflectivity}"),
+            );
+        }
+        Ok(Material {
+            name: name.to_owned(),
+            ambient: self.colour(&path.key("ambient"), m.ambient)?,
+            diffuse: self.colour(&path.key("diffuse"), m.diffuse)?,
+            specular: self.colour(&path.key("specular"), m.specular)?,
+            shininess,
+            reflectivity,
+        })
+    }
+
+    fn light(&self, path: &KeyPath, l: &LightFile) -> Result<Light> {
+        let kind = match l.kind.as_str() {
+            "point" => LightKind::Point,
+            "directional" => LightKind::Directional,
+            "spot" => LightKind::Spot,
+            other => {
+                return self.err(
+                    &path.key("type"),
+                    format!("unknown light type \"{other}\" (expected \"point\", \"directional\" or \"spot\")"),
+                )
+            }
+        };
+        let positioned = kind != LightKind::Directional;
+        let aimed = kind != LightKind::Point;
+        let spot = kind == LightKind::Spot;
+        // Keys that another light type uses are errors here, not silently ignored.
+        let present = [
+            ("position", l.position.is_some(), positioned),
+            ("direction", l.direction.is_some(), aimed),
+            ("attenuation", l.attenuation.is_some(), positioned),
+            ("cutoff", l.cutoff.is_some(), spot),
+            ("exponent", l.exponent.is_some(), spot),
+        ];
+        for (key, is_present, allowed) in present {
+            if is_present && !allowed {
+                return self.err(
+                    &path.key(key),
+                    format!("does not apply to a {} light", l.kind),
+                );
+            }
+        }
+        let required = |key: &str, v: Option<Triple>| -> Result<Triple> {
+            match v {
+                Some(v) => Ok(v),
+                None => self.err(
+                    path,
+                    format!("missing key `{key}` (required for a {} light)", l.kind),
+                ),
+            }
+        };
+
+        let position = if positioned {
+            self.vector(&path.key("position"), required("position", l.position)?)?
+        } else {
+            DVec3::ZERO
+        };
+        let direction = if aimed {
+            self.direction(&path.key("direction"), required("direction", l.direction)?)?
+        } else {
+            DVec3::ZERO
+        };
+        let attenuation = self.colour(
+            &path.key("attenuation"),
+            l.attenuation.unwrap_or([1.0, 0.0, 0.0]),
+        )?;
+        if attenuation.x <= 0.0 {
+            return self.err(
+                &path.key("attenuation").index(0),
+                "the constant term c must be > 0, so that 1/(c + l*d + q*d^2) stays finite at the light",
+            );
+        }
+        let mut cos_cutoff = -1.0;
+        let mut exponent = 0.0;
+        if spot {
+            let cutoff = match l.cutoff {
+                Some(c) => self.finite(&path.key("cutoff"), c)?,
+                None => return self.err(path, "missing key `cutoff` (required for a spot light)"),
+            };
+            if !(cutoff > 0.0 && cutoff <= 90.0) {
+                return self.err(
+                    &path.key("cutoff"),
+                    format!("must be in (0, 90] degrees, got {cutoff}"),
+                );
+            }
+            cos_cutoff = cutoff.to_radians().cos();
+            exponent = self.finite(&path.key("exponent"), l.exponent.unwrap_or(0.0))?;
+            if exponent < 0.0 {
+                return self.err(
+                    &path.key("exponent"),
+                    format!("must be >= 0, got {exponent}"),
+                );
+            }
+        }
+        Ok(Light {
+            kind,
+            position,
+            direction,
+            ambient: self.colour(&path.key("ambient"), l.ambient)?,
+            diffuse: self.colour(&path.key("diffuse"), l.diffuse)?,
+            specular: self.colour(&path.key("specular"), l.specular)?,
+            attenuation,
+            cos_cutoff,
+            exponent,
+        })
+    }
+
+    fn camera(&self, path: &KeyPath, c: &CameraFile, aspect: f64) -> Result<Camera> {
+        let eye = self.vector(&path.key("eye"), c.eye)?;
+        let screen_form = [
+            ("screen_center", c.screen_center),
+            ("screen_right", c.screen_right),
+            ("screen_up", c.screen_up),
+        ];
+        let look_form = [
+            ("look_at", c.look_at.is_some()),
+            ("up", c.up.is_some()),
+            ("vfov", c.vfov.is_some()),
+        ];
+        let is_screen = screen_form.iter().any(|(_, v)| v.is_some());
+        let is_look = look_form.iter().any(|(_, present)| *present);
+        if is_screen && is_look {
+            let key = look_form
+                .iter()
+                .find(|(_, p)| *p)
+                .map_or("look_at", |(k, _)| k);
+            return self.err(
+                &path.key(key),
+                "mixes the two camera forms: use screen_center/screen_right/screen_up or look_at/up/vfov",
+            );
+        }
+        if is_screen {
+            for (key, v) in screen_form {
+                if v.is_none() {
+                    return self.err(path, format!("missing key `{key}` (the screen camera needs screen_center, screen_right and screen_up)"));
+                }
+            }
+            let center = self.vector(
+                &path.key("screen_center"),
+                c.screen_center.unwrap_or_default(),
+            )?;
+            let right = self.vector(
+                &path.key("screen_right"),
+                c.screen_right.unwrap_or_default(),
+            )?;
+            let up = self.vector(&path.key("screen_up"), c.screen_up.unwrap_or_default())?;
+            let normal = right.cross(up);
+            if normal.length() == 0.0 || !normal.is_finite() {
+                return self.err(
+                    &path.key("screen_up"),
+                    "screen_right and screen_up must be non-zero and not parallel",
+                );
+            }
+            if (eye - center).dot(normal) == 0.0 {
+                return self.err(&path.key("eye"), "the eye lies in the plane of the screen");
+            }
+            return Ok(Camera {
+                eye,
+                screen_center: center,
+                screen_right: right,
+                screen_up: up,
+            });
+        }
+        let Some(look_at) = c.look_at else {
+            return self.err(path, "missing key `screen_center` or `look_at` (a camera needs either screen_center/screen_right/screen_up or look_at/vfov)");
+        };
+        let look_at = self.vector(&path.key("look_at"), look_at)?;
+        let Some(vfov) = c.vfov else {
+            return self.err(path, "missing key `vfov` (required with look_at)");
+        };
+        let vfov = self.finite(&path.key("vfov"), vfov)?;
+        if !(vfov > 0.0 && vfov < 180.0) {
+            return self.err(
+                &path.key("vfov"),
+                format!("must be in (0, 180) degrees, got {vfov}"),
+            );
+        }
+        let up = self.direction(&path.key("up"), c.up.unwrap_or([0.0, 1.0, 0.0]))?;
+        let fwd = (look_at - eye).normalize_or_zero();
+        if fwd == DVec3::ZERO {
+            return self.err(&path.key("look_at"), "must differ from eye");
+        }
+        let right = fwd.cross(up).normalize_or_zero();
+        if right == DVec3::ZERO {
+            return self.err(
+                &path.key("up"),
+                "must not be parallel to the view direction",
+            );
+        }
+        let true_up = right.cross(fwd);
+        let half_height = (vfov.to_radians() / 2.0).tan();
+        Ok(Camera {
+            eye,
+            screen_center: eye + fwd,
+            screen_right: right * (aspect * half_height),
+            screen_up: true_up * half_height,
+        })
+    }
+}
+
+fn apply_overrides(scene: &mut Scene, o: &Overrides) -> Result<()> {
+    let check = |flag: &'static str, v: Option<u32>, lo: u32, hi: u32| -> Result<Option<u32>> {
+        match v {
+            Some(v) if v < lo || v > hi => Err(SceneError::Override {
+                flag,
+                message: format!("must be in {lo}..={hi}, got {v}"),
+            }),
+            v => Ok(v),
+        }
+    };
+    if let Some(w) = check("--width", o.width, 1, MAX_SIZE)? {
+        scene.width = w;
+    }
+    if let Some(h) = check("--height", o.height, 1, MAX_SIZE)? {
+        scene.height = h;
+    }
+    if let Some(s) = check("--samples", o.samples, 1, MAX_SAMPLES)? {
+        scene.samples = s;
+    }
+    if let Some(d) = check("--max-depth", o.max_depth, 1, MAX_DEPTH)? {
+        scene.max_depth = d;
+    }
+    Ok(())
+}

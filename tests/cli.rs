@@ -1,0 +1,325 @@
+//! The `glint` binary run as a user runs it: exit codes, files written,
+//! JSON parsed, errors on stderr. GPU runs use the validation layer.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use glint::raster::io;
+
+fn glint(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(args)
+        .env("GLINT_VALIDATION", "1")
+        .output()
+        .expect("run glint")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn scene_path(name: &str) -> String {
+    common::repo()
+        .join("scenes")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn tmp() -> tempfile::TempDir {
+    tempfile::tempdir().expect("temp dir")
+}
+
+fn p(dir: &Path, name: &str) -> PathBuf {
+    dir.join(name)
+}
+
+#[test]
+fn render_writes_png_pfm_and_exr() {
+    let dir = tmp();
+    let scene = scene_path("seed-fig4.toml");
+    for ext in ["png", "pfm", "exr"] {
+        let out = p(dir.path(), &format!("a.{ext}"));
+        let o = glint(&[
+            "render",
+            &scene,
+            "--width",
+            "80",
+            "--height",
+            "60",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{ext}: {}", stderr(&o));
+        let img = io::read(&out).expect("reads back");
+        assert_eq!((img.width, img.height), (80, 60), "{ext}");
+    }
+    // The PNG holds the float image quantized; the EXR holds it exactly.
+    let pfm = io::read(&p(dir.path(), "a.pfm")).unwrap();
+    let exr = io::read(&p(dir.path(), "a.exr")).unwrap();
+    assert_eq!(pfm, exr);
+    let png = io::read(&p(dir.path(), "a.png")).unwrap();
+    for (a, b) in png.pixels.iter().zip(&pfm.pixels) {
+        for c in 0..3 {
+            assert!((a[c] - b[c].clamp(0.0, 1.0)).abs() <= 0.5 / 255.0 + 1e-6);
+        }
+    }
+}
+
+#[test]
+fn pfm_is_standard_bottom_to_top_little_endian() {
+    let dir = tmp();
+    let out = p(dir.path(), "ref.pfm");
+    let scene = scene_path("seed-fig3.toml");
+    let o = glint(&[
+        "render",
+        &scene,
+        "--backend",
+        "cpu",
+        "--width",
+        "40",
+        "--height",
+        "30",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let bytes = std::fs::read(&out).unwrap();
+    assert!(bytes.starts_with(b"PF\n40 30\n-1.0\n"));
+    assert_eq!(bytes.len(), "PF\n40 30\n-1.0\n".len() + 40 * 30 * 12);
+    // The first stored row is the image's bottom row.
+    let scene = glint::scene::Scene::load(
+        Path::new(&scene),
+        &glint::scene::Overrides {
+            width: Some(40),
+            height: Some(30),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let reference = glint::cpu::render::<f64>(&scene);
+    let header = "PF\n40 30\n-1.0\n".len();
+    let first = f32::from_le_bytes(bytes[header..header + 4].try_into().unwrap());
+    assert_eq!(first, reference.get(0, 29)[0]);
+    assert_eq!(io::read(&out).unwrap(), reference);
+}
+
+#[test]
+fn compare_json_passes_on_a_seed_scene() {
+    let o = glint(&[
+        "compare",
+        &scene_path("seed-fig4.toml"),
+        "--width",
+        "160",
+        "--height",
+        "120",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}{}", stdout(&o), stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).expect("one JSON object");
+    assert_eq!(v["pass"], true);
+    for key in ["max_abs", "rmse", "psnr_db", "frac_over_1_255", "nonfinite"] {
+        assert!(
+            v["gpu_f32"]["error"].get(key).is_some(),
+            "missing {key}: {v}"
+        );
+    }
+    assert!(v["gpu_f32"]["seconds"].as_f64().unwrap() > 0.0);
+    assert!(v["cpu_f64"]["seconds"].as_f64().unwrap() > 0.0);
+    assert!(v["setup"]["compile_s"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn compare_exits_1_when_the_shader_is_wrong() {
+    // A shade.glsl that adds a little light everywhere: the GPU no longer
+    // agrees with the reference, and compare must say so.
+    let dir = tmp();
+    let shade = std::fs::read_to_string(common::repo().join("shaders/shade.glsl")).unwrap();
+    let broken = shade.replace("    return local;", "    return local + vec3(0.05);");
+    assert_ne!(shade, broken);
+    std::fs::write(p(dir.path(), "shade.glsl"), broken).unwrap();
+    let heat = p(dir.path(), "heat.png");
+    let o = glint(&[
+        "compare",
+        &scene_path("seed-fig3.toml"),
+        "--width",
+        "80",
+        "--height",
+        "60",
+        "-I",
+        dir.path().to_str().unwrap(),
+        "--diff-out",
+        heat.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}{}", stdout(&o), stderr(&o));
+    assert!(stdout(&o).contains("FAIL"));
+    assert!(heat.exists());
+}
+
+#[test]
+fn diff_reports_figures_for_two_files() {
+    let dir = tmp();
+    let a = p(dir.path(), "a.pfm");
+    let b = p(dir.path(), "b.pfm");
+    let scene = scene_path("seed-fig3.toml");
+    for (out, backend) in [(&a, "gpu"), (&b, "cpu")] {
+        let o = glint(&[
+            "render",
+            &scene,
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--backend",
+            backend,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let o = glint(&["diff", a.to_str().unwrap(), b.to_str().unwrap(), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert!(v["max_abs"].as_f64().unwrap() > 0.0);
+    assert!(v["max_abs"].as_f64().unwrap() < 0.01);
+    assert_eq!(v["nonfinite"], 0);
+    let same = glint(&["diff", a.to_str().unwrap(), a.to_str().unwrap(), "--json"]);
+    let v: serde_json::Value = serde_json::from_str(stdout(&same).trim()).unwrap();
+    assert_eq!(v["max_abs"], 0.0);
+    assert!(v["psnr_db"].is_null());
+}
+
+#[test]
+fn a_bad_scene_is_one_clear_error_and_leaves_the_output_alone() {
+    let dir = tmp();
+    let scene = p(dir.path(), "bad.toml");
+    let text = std::fs::read_to_string(scene_path("seed-fig3.toml"))
+        .unwrap()
+        .replacen("radius = 6.0", "radius = -6.0", 1);
+    std::fs::write(&scene, &text).unwrap();
+    let out = p(dir.path(), "out.png");
+    std::fs::write(&out, b"the previous image").unwrap();
+    let o = glint(&[
+        "render",
+        scene.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = stderr(&o);
+    let line = text
+        .lines()
+        .position(|l| l.contains("radius = -6.0"))
+        .unwrap()
+        + 1;
+    assert!(
+        err.contains(&format!("bad.toml:{line}:")) && err.contains("spheres[0].radius"),
+        "{err}"
+    );
+    assert_eq!(err.trim().lines().count(), 1, "one line: {err}");
+    assert!(
+        !err.contains("panicked") && !err.contains("backtrace"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(&out).unwrap(), b"the previous image");
+    // No temporary file is left behind either.
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names.len(), 2, "{names:?}");
+}
+
+#[test]
+fn user_errors_exit_2_without_a_panic() {
+    let dir = tmp();
+    let missing = p(dir.path(), "missing.toml");
+    let cases: Vec<Vec<String>> = vec![
+        vec!["render".into(), missing.display().to_string()],
+        vec![
+            "render".into(),
+            scene_path("seed-fig3.toml"),
+            "-o".into(),
+            p(dir.path(), "x.jpg").display().to_string(),
+        ],
+        vec![
+            "render".into(),
+            scene_path("seed-fig3.toml"),
+            "--samples".into(),
+            "0".into(),
+        ],
+        vec![
+            "render".into(),
+            scene_path("seed-fig3.toml"),
+            "--device".into(),
+            "no such device".into(),
+        ],
+        vec![
+            "diff".into(),
+            missing.display().to_string(),
+            missing.display().to_string(),
+        ],
+    ];
+    for args in cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = glint(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        let err = stderr(&o);
+        assert!(err.starts_with("error: "), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+    assert!(!p(dir.path(), "x.jpg").exists());
+}
+
+#[test]
+fn no_vulkan_device_is_a_clear_error_and_the_cpu_still_renders() {
+    let dir = tmp();
+    let out = p(dir.path(), "cpu.png");
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_glint"))
+            .args(args)
+            .env("VK_DRIVER_FILES", "/nonexistent/icd.json")
+            .env("VK_ICD_FILENAMES", "/nonexistent/icd.json")
+            .output()
+            .unwrap()
+    };
+    let scene = scene_path("seed-fig3.toml");
+    let o = run(&["render", &scene, "--width", "32", "--height", "24"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = stderr(&o);
+    assert!(
+        err.contains("mesa-vulkan-drivers") && err.contains("--backend cpu"),
+        "{err}"
+    );
+    let o = run(&[
+        "render",
+        &scene,
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--backend",
+        "cpu",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.exists());
+}
+
+#[test]
+fn info_lists_devices() {
+    let o = glint(&["info", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    let devices = v["devices"].as_array().expect("a list");
+    assert!(!devices.is_empty());
+    assert!(devices[0]["name"].as_str().is_some_and(|n| !n.is_empty()));
+    assert!(devices[0].get("shader_float64").is_some());
+}

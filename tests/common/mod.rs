@@ -1,0 +1,107 @@
+//! Shared by the integration tests. Every GPU renderer here runs with the
+//! Khronos validation layer, and any message it sends fails the render.
+
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+use glint::gpu::{GpuOptions, Renderer};
+use glint::raster::Image;
+use glint::scene::{parse, Overrides, Scene};
+
+pub fn gpu() -> Renderer {
+    let options = GpuOptions {
+        device: None,
+        validate: true,
+        include_dirs: Vec::new(),
+    };
+    Renderer::new(&options)
+        .unwrap_or_else(|e| panic!("cannot open the Vulkan device with validation: {e}"))
+}
+
+pub fn render_gpu(scene: &Scene) -> Image {
+    let mut r = gpu();
+    r.render(scene, &|_| {})
+        .unwrap_or_else(|e| panic!("GPU render failed: {e}"))
+        .0
+}
+
+pub fn scene(text: &str) -> Scene {
+    parse(text, Path::new("test.toml"), &Overrides::default())
+        .unwrap_or_else(|e| panic!("test scene: {e}"))
+}
+
+pub fn scene_sized(text: &str, width: u32, height: u32) -> Scene {
+    let o = Overrides {
+        width: Some(width),
+        height: Some(height),
+        ..Overrides::default()
+    };
+    parse(text, Path::new("test.toml"), &o).unwrap_or_else(|e| panic!("test scene: {e}"))
+}
+
+pub fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The scene files directly in `dir` (relative to the repository), sorted.
+pub fn scene_files(dir: &str) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(repo().join(dir))
+        .expect("scene directory")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    v.sort();
+    v
+}
+
+/// A small scene with spheres, a plane, every light type and reflection.
+pub const SMALL: &str = r#"
+[image]
+width = 64
+height = 48
+[render]
+max_depth = 3
+background = [0.1, 0.1, 0.2]
+[camera]
+eye = [0.0, 1.0, 8.0]
+look_at = [0.0, 0.0, 0.0]
+vfov = 50.0
+[materials.a]
+ambient = [0.1, 0.1, 0.1]
+diffuse = [0.7, 0.3, 0.2]
+specular = [0.5, 0.5, 0.5]
+shininess = 30.0
+reflectivity = 0.4
+[materials.b]
+diffuse = [0.4, 0.5, 0.6]
+[[spheres]]
+center = [0.0, 0.0, 0.0]
+radius = 1.0
+material = "a"
+[[spheres]]
+center = [1.8, 0.0, -1.0]
+radius = 0.7
+material = "b"
+[[planes]]
+point = [0.0, -1.0, 0.0]
+normal = [0.0, 1.0, 0.0]
+material = "b"
+[[lights]]
+type = "point"
+position = [3.0, 4.0, 5.0]
+ambient = [0.2, 0.2, 0.2]
+diffuse = [1.0, 1.0, 1.0]
+specular = [1.0, 1.0, 1.0]
+[[lights]]
+type = "directional"
+direction = [-1.0, -1.0, 0.0]
+diffuse = [0.3, 0.3, 0.3]
+[[lights]]
+type = "spot"
+position = [0.0, 4.0, 0.0]
+direction = [0.0, -1.0, 0.0]
+diffuse = [0.5, 0.5, 0.5]
+cutoff = 30.0
+exponent = 4.0
+"#;
