@@ -216,3 +216,67 @@ pub fn read_pfm(bytes: &[u8]) -> Result<Image, String> {
     }
     Ok(Image::new(w, h, pixels))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> Image {
+        let pixels = (0..6)
+            .map(|i| [i as f32, -(i as f32) * 1e30, f32::MIN_POSITIVE])
+            .collect();
+        Image::new(3, 2, pixels)
+    }
+
+    #[test]
+    fn pfm_round_trips_exactly_hdr_values_included() {
+        let img = sample();
+        let mut bytes = Vec::new();
+        write_pfm(&mut bytes, &img).unwrap();
+        assert_eq!(read_pfm(&bytes).unwrap(), img);
+    }
+
+    #[test]
+    fn pfm_rows_run_bottom_to_top() {
+        let img = sample();
+        let mut bytes = Vec::new();
+        write_pfm(&mut bytes, &img).unwrap();
+        let header = b"PF\n3 2\n-1.0\n".len();
+        let first = f32::from_le_bytes(bytes[header..header + 4].try_into().unwrap());
+        assert_eq!(first, img.get(0, 1)[0]);
+    }
+
+    #[test]
+    fn big_endian_pfm_reads_too() {
+        let mut bytes = b"PF\n1 1\n1.0\n".to_vec();
+        for v in [0.5f32, 1.5, 2.5] {
+            bytes.extend_from_slice(&v.to_be_bytes());
+        }
+        assert_eq!(read_pfm(&bytes).unwrap().pixels, vec![[0.5, 1.5, 2.5]]);
+    }
+
+    #[test]
+    fn truncated_pfm_is_an_error() {
+        let mut bytes = Vec::new();
+        write_pfm(&mut bytes, &sample()).unwrap();
+        bytes.pop();
+        assert!(read_pfm(&bytes).unwrap_err().contains("expected"));
+        assert!(read_pfm(b"P6\n1 1\n255\n").is_err());
+    }
+
+    #[test]
+    fn a_failed_write_leaves_the_old_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.png");
+        std::fs::write(&path, b"old").unwrap();
+        // A PNG of a zero-sized image is refused by the encoder.
+        let empty = Image {
+            width: 0,
+            height: 0,
+            pixels: Vec::new(),
+        };
+        assert!(write(&path, &empty, false).is_err());
+        assert_eq!(std::fs::read(&path).unwrap(), b"old");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+}

@@ -46,3 +46,26 @@ pub fn quantize(c: f32, srgb: bool) -> u8 {
     let c = if srgb { srgb_encode(c) } else { c };
     (255.0 * c).round() as u8
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantize_clamps_rounds_and_maps_nan_to_zero() {
+        assert_eq!(quantize(-1.0, false), 0);
+        assert_eq!(quantize(2.0, false), 255);
+        assert_eq!(quantize(0.5, false), 128);
+        assert_eq!(quantize(f32::NAN, false), 0);
+        assert_eq!(quantize(f32::INFINITY, false), 255);
+    }
+
+    #[test]
+    fn srgb_curve_is_continuous_and_brightens_midtones() {
+        let below = srgb_encode(0.003_130_8);
+        let above = srgb_encode(0.003_130_9);
+        assert!((above - below).abs() < 1e-5);
+        assert!((srgb_encode(1.0) - 1.0).abs() < 1e-6);
+        assert_eq!(quantize(0.5, true), 188);
+    }
+}

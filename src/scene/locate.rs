@@ -196,3 +196,56 @@ impl<'a> Walk<'a> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TEXT: &str = "[image]\nwidth = 8\n\n[[spheres]]\ncenter = [1.0, 2.0, 3.0]\n\n[[spheres]]\ncenter = [4.0, nan, 6.0]\n";
+
+    fn path(segs: &[Seg]) -> KeyPath {
+        KeyPath(segs.to_vec())
+    }
+
+    #[test]
+    fn key_paths_print_like_toml() {
+        let p = KeyPath::default()
+            .key("spheres")
+            .index(2)
+            .key("center")
+            .index(1);
+        assert_eq!(p.to_string(), "spheres[2].center[1]");
+    }
+
+    #[test]
+    fn paths_locate_values_in_arrays_of_tables() {
+        let l = Located::new(TEXT);
+        let p = path(&[
+            Seg::Key("spheres".into()),
+            Seg::Index(1),
+            Seg::Key("center".into()),
+            Seg::Index(1),
+        ]);
+        assert_eq!(
+            l.find(&p),
+            Some(LineCol {
+                line: 8,
+                column: 16
+            })
+        );
+        let missing = path(&[
+            Seg::Key("spheres".into()),
+            Seg::Index(0),
+            Seg::Key("radius".into()),
+        ]);
+        assert_eq!(l.find(&missing).map(|a| a.line), Some(4));
+    }
+
+    #[test]
+    fn spans_map_back_to_the_deepest_key() {
+        let l = Located::new(TEXT);
+        let offset = TEXT.find("nan").unwrap();
+        let p = l.path_at(&(offset..offset + 3)).unwrap();
+        assert_eq!(p.to_string(), "spheres[1].center[1]");
+    }
+}
