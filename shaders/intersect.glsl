@@ -5,6 +5,71 @@
 // is met again only by a ray leaving it inwards, at t = -2 (o - c).d.
 // Primitive ids: spheres first, then planes; NONE for an eye ray.
 
+#ifdef INTERSECT_NAIVE
+// The textbook forms, kept to measure what the robust ones buy
+// (--intersect naive): b^2 - c, the near root -b - sqrt, and a fixed epsilon
+// instead of knowing which surface a ray left.
+const float NAIVE_EPSILON = 1e-4;
+
+float intersect_sphere(Ray r, vec3 center, float radius, bool from_self) {
+    vec3 f = r.origin - center;
+    float b = dot(f, r.dir);
+    float disc = b * b - (dot(f, f) - radius * radius);
+    if (disc < 0.0) {
+        return -1.0;
+    }
+    float root = sqrt(disc);
+    float t = -b - root;
+    if (t > NAIVE_EPSILON) {
+        return t;
+    }
+    t = -b + root;
+    return t > NAIVE_EPSILON ? t : -1.0;
+}
+
+float intersect_plane(Ray r, vec3 point, vec3 normal, bool from_self) {
+    float t = dot(point - r.origin, normal) / dot(r.dir, normal);
+    return t > NAIVE_EPSILON ? t : -1.0;
+}
+#else
+// a + b as hi + lo exactly (Knuth's TwoSum); `precise` keeps the compiler
+// from folding (s - a) back into b.
+void two_sum(float a, float b, out float hi, out float lo) {
+    precise float s = a + b;
+    precise float bb = s - a;
+    precise float e = (a - (s - bb)) + (b - bb);
+    hi = s;
+    lo = e;
+}
+
+// a^2 as hi + lo exactly. Veltkamp's split rather than fma: llvmpipe may
+// compute fma as a multiply and an add, which would make lo zero.
+void two_square(float a, out float hi, out float lo) {
+    precise float c = 4097.0 * a;
+    precise float ah = c - (c - a);
+    precise float al = a - ah;
+    precise float p = a * a;
+    precise float e = ((ah * ah - p) + 2.0 * ah * al) + al * al;
+    hi = p;
+    lo = e;
+}
+
+// f.f - r^2 with every rounding of the squares and sums carried along; see
+// power() in src/cpu/intersect.rs for why the plain form is not enough.
+float power(vec3 f, float r) {
+    float x, ex, y, ey, z, ez, rr, er;
+    two_square(f.x, x, ex);
+    two_square(f.y, y, ey);
+    two_square(f.z, z, ez);
+    two_square(r, rr, er);
+    float s1, e1, s2, e2, s3, e3;
+    two_sum(x, y, s1, e1);
+    two_sum(s1, z, s2, e2);
+    two_sum(s2, -rr, s3, e3);
+    precise float lo = ((e1 + e2) + e3) + ((ex + ey) + ez - er);
+    return s3 + lo;
+}
+
 // Distance to a sphere along a unit-direction ray; negative for a miss.
 float intersect_sphere(Ray r, vec3 center, float radius, bool from_self) {
     vec3 f = r.origin - center;
@@ -20,7 +85,7 @@ float intersect_sphere(Ray r, vec3 center, float radius, bool from_self) {
     if (disc < 0.0) {
         return -1.0;
     }
-    float c = dot(f, f) - radius * radius;
+    float c = power(f, radius);
     float root = sqrt(disc);
     // The stable root pair: q never cancels, and t0 = c/q is the other root.
     float q = b >= 0.0 ? -b - root : -b + root;
@@ -41,6 +106,8 @@ float intersect_plane(Ray r, vec3 point, vec3 normal, bool from_self) {
     }
     return dot(point - r.origin, normal) / denom;
 }
+
+#endif
 
 // The nearest hit. Besides t and the primitive's id it carries what shading
 // needs of the primitive, picked up in the loop where the primitive's data

@@ -5,3 +5,4 @@ pub mod cpu;
 pub mod gpu;
 pub mod raster;
 pub mod scene;
+pub mod stability;

@@ -323,3 +323,22 @@ fn info_lists_devices() {
     assert!(devices[0]["name"].as_str().is_some_and(|n| !n.is_empty()));
     assert!(devices[0].get("shader_float64").is_some());
 }
+
+#[test]
+fn stability_json_holds_every_variant() {
+    let scenes = common::repo().join("scenes/extreme");
+    let a = scenes.join("tiny-1e-5.toml");
+    let b = scenes.join("mirrors-09.toml");
+    let o = glint(&["stability", a.to_str().unwrap(), b.to_str().unwrap(), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    let scenes = v["scenes"].as_array().unwrap();
+    assert_eq!(scenes.len(), 2);
+    for s in scenes {
+        let variants: Vec<&str> = s["variants"].as_array().unwrap().iter().map(|r| r["variant"].as_str().unwrap()).collect();
+        assert_eq!(variants, ["gpu f32 robust", "gpu f32 naive", "cpu f32"]);
+    }
+    // tiny-1e-5: the robust forms pass and the naive ones fail.
+    assert_eq!(scenes[0]["variants"][0]["pass"], true);
+    assert_eq!(scenes[0]["variants"][1]["pass"], false);
+}

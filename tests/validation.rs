@@ -17,9 +17,9 @@ fn a_validation_message_fails_the_render() {
     assert_ne!(bindings, wrong);
     std::fs::write(dir.path().join("bindings.glsl"), wrong).unwrap();
     let options = GpuOptions {
-        device: None,
         validate: true,
         include_dirs: vec![dir.path().to_owned()],
+        ..GpuOptions::default()
     };
     let mut renderer = Renderer::new(&options).expect("device with validation");
     let scene = common::scene(common::SMALL);

@@ -6,13 +6,14 @@ mod diff;
 mod info;
 mod progress;
 mod render;
+mod stability;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use glint::gpu::GpuOptions;
+use glint::gpu::{GpuOptions, Intersect};
 use glint::scene::{Overrides, Scene};
 
 #[derive(Parser)]
@@ -36,6 +37,8 @@ enum Command {
     Diff(diff::DiffArgs),
     /// List the Vulkan devices and what they support.
     Info(info::InfoArgs),
+    /// Robust and naive GPU forms and CPU f32 against CPU f64 on the extreme scenes.
+    Stability(stability::StabilityArgs),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -90,6 +93,15 @@ pub struct DeviceArgs {
     /// Look for shader files (main.comp, shade.glsl, ...) in DIR before the built-in ones; repeatable.
     #[arg(short = 'I', long = "include", value_name = "DIR")]
     include: Vec<PathBuf>,
+    /// The GPU's intersection forms: robust, or the textbook ones for comparison.
+    #[arg(long, value_enum, default_value = "robust")]
+    intersect: IntersectArg,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum IntersectArg {
+    Robust,
+    Naive,
 }
 
 impl DeviceArgs {
@@ -99,6 +111,10 @@ impl DeviceArgs {
         }
         let mut options = GpuOptions::from_env(self.device.clone());
         options.include_dirs = self.include.clone();
+        options.intersect = match self.intersect {
+            IntersectArg::Robust => Intersect::Robust,
+            IntersectArg::Naive => Intersect::Naive,
+        };
         Ok(options)
     }
 }
@@ -109,5 +125,6 @@ pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Compare(a) => compare::run(&a),
         Command::Diff(a) => diff::run(&a),
         Command::Info(a) => info::run(&a),
+        Command::Stability(a) => stability::run(&a),
     }
 }

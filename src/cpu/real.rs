@@ -8,12 +8,15 @@ use num_traits::Float;
 
 pub trait Real: Float + Debug + Send + Sync + AddAssign + 'static {
     const NAME: &'static str;
+    /// Veltkamp's splitting constant, 2^ceil(p/2) + 1 for a p-bit significand.
+    const SPLIT: f64;
     fn of(v: f64) -> Self;
     fn to_f32(self) -> f32;
 }
 
 impl Real for f32 {
     const NAME: &'static str = "f32";
+    const SPLIT: f64 = 4097.0;
     fn of(v: f64) -> Self {
         v as f32
     }
@@ -24,6 +27,7 @@ impl Real for f32 {
 
 impl Real for f64 {
     const NAME: &'static str = "f64";
+    const SPLIT: f64 = 134_217_729.0;
     fn of(v: f64) -> Self {
         v
     }

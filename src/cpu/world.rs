@@ -56,7 +56,10 @@ pub struct LightR<R> {
 }
 
 impl<R: Real> World<R> {
+    /// The scene in camera-relative coordinates (see `Scene::camera_relative`),
+    /// rounded to `R`.
     pub fn new(scene: &Scene) -> Self {
+        let scene = &scene.camera_relative();
         let cam = &scene.camera;
         Self {
             eye: Vec3::of(cam.eye),

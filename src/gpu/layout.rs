@@ -4,6 +4,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::{DVec3, UVec4, Vec4};
 
+use super::Intersect;
 use crate::scene::{LightKind, Scene};
 
 fn v4(v: DVec3) -> Vec4 {
@@ -76,7 +77,17 @@ pub struct Uploads {
 }
 
 impl Uploads {
-    pub fn new(scene: &Scene) -> Self {
+    /// The robust forms trace the scene in camera-relative coordinates (see
+    /// `Scene::camera_relative`); the naive ones trace it as written.
+    pub fn new(scene: &Scene, intersect: Intersect) -> Self {
+        let relative;
+        let scene = match intersect {
+            Intersect::Robust => {
+                relative = scene.camera_relative();
+                &relative
+            }
+            Intersect::Naive => scene,
+        };
         let cam = &scene.camera;
         let globals = Globals {
             eye: v4(cam.eye),

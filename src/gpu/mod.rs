@@ -29,6 +29,18 @@ use vk::pipeline::ComputePipeline;
 const RAYS_PER_DISPATCH: u64 = 1 << 22;
 const WORKGROUP: u32 = 8;
 
+/// Which ray/primitive intersection forms the shader uses.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Intersect {
+    /// Camera-relative coordinates, the stable sphere roots with an exact
+    /// power term, and secondary rays that know which surface they left.
+    #[default]
+    Robust,
+    /// The textbook forms with a fixed epsilon of 1e-4, in world coordinates.
+    Naive,
+}
+
 #[derive(Debug, Clone, Default)]
 pub struct GpuOptions {
     /// Pick the first device whose name contains this.
@@ -37,6 +49,7 @@ pub struct GpuOptions {
     pub validate: bool,
     /// Directories searched for shader files ahead of the built-in ones.
     pub include_dirs: Vec<std::path::PathBuf>,
+    pub intersect: Intersect,
 }
 
 impl GpuOptions {
@@ -46,7 +59,7 @@ impl GpuOptions {
         Self {
             device,
             validate,
-            include_dirs: Vec::new(),
+            ..Self::default()
         }
     }
 }
@@ -80,6 +93,8 @@ pub struct Renderer {
     pipelines: HashMap<Variant, ComputePipeline>,
     commands: OneShot,
     sources: compile::Sources,
+    /// The intersection forms of the next renders.
+    pub intersect: Intersect,
     device: Device,
     instance: Instance,
     pub setup: SetupTimes,
@@ -101,6 +116,7 @@ impl Renderer {
             sources: compile::Sources {
                 dirs: opts.include_dirs.clone(),
             },
+            intersect: opts.intersect,
             device,
             instance,
             setup: SetupTimes {
@@ -161,10 +177,14 @@ impl Renderer {
         self.check_validation()
     }
 
+    fn variant(&self, scene: &Scene, uploads: &Uploads) -> Variant {
+        Variant::for_scene(scene, uploads, self.intersect, &self.device.info)
+    }
+
     /// Compiles what `scene` needs without rendering it, so that a timed
     /// render measures the render alone.
     pub fn prepare_for(&mut self, scene: &Scene) -> Result<(), GpuError> {
-        let variant = Variant::for_scene(scene, &Uploads::new(scene), &self.device.info);
+        let variant = self.variant(scene, &Uploads::new(scene, self.intersect));
         self.prepare(&variant)
     }
 
@@ -174,8 +194,8 @@ impl Renderer {
         scene: &Scene,
         progress: &dyn Fn(u64),
     ) -> Result<(Image, RenderTimes), GpuError> {
-        let up = Uploads::new(scene);
-        let variant = Variant::for_scene(scene, &up, &self.device.info);
+        let up = Uploads::new(scene, self.intersect);
+        let variant = self.variant(scene, &up);
         self.prepare(&variant)?;
         let pipeline = &self.pipelines[&variant];
 

@@ -6,6 +6,7 @@ use ash::vk;
 
 use super::layout::Uploads;
 use super::vk::device::DeviceInfo;
+use super::Intersect;
 use crate::scene::Scene;
 
 /// Unrolling the scene loops is worth its compile time up to this many
@@ -19,6 +20,7 @@ const UNROLL_MATERIALS: usize = 16;
 
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Variant {
+    pub intersect: Intersect,
     /// The scene's arrays as uniform buffers with constant counts; None:
     /// storage buffers, counts read from the uniform block.
     pub uniforms: Option<UniformScene>,
@@ -34,11 +36,17 @@ pub struct UniformScene {
 }
 
 impl Variant {
-    pub fn for_scene(scene: &Scene, uploads: &Uploads, device: &DeviceInfo) -> Self {
+    pub fn for_scene(
+        scene: &Scene,
+        uploads: &Uploads,
+        intersect: Intersect,
+        device: &DeviceInfo,
+    ) -> Self {
         let limit = device.max_uniform_buffer_range as usize;
         let fits = uploads.array_bytes().iter().all(|b| *b <= limit);
         let counts = [scene.spheres.len(), scene.planes.len(), scene.lights.len()];
         Self {
+            intersect,
             uniforms: fits.then(|| UniformScene {
                 slots: uploads.array_lengths(),
                 counts,
@@ -51,6 +59,9 @@ impl Variant {
 
     pub fn defines(&self) -> Vec<(String, Option<String>)> {
         let mut d = Vec::new();
+        if self.intersect == Intersect::Naive {
+            d.push(("INTERSECT_NAIVE".to_owned(), None));
+        }
         if let Some(u) = &self.uniforms {
             let [s, p, m, l] = u.slots;
             let [ns, np, nl] = u.counts;

@@ -5,6 +5,7 @@
 mod error;
 mod file;
 mod locate;
+mod rebase;
 mod validate;
 
 use std::path::Path;

@@ -11,9 +11,8 @@ use glint::scene::{parse, Overrides, Scene};
 
 pub fn gpu() -> Renderer {
     let options = GpuOptions {
-        device: None,
         validate: true,
-        include_dirs: Vec::new(),
+        ..GpuOptions::default()
     };
     Renderer::new(&options)
         .unwrap_or_else(|e| panic!("cannot open the Vulkan device with validation: {e}"))

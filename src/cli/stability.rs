@@ -1,0 +1,98 @@
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context;
+use clap::Args;
+use serde_json::json;
+
+use glint::gpu::Renderer;
+use glint::scene::{Overrides, Scene};
+use glint::stability;
+
+use super::{progress, DeviceArgs};
+
+#[derive(Args)]
+pub struct StabilityArgs {
+    /// Scene files [default: every scene in scenes/extreme/]
+    scenes: Vec<PathBuf>,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    device: DeviceArgs,
+}
+
+fn default_scenes() -> anyhow::Result<Vec<PathBuf>> {
+    let dir = PathBuf::from("scenes/extreme");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .with_context(|| {
+            format!(
+                "cannot list {} (name scene files, or run from the repository)",
+                dir.display()
+            )
+        })?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    v.sort();
+    Ok(v)
+}
+
+pub fn run(a: &StabilityArgs) -> anyhow::Result<ExitCode> {
+    let scenes = if a.scenes.is_empty() {
+        default_scenes()?
+    } else {
+        a.scenes.clone()
+    };
+    let mut renderer = Renderer::new(&a.device.options()?)?;
+    let bar = progress::bar(scenes.len() as u64, "scenes");
+    let mut results = Vec::new();
+    for path in &scenes {
+        let scene = Scene::load(path, &Overrides::default())?;
+        bar.set_message(
+            path.file_stem()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .into_owned(),
+        );
+        results.push((path.clone(), stability::evaluate(&mut renderer, &scene)?));
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    if a.json {
+        let rows: Vec<_> = results
+            .iter()
+            .map(|(p, r)| json!({ "scene": p, "peak": r.peak, "variants": r.rows }))
+            .collect();
+        println!(
+            "{}",
+            json!({ "device": renderer.device_info(), "scenes": rows })
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!(
+        "errors against CPU f64, relative to the reference's peak value; device {}",
+        renderer.device_info().name
+    );
+    println!(
+        "{:<24} {:<15} {:>10} {:>10} {:>11} {:>9}  tolerance",
+        "scene", "variant", "max_abs", "rmse", "over 1/255", "nonfinite"
+    );
+    for (path, r) in &results {
+        let name = path.file_stem().unwrap_or_default().to_string_lossy();
+        for (i, row) in r.rows.iter().enumerate() {
+            let e = &row.error;
+            println!(
+                "{:<24} {:<15} {:>10.2e} {:>10.2e} {:>10.4}% {:>9}  {}",
+                if i == 0 { name.as_ref() } else { "" },
+                row.variant,
+                e.max_abs,
+                e.rmse,
+                100.0 * e.frac_over_1_255,
+                e.nonfinite,
+                if row.pass { "pass" } else { "FAIL" }
+            );
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,83 @@
+//! The stability table: each variant's error against the CPU f64 reference
+//! on one scene, relative to the reference's peak so that a scene lit at
+//! 1e30 reads on the same scale as one lit at 1.
+
+use serde::Serialize;
+
+use crate::cpu;
+use crate::gpu::{GpuError, Intersect, Renderer};
+use crate::raster::diff::{figures, ErrorFigures, Tolerance};
+use crate::raster::Image;
+use crate::scene::Scene;
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Row {
+    pub variant: &'static str,
+    pub error: ErrorFigures,
+    pub pass: bool,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct SceneRows {
+    /// The largest finite value of the reference; errors are relative to it.
+    pub peak: f64,
+    pub rows: Vec<Row>,
+}
+
+/// The largest finite channel value, or 1 for an image that is all zero.
+pub fn peak(image: &Image) -> f64 {
+    let p = image
+        .pixels
+        .iter()
+        .flatten()
+        .filter(|v| v.is_finite())
+        .fold(0.0f64, |m, v| m.max(f64::from(v.abs())));
+    if p > 0.0 {
+        p
+    } else {
+        1.0
+    }
+}
+
+/// `image` divided by `by`, in f64 before rounding back, so that 1e-30 and
+/// 1e30 scale without loss.
+pub fn scaled(image: &Image, by: f64) -> Image {
+    let pixels = image
+        .pixels
+        .iter()
+        .map(|p| p.map(|c| (f64::from(c) / by) as f32))
+        .collect();
+    Image::new(image.width, image.height, pixels)
+}
+
+/// GPU f32 robust, GPU f32 naive and CPU f32 against CPU f64 on `scene`.
+pub fn evaluate(renderer: &mut Renderer, scene: &Scene) -> Result<SceneRows, GpuError> {
+    let reference = cpu::render::<f64>(scene);
+    let peak = peak(&reference);
+    let reference = scaled(&reference, peak);
+    let keep = renderer.intersect;
+    let mut images = Vec::new();
+    for (variant, form) in [
+        ("gpu f32 robust", Intersect::Robust),
+        ("gpu f32 naive", Intersect::Naive),
+    ] {
+        renderer.intersect = form;
+        let result = renderer.render(scene, &|_| {});
+        renderer.intersect = keep;
+        images.push((variant, result?.0));
+    }
+    images.push(("cpu f32", cpu::render::<f32>(scene)));
+    let tolerance = Tolerance::default();
+    let rows = images
+        .into_iter()
+        .map(|(variant, image)| {
+            let error = figures(&scaled(&image, peak), &reference).expect("same size");
+            Row {
+                variant,
+                error,
+                pass: tolerance.violations(&error).is_empty(),
+            }
+        })
+        .collect();
+    Ok(SceneRows { peak, rows })
+}
