@@ -1,8 +1,9 @@
 //! `cargo bench --bench render [-- SCENE... --runs N]`: per scene, the median
-//! of N warm renders on the GPU (upload + dispatch + readback; device,
-//! shader compile and pipeline apart, and a first render apart, which on
-//! lavapipe includes the LLVM compile of the shader) and on the CPU in f32
-//! and f64, with the GPU's error against CPU f64.
+//! of N warm renders on the GPU with the scene's own shader variant and with
+//! the generic shader (upload + dispatch + readback; device, shader compile
+//! and pipeline apart, and a first render apart, which on lavapipe includes
+//! the LLVM compile of the shader), and on the CPU in f32 and f64, with the
+//! GPU's error against CPU f64.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -40,30 +41,45 @@ fn main() -> anyhow::Result<()> {
     options
         .include_dirs
         .extend(std::env::var_os("GLINT_SHADER_DIR").map(PathBuf::from));
-    let mut renderer = Renderer::new(&options)?;
+    let mut own = Renderer::new(&options)?;
+    let mut generic = Renderer::new(&GpuOptions {
+        generic: true,
+        ..options
+    })?;
+    let info = own.device_info();
     println!(
         "device: {} ({})   cpu threads: {}   runs: {runs}",
-        renderer.device_info().name,
-        renderer.device_info().driver,
+        info.name,
+        info.driver,
         rayon::current_num_threads()
     );
     println!(
-        "{:<28} {:>9} {:>9} {:>9} {:>9} {:>9} {:>8} {:>10}",
-        "scene", "compile", "1st gpu", "gpu f32", "cpu f32", "cpu f64", "cpu32/gpu", "gpu rmse"
+        "{:<20} {:>8} {:>8} {:>8} {:>8} {:>9} {:>8} {:>8} {:>9} {:>9}",
+        "scene",
+        "compile",
+        "1st gpu",
+        "gpu f32",
+        "generic",
+        "own/gen",
+        "cpu f32",
+        "cpu f64",
+        "cpu32/gpu",
+        "gpu rmse"
     );
     for path in &scenes {
         let scene = Scene::load(path, &Overrides::default())?;
-        renderer.prepare_for(&scene)?;
-        let compile = renderer.setup.compile_s + renderer.setup.pipeline_s;
+        own.prepare_for(&scene)?;
+        generic.prepare_for(&scene)?;
+        let compile = own.setup.compile_s + own.setup.pipeline_s;
         let t = Instant::now();
-        let (gpu_img, _) = renderer.render(&scene, &|_| {})?;
+        let (gpu_img, _) = own.render(&scene, &|_| {})?;
         let first = t.elapsed().as_secs_f64();
-        let mut gpu = Vec::new();
-        let mut c32 = Vec::new();
-        let mut c64 = Vec::new();
+        generic.render(&scene, &|_| {})?;
+        let (mut g, mut gen, mut c32, mut c64) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut reference = None;
         for _ in 0..runs {
-            gpu.push(renderer.render(&scene, &|_| {})?.1.total_s());
+            g.push(own.render(&scene, &|_| {})?.1.total_s());
+            gen.push(generic.render(&scene, &|_| {})?.1.total_s());
             let t = Instant::now();
             let _ = glint::cpu::render::<f32>(&scene);
             c32.push(t.elapsed().as_secs_f64());
@@ -72,10 +88,11 @@ fn main() -> anyhow::Result<()> {
             c64.push(t.elapsed().as_secs_f64());
         }
         let err = diff::figures(&gpu_img, reference.as_ref().expect("runs >= 1"))?;
-        let (g, f32_s, f64_s) = (median(gpu), median(c32), median(c64));
-        let name = path.file_name().unwrap_or_default().to_string_lossy();
+        let (g, gen, f32_s, f64_s) = (median(g), median(gen), median(c32), median(c64));
+        let name = path.file_stem().unwrap_or_default().to_string_lossy();
         println!(
-            "{name:<28} {compile:>8.3}s {first:>8.3}s {g:>8.3}s {f32_s:>8.3}s {f64_s:>8.3}s {:>8.2}x {:>10.2e}",
+            "{name:<20} {compile:>7.3}s {first:>7.3}s {g:>7.3}s {gen:>7.3}s {:>8.2}x {f32_s:>7.3}s {f64_s:>7.3}s {:>8.2}x {:>9.2e}",
+            g / gen,
             f32_s / g,
             err.rmse
         );

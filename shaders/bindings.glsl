@@ -32,7 +32,7 @@ struct Light {
     vec4 specular;          // rgb Is
     vec4 attenuation;       // xyz = c, l, q
     vec4 spot;              // x cos(cutoff), y exponent
-    uvec4 meta;             // x LIGHT_*
+    uvec4 meta;             // x LIGHT_*, y 1 if it has a diffuse or specular term
 };
 
 layout(std140, set = 0, binding = 0) uniform Globals {
@@ -45,26 +45,95 @@ layout(std140, set = 0, binding = 0) uniform Globals {
     uvec4 counts;           // spheres, planes, lights, shadows (0 or 1)
 } g;
 
-// The scene's arrays. Where they fit the device's uniform buffer range the
-// host defines SCENE_IN_UNIFORMS and each array's length: llvmpipe (and many
-// GPUs) read a uniform buffer at a dynamically uniform offset with one
-// scalar load, where a storage buffer read under divergent control flow
-// becomes a loop over the lanes. Otherwise they are storage buffers of any
-// length.
+// Features. For a scene's own variant the host defines each HAS_* to 0 or 1
+// and the counts, depth and samples as constants (src/gpu/variant.rs); left
+// undefined, every feature is on and the counts are read at run time: that
+// is the generic shader (--generic).
+#ifndef HAS_SPHERES
+#define HAS_SPHERES 1
+#endif
+#ifndef HAS_PLANES
+#define HAS_PLANES 1
+#endif
+#ifndef HAS_POINT
+#define HAS_POINT 1
+#endif
+#ifndef HAS_DIRECTIONAL
+#define HAS_DIRECTIONAL 1
+#endif
+#ifndef HAS_SPOT
+#define HAS_SPOT 1
+#endif
+#ifndef HAS_ATTENUATION
+#define HAS_ATTENUATION 1
+#endif
+#ifndef HAS_SHADOWS
+#define HAS_SHADOWS 1
+#endif
+#ifndef SHADOWS_ON
+#define SHADOWS_ON (g.counts.w != 0u)
+#endif
+#ifndef MAX_DEPTH
+#define MAX_DEPTH g.size.w
+#endif
+#ifndef SAMPLES
+#define SAMPLES g.size.z
+#endif
+#define HAS_LIGHTS (HAS_POINT != 0 || HAS_DIRECTIONAL != 0 || HAS_SPOT != 0)
+#define HAS_POSITIONED (HAS_POINT != 0 || HAS_SPOT != 0)
+#define HAS_OBJECTS (HAS_SPHERES != 0 || HAS_PLANES != 0)
+
+// A hook called once per ray/primitive test; empty unless a user's shader
+// defines it (shaders/experiments/cost counts the tests with it).
+#ifndef ON_TEST
+#define ON_TEST()
+#endif
+
+// The scene's arrays, each declared only where the variant reads it. Where
+// they fit the device's uniform buffer range the host defines
+// SCENE_IN_UNIFORMS and each array's length: llvmpipe (and many GPUs) read a
+// uniform buffer at a dynamically uniform offset with one scalar load, where
+// a storage buffer read under divergent control flow becomes a loop over the
+// lanes. Otherwise they are storage buffers of any length.
 #ifdef SCENE_IN_UNIFORMS
-layout(std140, set = 0, binding = 1) uniform Spheres { Sphere spheres[SPHERE_SLOTS]; };
-layout(std140, set = 0, binding = 2) uniform Planes { Plane planes[PLANE_SLOTS]; };
-layout(std140, set = 0, binding = 3) uniform Materials { Material materials[MATERIAL_SLOTS]; };
-layout(std140, set = 0, binding = 4) uniform Lights { Light lights[LIGHT_SLOTS]; };
+#define SCENE_BLOCK(n) layout(std140, set = 0, binding = n) uniform
+#define SLOTS(n) n
 #else
-layout(std430, set = 0, binding = 1) readonly buffer Spheres { Sphere spheres[]; };
-layout(std430, set = 0, binding = 2) readonly buffer Planes { Plane planes[]; };
-layout(std430, set = 0, binding = 3) readonly buffer Materials { Material materials[]; };
-layout(std430, set = 0, binding = 4) readonly buffer Lights { Light lights[]; };
+#define SCENE_BLOCK(n) layout(std430, set = 0, binding = n) readonly buffer
+#define SLOTS(n)
+#endif
+// Binding numbers: dense for a scene's variant (the host numbers only the
+// blocks it declares), fixed for the generic shader.
+#ifndef SPHERES_BINDING
+#define SPHERES_BINDING 1
+#endif
+#ifndef PLANES_BINDING
+#define PLANES_BINDING 2
+#endif
+#ifndef MATERIALS_BINDING
+#define MATERIALS_BINDING 3
+#endif
+#ifndef LIGHTS_BINDING
+#define LIGHTS_BINDING 4
+#endif
+#ifndef PIXELS_BINDING
+#define PIXELS_BINDING 5
+#endif
+#if HAS_SPHERES
+SCENE_BLOCK(SPHERES_BINDING) Spheres { Sphere spheres[SLOTS(SPHERE_SLOTS)]; };
+#endif
+#if HAS_PLANES
+SCENE_BLOCK(PLANES_BINDING) Planes { Plane planes[SLOTS(PLANE_SLOTS)]; };
+#endif
+#if HAS_OBJECTS
+SCENE_BLOCK(MATERIALS_BINDING) Materials { Material materials[SLOTS(MATERIAL_SLOTS)]; };
+#endif
+#if HAS_LIGHTS
+SCENE_BLOCK(LIGHTS_BINDING) Lights { Light lights[SLOTS(LIGHT_SLOTS)]; };
 #endif
 
 // Linear RGB (alpha unused) of the tile being rendered, row-major.
-layout(std430, set = 0, binding = 5) writeonly buffer Pixels { vec4 pixels[]; };
+layout(std430, set = 0, binding = PIXELS_BINDING) writeonly buffer Pixels { vec4 pixels[]; };
 
 // The tile: origin x, origin y, width, height, in image pixels.
 layout(push_constant) uniform Tile { uvec4 rect; } tile;
@@ -85,8 +154,4 @@ layout(push_constant) uniform Tile { uvec4 rect; } tile;
 #endif
 
 const float INF = uintBitsToFloat(0x7f800000u);
-
-Material material(uint i) {
-    return materials[i];
-}
 const uint NONE = 0xffffffffu;

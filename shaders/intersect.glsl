@@ -12,6 +12,7 @@
 const float NAIVE_EPSILON = 1e-4;
 
 float intersect_sphere(Ray r, vec3 center, float radius, bool from_self) {
+    ON_TEST();
     vec3 f = r.origin - center;
     float b = dot(f, r.dir);
     float disc = b * b - (dot(f, f) - radius * radius);
@@ -28,6 +29,7 @@ float intersect_sphere(Ray r, vec3 center, float radius, bool from_self) {
 }
 
 float intersect_plane(Ray r, vec3 point, vec3 normal, bool from_self) {
+    ON_TEST();
     float t = dot(point - r.origin, normal) / dot(r.dir, normal);
     return t > NAIVE_EPSILON ? t : -1.0;
 }
@@ -72,6 +74,7 @@ float power(vec3 f, float r) {
 
 // Distance to a sphere along a unit-direction ray; negative for a miss.
 float intersect_sphere(Ray r, vec3 center, float radius, bool from_self) {
+    ON_TEST();
     vec3 f = r.origin - center;
     float b = dot(f, r.dir);
     if (from_self) {
@@ -97,6 +100,7 @@ float intersect_sphere(Ray r, vec3 center, float radius, bool from_self) {
 }
 
 float intersect_plane(Ray r, vec3 point, vec3 normal, bool from_self) {
+    ON_TEST();
     if (from_self) {
         return -1.0;
     }
@@ -123,6 +127,7 @@ struct Hit {
 // The nearest hit with t in (0, t_max).
 bool intersect_scene(Ray r, uint from, float t_max, out Hit hit) {
     hit = Hit(t_max, NONE, 0u, vec4(0.0));
+#if HAS_SPHERES
     SCENE_LOOP for (uint i = 0u; i < SPHERE_COUNT; i++) {
         vec4 s = spheres[i].center_radius;
         float t = intersect_sphere(r, s.xyz, s.w, from == i);
@@ -130,6 +135,8 @@ bool intersect_scene(Ray r, uint from, float t_max, out Hit hit) {
             hit = Hit(t, i, spheres[i].meta.x, s);
         }
     }
+#endif
+#if HAS_PLANES
     SCENE_LOOP for (uint i = 0u; i < PLANE_COUNT; i++) {
         uint id = SPHERE_COUNT + i;
         vec4 n = planes[i].normal;
@@ -138,6 +145,7 @@ bool intersect_scene(Ray r, uint from, float t_max, out Hit hit) {
             hit = Hit(t, id, planes[i].meta.x, n);
         }
     }
+#endif
     return hit.prim != NONE;
 }
 

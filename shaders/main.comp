@@ -20,10 +20,10 @@ void main() {
     }
     uint x = tile.rect.x + local.x;
     uint y = tile.rect.y + local.y;
-    uint samples = g.size.z;
+    uint samples = SAMPLES;
     vec3 sum = vec3(0.0);
-    for (uint j = 0u; j < samples; j++) {
-        for (uint i = 0u; i < samples; i++) {
+    [[dont_unroll]] for (uint j = 0u; j < samples; j++) {
+        [[dont_unroll]] for (uint i = 0u; i < samples; i++) {
             sum += trace(primary_ray(x, y, i, j));
         }
     }

@@ -13,8 +13,10 @@ float spec_pow(float x, float n) {
     return pow(x, n);
 }
 
+#if HAS_SHADOWS
 // Whether anything lies on the shadow ray strictly between 0 and dist.
 bool occluded(Ray r, uint from, float dist) {
+#if HAS_SPHERES
     SCENE_LOOP for (uint i = 0u; i < SPHERE_COUNT; i++) {
         vec4 s = spheres[i].center_radius;
         float t = intersect_sphere(r, s.xyz, s.w, from == i);
@@ -22,33 +24,39 @@ bool occluded(Ray r, uint from, float dist) {
             return true;
         }
     }
+#endif
+#if HAS_PLANES
     SCENE_LOOP for (uint i = 0u; i < PLANE_COUNT; i++) {
         float t = intersect_plane(r, planes[i].point.xyz, planes[i].normal.xyz, from == SPHERE_COUNT + i);
         if (t > 0.0 && t < dist) {
             return true;
         }
     }
+#endif
     return false;
 }
+#endif
 
 // The sum of every light's contribution at p, where n faces the viewer.
 vec3 shade(vec3 p, vec3 n, vec3 v, Material m, uint from) {
     vec3 local = vec3(0.0);
+#if HAS_LIGHTS
     SCENE_LOOP for (uint k = 0u; k < LIGHT_COUNT; k++) {
         Light light = lights[k];
         uint kind = light.meta.x;
         vec3 l;
         float dist;
-        float att;
-        if (kind == LIGHT_DIRECTIONAL) {
+        float att = 1.0;
+        if (HAS_DIRECTIONAL != 0 && (!HAS_POSITIONED || kind == LIGHT_DIRECTIONAL)) {
             l = -light.direction.xyz;
             dist = INF;
-            att = 1.0;
         } else {
             vec3 to_light = light.position.xyz - p;
             dist = length(to_light);
+#if HAS_ATTENUATION
             vec3 a = light.attenuation.xyz;
             att = 1.0 / (a.x + a.y * dist + a.z * dist * dist);
+#endif
             l = to_light / dist;
         }
         vec3 ambient = light.ambient.rgb * m.ambient.rgb;
@@ -58,13 +66,19 @@ vec3 shade(vec3 p, vec3 n, vec3 v, Material m, uint from) {
             continue;
         }
         float spot = 1.0;
-        if (kind == LIGHT_SPOT) {
+        if (HAS_SPOT != 0 && kind == LIGHT_SPOT) {
             float cos_theta = dot(-l, light.direction.xyz);
             spot = cos_theta >= light.spot.x ? spec_pow(cos_theta, light.spot.y) : 0.0;
         }
         vec3 contribution = ambient;
         float n_dot_l = dot(n, l);
-        if (n_dot_l > 0.0 && !(g.counts.w != 0u && occluded(Ray(p, l), from, dist))) {
+        // No shadow ray where the direct term would be zero anyway: facing
+        // away, outside a spot's cone, or a light without diffuse and specular.
+        bool direct = n_dot_l > 0.0 && spot > 0.0 && light.meta.y != 0u;
+#if HAS_SHADOWS
+        direct = direct && !(SHADOWS_ON && occluded(Ray(p, l), from, dist));
+#endif
+        if (direct) {
             vec3 h = normalize(l + v);
             float n_dot_h = max(dot(n, h), 0.0);
             contribution += light.diffuse.rgb * m.diffuse.rgb * n_dot_l
@@ -72,5 +86,6 @@ vec3 shade(vec3 p, vec3 n, vec3 v, Material m, uint from) {
         }
         local += contribution * (att * spot);
     }
+#endif
     return local;
 }

@@ -2,9 +2,12 @@
 
 vec3 trace(Ray ray) {
     vec3 color = vec3(0.0);
+#if HAS_OBJECTS
     float weight = 1.0;
     uint from = NONE;
-    for (uint depth = 1u; depth <= g.size.w; depth++) {
+    // Never unrolled: with MAX_DEPTH a constant the compiler would copy the
+    // whole bounce up to 64 times (lavapipe crashed compiling that).
+    [[dont_unroll]] for (uint depth = 1u; depth <= MAX_DEPTH; depth++) {
         Hit hit;
         if (!intersect_scene(ray, from, INF, hit)) {
             color += g.background.rgb * weight;
@@ -13,16 +16,22 @@ vec3 trace(Ray ray) {
         vec3 p = ray.origin + ray.dir * hit.t;
         vec3 outward = surface(hit, p);
         vec3 n = dot(outward, ray.dir) > 0.0 ? -outward : outward;
-        Material m = material(hit.material);
+        Material m = materials[hit.material];
         color += shade(p, n, -ray.dir, m, hit.prim) * weight;
         float kr = m.params.y;
-        if (depth == g.size.w || kr == 0.0) {
+        if (depth == MAX_DEPTH || kr == 0.0) {
             break;
         }
         weight *= kr;
+        if (weight == 0.0) {
+            break;
+        }
         vec3 d = ray.dir - n * (2.0 * dot(ray.dir, n));
         ray = Ray(p, normalize(d));
         from = hit.prim;
     }
+#else
+    color = g.background.rgb;
+#endif
     return color;
 }

@@ -54,6 +54,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     }
     let threads = rayon::current_num_threads();
     let info = renderer.device_info();
+    let variant = renderer.variant_for(&scene).0.name();
     let setup: gpu::SetupTimes = renderer.setup;
     if a.json {
         let out = json!({
@@ -63,6 +64,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             "samples": scene.samples,
             "max_depth": scene.max_depth,
             "device": info,
+            "shader_variant": variant,
             "cpu_threads": threads,
             "setup": setup,
             "gpu_f32": { "seconds": gpu_times.total_s(), "times": gpu_times, "error": gpu_err },
@@ -83,6 +85,14 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             scene.max_depth
         );
         println!("device     {} ({}, {})", info.name, info.kind, info.driver);
+        println!(
+            "shader     {variant}{}",
+            if setup.spirv_cached {
+                " (SPIR-V from the cache)"
+            } else {
+                ""
+            }
+        );
         println!(
             "setup      device {:.3} s, shader compile {:.3} s, pipeline {:.3} s (not in the times below)",
             setup.device_s, setup.compile_s, setup.pipeline_s

@@ -6,7 +6,9 @@ mod diff;
 mod info;
 mod progress;
 mod render;
+mod shader;
 mod stability;
+mod watch;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -39,6 +41,10 @@ enum Command {
     Info(info::InfoArgs),
     /// Robust and naive GPU forms and CPU f32 against CPU f64 on the extreme scenes.
     Stability(stability::StabilityArgs),
+    /// Check a shader file, or dump a scene's shader variant.
+    Shader(shader::ShaderArgs),
+    /// Re-render whenever the scene or a shader file changes.
+    Watch(watch::WatchArgs),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -56,8 +62,8 @@ pub enum Precision {
 /// The scene and the settings that override its own.
 #[derive(Args)]
 pub struct SceneArgs {
-    /// The scene file (TOML, see SPEC §1).
-    scene: PathBuf,
+    /// The scene file (TOML, see docs/scene-format.md).
+    pub scene: PathBuf,
     /// Image width in pixels (1..=16384).
     #[arg(long)]
     width: Option<u32>,
@@ -92,10 +98,22 @@ pub struct DeviceArgs {
     device: Option<String>,
     /// Look for shader files (main.comp, shade.glsl, ...) in DIR before the built-in ones; repeatable.
     #[arg(short = 'I', long = "include", value_name = "DIR")]
-    include: Vec<PathBuf>,
+    pub include: Vec<PathBuf>,
     /// The GPU's intersection forms: robust, or the textbook ones for comparison.
     #[arg(long, value_enum, default_value = "robust")]
     intersect: IntersectArg,
+    /// Use FILE as the main shader instead of the built-in main.comp.
+    #[arg(long, value_name = "FILE")]
+    pub shader: Option<PathBuf>,
+    /// Add a preprocessor define to the shader; repeatable.
+    #[arg(short = 'D', value_name = "NAME[=VALUE]")]
+    define: Vec<String>,
+    /// Render with the one shader that handles every feature, not the scene's own variant.
+    #[arg(long)]
+    generic: bool,
+    /// Compile the shader afresh and keep no SPIR-V or pipeline cache.
+    #[arg(long)]
+    no_cache: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -111,12 +129,49 @@ impl DeviceArgs {
         }
         let mut options = GpuOptions::from_env(self.device.clone());
         options.include_dirs = self.include.clone();
+        if let Some(shader) = &self.shader {
+            anyhow::ensure!(
+                shader.is_file(),
+                "--shader {}: no such file",
+                shader.display()
+            );
+            options.main_shader = Some(shader.clone());
+        }
+        options.defines = self
+            .define
+            .iter()
+            .map(|d| parse_define(d))
+            .collect::<anyhow::Result<_>>()?;
+        options.generic = self.generic;
+        options.cache_dir = if self.no_cache {
+            None
+        } else {
+            GpuOptions::default_cache_dir()
+        };
         options.intersect = match self.intersect {
             IntersectArg::Robust => Intersect::Robust,
             IntersectArg::Naive => Intersect::Naive,
         };
         Ok(options)
     }
+}
+
+/// NAME or NAME=VALUE, NAME a C identifier.
+pub fn parse_define(d: &str) -> anyhow::Result<(String, Option<String>)> {
+    let (name, value) = match d.split_once('=') {
+        Some((n, v)) => (n, Some(v.to_owned())),
+        None => (d, None),
+    };
+    let ok = name
+        .chars()
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+    anyhow::ensure!(
+        ok,
+        "-D {d}: a define is NAME or NAME=VALUE, NAME made of letters, digits and _"
+    );
+    Ok((name.to_owned(), value))
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
@@ -126,5 +181,7 @@ pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Diff(a) => diff::run(&a),
         Command::Info(a) => info::run(&a),
         Command::Stability(a) => stability::run(&a),
+        Command::Shader(a) => shader::run(&a),
+        Command::Watch(a) => watch::run(&a),
     }
 }

@@ -70,9 +70,10 @@ pub fn shade<R: Real>(
         };
         let mut contribution = ambient;
         let n_dot_l = n.dot(l);
-        if n_dot_l > R::zero()
-            && !(w.shadows && occluded(w, &Ray { origin: p, dir: l }, from, dist))
-        {
+        // No shadow ray where the direct term would be zero anyway: facing
+        // away, outside a spot's cone, or a light without diffuse and specular.
+        let direct = n_dot_l > R::zero() && spot > R::zero() && light.direct;
+        if direct && !(w.shadows && occluded(w, &Ray { origin: p, dir: l }, from, dist)) {
             let h = (l + v).normalize();
             let n_dot_h = n.dot(h).max(R::zero());
             contribution += light.diffuse * m.diffuse * n_dot_l

@@ -29,6 +29,9 @@ pub fn trace<R: Real>(w: &World<R>, primary: Ray<R>) -> Vec3<R> {
             break;
         }
         weight = weight * m.reflectivity;
+        if weight == R::zero() {
+            break;
+        }
         let d = ray.dir - n * (R::of(2.0) * ray.dir.dot(n));
         ray = Ray {
             origin: p,

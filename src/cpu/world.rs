@@ -53,6 +53,8 @@ pub struct LightR<R> {
     pub attenuation: Vec3<R>,
     pub cos_cutoff: R,
     pub exponent: R,
+    /// Whether it has a diffuse or specular term.
+    pub direct: bool,
 }
 
 impl<R: Real> World<R> {
@@ -108,6 +110,7 @@ impl<R: Real> World<R> {
                     attenuation: Vec3::of(l.attenuation),
                     cos_cutoff: R::of(l.cos_cutoff),
                     exponent: R::of(l.exponent),
+                    direct: l.has_direct_term(),
                 })
                 .collect(),
             background: Vec3::of(scene.background),

@@ -1,8 +1,11 @@
 //! GLSL to SPIR-V with glslang, at run time. The shader's files are built
-//! into the binary; `#include "x.glsl"` resolves among them.
+//! into the binary; a user's directories (-I) and main file (--shader) come
+//! first. Errors name the user's own file and line.
 
-use std::path::PathBuf;
+use std::hash::Hasher;
+use std::path::{Path, PathBuf};
 
+use glslang::error::GlslangError;
 use glslang::include::{IncludeHandler, IncludeResult, IncludeType};
 use glslang::{
     Compiler, CompilerOptions, ShaderInput, ShaderSource, ShaderStage, SourceLanguage,
@@ -24,10 +27,15 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("trace.glsl", include_str!("../../shaders/trace.glsl")),
 ];
 
-/// Finds shader files: in the user's directories first, in order, then
-/// among the built-in files.
+pub type Defines = [(String, Option<String>)];
+
+/// Finds shader files: the user's main file, then the user's directories in
+/// order, then the built-in files.
+#[derive(Debug, Clone, Default)]
 pub struct Sources {
     pub dirs: Vec<PathBuf>,
+    /// Replaces main.comp.
+    pub main: Option<PathBuf>,
 }
 
 impl Sources {
@@ -44,6 +52,42 @@ impl Sources {
             .find(|(n, _)| *n == name)
             .map(|(n, text)| (format!("shaders/{n}"), (*text).to_owned()))
     }
+
+    fn main_source(&self) -> Result<(String, String), GpuError> {
+        match &self.main {
+            Some(path) => std::fs::read_to_string(path)
+                .map(|text| (path.display().to_string(), text))
+                .map_err(|e| GpuError::Shader(format!("{}: {e}", path.display()))),
+            None => self
+                .find("main.comp")
+                .ok_or_else(|| GpuError::Shader("main.comp not found".into())),
+        }
+    }
+
+    /// A hash of everything a compile can read: the built-in files, the
+    /// user's main file and every file in the user's directories. A change to
+    /// any of them makes a new pipeline and a new cache entry.
+    pub fn fingerprint(&self) -> u64 {
+        let mut h = Fnv::default();
+        h.write(env!("CARGO_PKG_VERSION").as_bytes());
+        for (name, text) in BUILTIN {
+            h.write(name.as_bytes());
+            h.write(text.as_bytes());
+        }
+        let mut files: Vec<PathBuf> = self.main.iter().cloned().collect();
+        for dir in &self.dirs {
+            let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
+                .map(|r| r.filter_map(|e| e.ok().map(|e| e.path())).collect())
+                .unwrap_or_default();
+            entries.sort();
+            files.extend(entries);
+        }
+        for f in files {
+            h.write(f.display().to_string().as_bytes());
+            h.write(&std::fs::read(&f).unwrap_or_default());
+        }
+        h.finish()
+    }
 }
 
 impl IncludeHandler for Sources {
@@ -59,35 +103,55 @@ impl IncludeHandler for Sources {
     }
 }
 
-/// Compiles main.comp (the user's where `sources` has one) with `defines`.
-pub fn compile(
-    sources: &Sources,
-    defines: &[(String, Option<String>)],
-) -> Result<Vec<u32>, GpuError> {
+/// FNV-1a: a stable hash for cache keys (std's hasher may change between
+/// Rust versions, which would only cost a recompile, but this costs nothing).
+struct Fnv(u64);
+
+impl Default for Fnv {
+    fn default() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Hasher for Fnv {
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.0 = (self.0 ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3);
+        }
+        // Separates consecutive writes, so that ("ab", "c") and ("a", "bc") differ.
+        self.0 = (self.0 ^ 0xff).wrapping_mul(0x0100_0000_01b3);
+    }
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// The cache key of one compile.
+pub fn cache_key(fingerprint: u64, defines: &Defines) -> String {
+    let mut h = Fnv(fingerprint);
+    for (name, value) in defines {
+        h.write(name.as_bytes());
+        h.write(value.as_deref().unwrap_or("").as_bytes());
+    }
+    format!("{:016x}", h.finish())
+}
+
+/// A compiled shader, with the preprocessed text (`glint shader dump`).
+pub struct Compiled {
+    pub spirv: Vec<u32>,
+    pub preprocessed: String,
+}
+
+/// Compiles the main shader with `defines`.
+pub fn compile(sources: &Sources, defines: &Defines) -> Result<Compiled, GpuError> {
+    let (main_path, main) = sources.main_source()?;
     let defines: Vec<(&str, Option<&str>)> = defines
         .iter()
         .map(|(n, v)| (n.as_str(), v.as_deref()))
         .collect();
-    let (_, main) = sources
-        .find("main.comp")
-        .ok_or_else(|| GpuError::Shader("main.comp not found".into()))?;
-    compile_source(
-        &main,
-        &defines,
-        &mut Sources {
-            dirs: sources.dirs.clone(),
-        },
-    )
-}
-
-fn compile_source(
-    source: &str,
-    defines: &[(&str, Option<&str>)],
-    includes: &mut dyn IncludeHandler,
-) -> Result<Vec<u32>, GpuError> {
     let compiler = Compiler::acquire()
         .ok_or_else(|| GpuError::Shader("glslang failed to initialise".into()))?;
-    let source = ShaderSource::from(source.to_owned());
+    let source = ShaderSource::from(main);
     let options = CompilerOptions {
         source_language: SourceLanguage::GLSL,
         target: Target::Vulkan {
@@ -96,18 +160,96 @@ fn compile_source(
         },
         ..CompilerOptions::default()
     };
+    let mut includes = sources.clone();
+    let fail = |e: GlslangError| GpuError::Shader(format_log(&e, &main_path));
     let input = ShaderInput::new(
         &source,
         ShaderStage::Compute,
         &options,
-        Some(defines),
-        Some(includes),
+        Some(&defines),
+        Some(&mut includes),
     )
-    .map_err(|e| GpuError::Shader(e.to_string()))?;
-    let shader = compiler
-        .create_shader(input)
-        .map_err(|e| GpuError::Shader(e.to_string()))?;
-    shader
-        .compile()
-        .map_err(|e| GpuError::Shader(e.to_string()))
+    .map_err(fail)?;
+    let shader = compiler.create_shader(input).map_err(fail)?;
+    let spirv = shader.compile().map_err(fail)?;
+    Ok(Compiled {
+        spirv,
+        preprocessed: shader.get_preprocessed_code(),
+    })
+}
+
+/// Compiles through a cache of SPIR-V files in `dir`, keyed by the sources'
+/// fingerprint and the defines. Returns whether the cache had it.
+pub fn compile_cached(
+    sources: &Sources,
+    defines: &Defines,
+    dir: Option<&Path>,
+) -> Result<(Vec<u32>, bool), GpuError> {
+    let Some(dir) = dir else {
+        return Ok((compile(sources, defines)?.spirv, false));
+    };
+    let file = dir.join(format!("{}.spv", cache_key(sources.fingerprint(), defines)));
+    if let Ok(bytes) = std::fs::read(&file) {
+        if bytes.len() % 4 == 0 && bytes.len() >= 20 {
+            let words: Vec<u32> = bytes
+                .chunks_exact(4)
+                .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                .collect();
+            if words[0] == 0x0723_0203 {
+                return Ok((words, true));
+            }
+        }
+    }
+    let spirv = compile(sources, defines)?.spirv;
+    // A cache that cannot be written is only a slower next start.
+    if std::fs::create_dir_all(dir).is_ok() {
+        if let Ok(tmp) = tempfile::NamedTempFile::new_in(dir) {
+            let bytes: Vec<u8> = spirv.iter().flat_map(|w| w.to_le_bytes()).collect();
+            if std::fs::write(tmp.path(), bytes).is_ok() {
+                let _ = tmp.persist(&file);
+            }
+        }
+    }
+    Ok((spirv, false))
+}
+
+/// glslang's log as `file:line: error: message` lines, the main file named
+/// by its path (glslang calls it "0").
+fn format_log(e: &GlslangError, main_path: &str) -> String {
+    let log = match e {
+        GlslangError::PreprocessError(l)
+        | GlslangError::ParseError(l)
+        | GlslangError::LinkError(l)
+        | GlslangError::MapIoError(l) => l.log.clone(),
+        other => return other.to_string(),
+    };
+    let mut out = Vec::new();
+    for line in log.lines() {
+        let (kind, rest) = if let Some(r) = line.strip_prefix("ERROR: ") {
+            ("error", r)
+        } else if let Some(r) = line.strip_prefix("WARNING: ") {
+            ("warning", r)
+        } else {
+            continue;
+        };
+        // "<file>:<line>: <message>", where <file> may itself hold colons.
+        let parsed = rest.split_once(": ").and_then(|(place, message)| {
+            let (file, line_no) = place.rsplit_once(':')?;
+            line_no.parse::<u32>().ok().map(|n| (file, n, message))
+        });
+        match parsed {
+            Some((file, n, message)) => {
+                let file = if file == "0" { main_path } else { file };
+                out.push(format!("{file}:{n}: {kind}: {message}"));
+            }
+            // "ERROR: 1 compilation errors.  No code generated." and the like.
+            None if rest.contains("compilation errors") => {}
+            None => out.push(format!("{main_path}: {kind}: {rest}")),
+        }
+    }
+    if out.is_empty() {
+        log.trim().to_owned()
+    } else {
+        out.join("\n")
+    }
 }

@@ -147,7 +147,7 @@ impl Uploads {
                         LightKind::Directional => 1,
                         LightKind::Spot => 2,
                     },
-                    0,
+                    u32::from(l.has_direct_term()),
                     0,
                     0,
                 ),

@@ -8,6 +8,7 @@ pub mod variant;
 pub mod vk;
 
 use std::collections::HashMap;
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use ash::vk as raw;
@@ -17,12 +18,13 @@ use crate::raster::Image;
 use crate::scene::Scene;
 pub use error::GpuError;
 use layout::{TileRect, Uploads};
-use variant::Variant;
+use variant::{Block, Variant};
 use vk::buffer::Buffer;
 use vk::command::OneShot;
 use vk::device::{Device, DeviceInfo};
 use vk::instance::Instance;
 use vk::pipeline::ComputePipeline;
+use vk::pipeline_cache::PipelineCache;
 
 /// Rays per dispatch at most: small enough that no single dispatch runs long
 /// enough to trip a desktop GPU's watchdog, large enough to fill one.
@@ -48,8 +50,17 @@ pub struct GpuOptions {
     /// Enable the Khronos validation layer and fail on any message.
     pub validate: bool,
     /// Directories searched for shader files ahead of the built-in ones.
-    pub include_dirs: Vec<std::path::PathBuf>,
+    pub include_dirs: Vec<PathBuf>,
+    /// A main shader to use instead of main.comp.
+    pub main_shader: Option<PathBuf>,
+    /// Defines added after the variant's own (-D NAME=VALUE).
+    pub defines: Vec<(String, Option<String>)>,
     pub intersect: Intersect,
+    /// Render with the one shader that handles every feature.
+    pub generic: bool,
+    /// Where compiled SPIR-V and the Vulkan pipeline cache are kept between
+    /// runs; None: compile every time.
+    pub cache_dir: Option<PathBuf>,
 }
 
 impl GpuOptions {
@@ -62,15 +73,25 @@ impl GpuOptions {
             ..Self::default()
         }
     }
+
+    /// $XDG_CACHE_HOME/glint, or ~/.cache/glint.
+    pub fn default_cache_dir() -> Option<PathBuf> {
+        let base = std::env::var_os("XDG_CACHE_HOME")
+            .map(PathBuf::from)
+            .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))?;
+        Some(base.join("glint"))
+    }
 }
 
 /// One-time costs, apart from any render: opening the device, and compiling
-/// the scene's shader variant and creating its pipeline (zero when cached).
+/// the scene's shader variant (or reading it from the SPIR-V cache) and
+/// creating its pipeline; zero when the variant was already built.
 #[derive(Debug, Clone, Copy, Default, serde::Serialize)]
 pub struct SetupTimes {
     pub device_s: f64,
     pub compile_s: f64,
     pub pipeline_s: f64,
+    pub spirv_cached: bool,
 }
 
 /// The cost of one render.
@@ -87,16 +108,23 @@ impl RenderTimes {
     }
 }
 
-/// Field order is drop order: the pipelines and commands go before the
-/// device, the device before the instance.
+/// Field order is drop order: the pipelines, their cache and the commands go
+/// before the device, the device before the instance.
 pub struct Renderer {
-    pipelines: HashMap<Variant, ComputePipeline>,
+    /// Keyed by the variant and the fingerprint of the shader sources, so
+    /// that an edited shader file makes a new pipeline (`glint watch`).
+    pipelines: HashMap<(Variant, u64), ComputePipeline>,
+    pipeline_cache: PipelineCache,
     commands: OneShot,
-    sources: compile::Sources,
-    /// The intersection forms of the next renders.
-    pub intersect: Intersect,
     device: Device,
     instance: Instance,
+    sources: compile::Sources,
+    defines: Vec<(String, Option<String>)>,
+    cache_dir: Option<PathBuf>,
+    /// The intersection forms of the next renders.
+    pub intersect: Intersect,
+    /// Whether the next renders use the generic shader.
+    pub generic: bool,
     pub setup: SetupTimes,
 }
 
@@ -110,15 +138,25 @@ impl Renderer {
         let instance = Instance::new(opts.validate)?;
         let device = Device::open(&instance, opts.device.as_deref())?;
         let commands = OneShot::new(&device)?;
+        let cache_file = opts
+            .cache_dir
+            .as_ref()
+            .map(|d| d.join(format!("pipelines-{}.bin", device.info.cache_id())));
+        let pipeline_cache = PipelineCache::new(&device.raw, cache_file.as_deref())?;
         let renderer = Self {
             pipelines: HashMap::new(),
+            pipeline_cache,
             commands,
-            sources: compile::Sources {
-                dirs: opts.include_dirs.clone(),
-            },
-            intersect: opts.intersect,
             device,
             instance,
+            sources: compile::Sources {
+                dirs: opts.include_dirs.clone(),
+                main: opts.main_shader.clone(),
+            },
+            defines: opts.defines.clone(),
+            cache_dir: opts.cache_dir.as_ref().map(|d| d.join("spirv")),
+            intersect: opts.intersect,
+            generic: opts.generic,
             setup: SetupTimes {
                 device_s: secs(t0.elapsed()),
                 ..SetupTimes::default()
@@ -154,38 +192,56 @@ impl Renderer {
         (width, height)
     }
 
+    /// The variant `scene` renders with, and its defines (the user's last).
+    pub fn variant_for(&self, scene: &Scene) -> (Variant, Vec<(String, Option<String>)>) {
+        let variant = Variant::for_scene(
+            scene,
+            &Uploads::new(scene, self.intersect),
+            self.intersect,
+            &self.device.info,
+            self.generic,
+        );
+        let mut defines = variant.defines();
+        defines.extend(self.defines.iter().cloned());
+        (variant, defines)
+    }
+
     /// Compiles the variant's shader and creates its pipeline, once per
-    /// variant; records the time it took in `setup`.
-    fn prepare(&mut self, variant: &Variant) -> Result<(), GpuError> {
-        if self.pipelines.contains_key(variant) {
-            return Ok(());
+    /// variant and version of the sources; records the time it took.
+    fn prepare(
+        &mut self,
+        variant: &Variant,
+        defines: &[(String, Option<String>)],
+    ) -> Result<(Variant, u64), GpuError> {
+        let key = (variant.clone(), self.sources.fingerprint());
+        if self.pipelines.contains_key(&key) {
+            return Ok(key);
         }
         let t0 = Instant::now();
-        let defines = variant.defines();
-        let spirv = compile::compile(&self.sources, &defines)?;
+        let (spirv, cached) =
+            compile::compile_cached(&self.sources, defines, self.cache_dir.as_deref())?;
         let t1 = Instant::now();
         let push_bytes = std::mem::size_of::<TileRect>() as u32;
         let pipeline = ComputePipeline::new(
             &self.device.raw,
             &spirv,
-            &variant.descriptor_types(),
+            &variant.descriptor_layout(),
             push_bytes,
+            self.pipeline_cache.raw,
         )?;
         self.setup.compile_s = secs(t1 - t0);
         self.setup.pipeline_s = secs(t1.elapsed());
-        self.pipelines.insert(variant.clone(), pipeline);
-        self.check_validation()
-    }
-
-    fn variant(&self, scene: &Scene, uploads: &Uploads) -> Variant {
-        Variant::for_scene(scene, uploads, self.intersect, &self.device.info)
+        self.setup.spirv_cached = cached;
+        self.pipelines.insert(key.clone(), pipeline);
+        self.check_validation()?;
+        Ok(key)
     }
 
     /// Compiles what `scene` needs without rendering it, so that a timed
     /// render measures the render alone.
     pub fn prepare_for(&mut self, scene: &Scene) -> Result<(), GpuError> {
-        let variant = self.variant(scene, &Uploads::new(scene, self.intersect));
-        self.prepare(&variant)
+        let (variant, defines) = self.variant_for(scene);
+        self.prepare(&variant, &defines).map(|_| ())
     }
 
     /// Renders `scene`, calling `progress(pixels)` as tiles finish.
@@ -194,34 +250,41 @@ impl Renderer {
         scene: &Scene,
         progress: &dyn Fn(u64),
     ) -> Result<(Image, RenderTimes), GpuError> {
-        let up = Uploads::new(scene, self.intersect);
-        let variant = self.variant(scene, &up);
-        self.prepare(&variant)?;
-        let pipeline = &self.pipelines[&variant];
+        let (variant, defines) = self.variant_for(scene);
+        let key = self.prepare(&variant, &defines)?;
+        let pipeline = &self.pipelines[&key];
 
         let mut times = RenderTimes::default();
         let t0 = Instant::now();
+        let up = Uploads::new(scene, self.intersect);
         let usage = variant.scene_buffer_usage();
         let d = &self.device;
-        let globals = Buffer::with_data(
-            d,
-            &[up.globals],
-            raw::BufferUsageFlags::UNIFORM_BUFFER,
-            "the uniform block",
-        )?;
-        let spheres = Buffer::with_data(d, &up.spheres, usage, "spheres")?;
-        let planes = Buffer::with_data(d, &up.planes, usage, "planes")?;
-        let materials = Buffer::with_data(d, &up.materials, usage, "materials")?;
-        let lights = Buffer::with_data(d, &up.lights, usage, "lights")?;
         let (tile_w, tile_h) = self.tile_size(scene);
         let out_bytes = u64::from(tile_w) * u64::from(tile_h) * 16;
-        let out = Buffer::new(
-            d,
-            out_bytes,
-            raw::BufferUsageFlags::STORAGE_BUFFER,
-            "the output tile",
-        )?;
-        pipeline.bind(&[&globals, &spheres, &planes, &materials, &lights, &out]);
+        // Only the buffers this variant's shader declares.
+        let mut buffers = Vec::new();
+        for (block, _, _) in variant.bindings() {
+            buffers.push(match block {
+                Block::Globals => Buffer::with_data(
+                    d,
+                    &[up.globals],
+                    raw::BufferUsageFlags::UNIFORM_BUFFER,
+                    "the uniform block",
+                )?,
+                Block::Spheres => Buffer::with_data(d, &up.spheres, usage, "spheres")?,
+                Block::Planes => Buffer::with_data(d, &up.planes, usage, "planes")?,
+                Block::Materials => Buffer::with_data(d, &up.materials, usage, "materials")?,
+                Block::Lights => Buffer::with_data(d, &up.lights, usage, "lights")?,
+                Block::Pixels => Buffer::new(
+                    d,
+                    out_bytes,
+                    raw::BufferUsageFlags::STORAGE_BUFFER,
+                    "the output tile",
+                )?,
+            });
+        }
+        pipeline.bind(&buffers.iter().collect::<Vec<_>>());
+        let out = buffers.last().expect("the output binding is last");
         times.upload_s = secs(t0.elapsed());
 
         let (width, height) = (scene.width, scene.height);

@@ -1,13 +1,14 @@
-//! What the shader is compiled with for a given scene and device: the
-//! preprocessor defines that pick a variant, and the descriptor types that
-//! go with them.
+//! What the shader is compiled with for a scene and device: the features
+//! the scene needs (everything else is left out of the shader), the
+//! constants that replace run-time counts, and the bindings that go with
+//! them. `--generic` compiles the one shader that handles every feature.
 
 use ash::vk;
 
 use super::layout::Uploads;
 use super::vk::device::DeviceInfo;
 use super::Intersect;
-use crate::scene::Scene;
+use crate::scene::{LightKind, Scene};
 
 /// Unrolling the scene loops is worth its compile time up to this many
 /// spheres and planes (each loop body is copied once per object, at every
@@ -16,23 +17,108 @@ use crate::scene::Scene;
 /// right; `glint compare` and the tests catch such a thing.
 const UNROLL_OBJECTS: usize = 64;
 const UNROLL_LIGHTS: usize = 16;
-const UNROLL_MATERIALS: usize = 16;
+
+/// The blocks of shaders/bindings.glsl, in binding order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Block {
+    Globals,
+    Spheres,
+    Planes,
+    Materials,
+    Lights,
+    Pixels,
+}
 
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Variant {
     pub intersect: Intersect,
-    /// The scene's arrays as uniform buffers with constant counts; None:
-    /// storage buffers, counts read from the uniform block.
-    pub uniforms: Option<UniformScene>,
+    /// None: the generic shader.
+    pub features: Option<Features>,
 }
 
+/// What one scene needs of the shader.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
-pub struct UniformScene {
-    /// Array lengths as uploaded: spheres, planes, materials, lights.
-    pub slots: [usize; 4],
-    /// Objects in the scene: spheres, planes, lights.
+pub struct Features {
+    /// Spheres, planes, lights.
     pub counts: [usize; 3],
+    pub point: bool,
+    pub directional: bool,
+    pub spot: bool,
+    /// A point or spot light whose falloff is not [1, 0, 0].
+    pub attenuation: bool,
+    /// Shadows on, with lights and objects to cast them.
+    pub shadows: bool,
+    /// Ray segments traced: 1 where no material reflects.
+    pub max_depth: u32,
+    pub samples: u32,
+    /// The scene's arrays as uniform buffers of these lengths (spheres,
+    /// planes, materials, lights) where they fit; else storage buffers.
+    pub uniform_slots: Option<[usize; 4]>,
     pub unroll: bool,
+}
+
+impl Features {
+    pub fn of(scene: &Scene, uploads: &Uploads, device: &DeviceInfo) -> Self {
+        let has = |k: LightKind| scene.lights.iter().any(|l| l.kind == k);
+        let counts = [scene.spheres.len(), scene.planes.len(), scene.lights.len()];
+        let objects = counts[0] + counts[1] > 0;
+        let reflects = scene.materials.iter().any(|m| m.reflectivity > 0.0);
+        // Lavapipe (Mesa 22.3) crashed in a worker thread rendering the
+        // uniform-buffer variant of scenes without spheres (planes and lights
+        // only); those take storage buffers.
+        let fits = counts[0] > 0
+            && uploads
+                .array_bytes()
+                .iter()
+                .all(|b| *b <= device.max_uniform_buffer_range as usize);
+        Self {
+            counts,
+            point: has(LightKind::Point),
+            directional: has(LightKind::Directional),
+            spot: has(LightKind::Spot),
+            attenuation: scene.lights.iter().any(|l| {
+                l.kind != LightKind::Directional && l.attenuation != glam::DVec3::new(1.0, 0.0, 0.0)
+            }),
+            shadows: scene.shadows && objects && counts[2] > 0,
+            max_depth: if reflects { scene.max_depth } else { 1 },
+            samples: scene.samples,
+            uniform_slots: fits.then(|| uploads.array_lengths()),
+            unroll: fits && counts[0] + counts[1] <= UNROLL_OBJECTS && counts[2] <= UNROLL_LIGHTS,
+        }
+    }
+
+    fn defines(&self, d: &mut Vec<(String, Option<String>)>) {
+        let mut def = |name: &str, value: String| d.push((name.to_owned(), Some(value)));
+        let flag = |b: bool| u8::from(b).to_string();
+        let [ns, np, nl] = self.counts;
+        def("HAS_SPHERES", flag(ns > 0));
+        def("HAS_PLANES", flag(np > 0));
+        def("HAS_POINT", flag(self.point));
+        def("HAS_DIRECTIONAL", flag(self.directional));
+        def("HAS_SPOT", flag(self.spot));
+        def("HAS_ATTENUATION", flag(self.attenuation));
+        def("HAS_SHADOWS", flag(self.shadows));
+        def("SHADOWS_ON", "true".to_owned());
+        def("MAX_DEPTH", format!("{}u", self.max_depth));
+        def("SAMPLES", format!("{}u", self.samples));
+        def("SPHERE_COUNT", format!("{ns}u"));
+        def("PLANE_COUNT", format!("{np}u"));
+        def("LIGHT_COUNT", format!("{nl}u"));
+        if let Some([s, p, m, l]) = self.uniform_slots {
+            d.push(("SCENE_IN_UNIFORMS".to_owned(), None));
+            for (name, n) in [
+                ("SPHERE_SLOTS", s),
+                ("PLANE_SLOTS", p),
+                ("MATERIAL_SLOTS", m),
+                ("LIGHT_SLOTS", l),
+            ] {
+                d.push((name.to_owned(), Some(format!("{n}u"))));
+            }
+        }
+        if self.unroll {
+            d.push(("UNROLL_LOOPS".to_owned(), None));
+        }
+    }
 }
 
 impl Variant {
@@ -41,19 +127,11 @@ impl Variant {
         uploads: &Uploads,
         intersect: Intersect,
         device: &DeviceInfo,
+        generic: bool,
     ) -> Self {
-        let limit = device.max_uniform_buffer_range as usize;
-        let fits = uploads.array_bytes().iter().all(|b| *b <= limit);
-        let counts = [scene.spheres.len(), scene.planes.len(), scene.lights.len()];
         Self {
             intersect,
-            uniforms: fits.then(|| UniformScene {
-                slots: uploads.array_lengths(),
-                counts,
-                unroll: counts[0] + counts[1] <= UNROLL_OBJECTS
-                    && counts[2] <= UNROLL_LIGHTS
-                    && scene.materials.len() <= UNROLL_MATERIALS,
-            }),
+            features: (!generic).then(|| Features::of(scene, uploads, device)),
         }
     }
 
@@ -62,55 +140,94 @@ impl Variant {
         if self.intersect == Intersect::Naive {
             d.push(("INTERSECT_NAIVE".to_owned(), None));
         }
-        if let Some(u) = &self.uniforms {
-            let [s, p, m, l] = u.slots;
-            let [ns, np, nl] = u.counts;
-            d.push(("SCENE_IN_UNIFORMS".to_owned(), None));
-            let numbers = [
-                ("SPHERE_SLOTS", s),
-                ("PLANE_SLOTS", p),
-                ("MATERIAL_SLOTS", m),
-                ("LIGHT_SLOTS", l),
-                ("SPHERE_COUNT", ns),
-                ("PLANE_COUNT", np),
-                ("LIGHT_COUNT", nl),
-            ];
-            for (name, n) in numbers {
-                d.push((name.to_owned(), Some(format!("{n}u"))));
-            }
-            if u.unroll {
-                d.push(("UNROLL_LOOPS".to_owned(), None));
+        if let Some(f) = &self.features {
+            f.defines(&mut d);
+            for (block, binding, _) in self.bindings() {
+                let name = match block {
+                    Block::Globals => continue,
+                    Block::Spheres => "SPHERES_BINDING",
+                    Block::Planes => "PLANES_BINDING",
+                    Block::Materials => "MATERIALS_BINDING",
+                    Block::Lights => "LIGHTS_BINDING",
+                    Block::Pixels => "PIXELS_BINDING",
+                };
+                d.push((name.to_owned(), Some(binding.to_string())));
             }
         }
         d
     }
 
-    /// Binding 0 the globals, 1-4 the scene's arrays, 5 the output tile.
-    pub fn descriptor_types(&self) -> [vk::DescriptorType; 6] {
-        let scene = self.scene_descriptor();
-        [
-            vk::DescriptorType::UNIFORM_BUFFER,
-            scene,
-            scene,
-            scene,
-            scene,
-            vk::DescriptorType::STORAGE_BUFFER,
-        ]
+    /// The blocks the shader declares, numbered densely from 0, with their
+    /// descriptor types.
+    pub fn bindings(&self) -> Vec<(Block, u32, vk::DescriptorType)> {
+        let scene_type = match self.features.as_ref().and_then(|f| f.uniform_slots) {
+            Some(_) => vk::DescriptorType::UNIFORM_BUFFER,
+            None => vk::DescriptorType::STORAGE_BUFFER,
+        };
+        let [spheres, planes, lights] = match &self.features {
+            Some(f) => f.counts.map(|n| n > 0),
+            None => [true; 3],
+        };
+        let blocks = [
+            (Block::Globals, true, vk::DescriptorType::UNIFORM_BUFFER),
+            (Block::Spheres, spheres, scene_type),
+            (Block::Planes, planes, scene_type),
+            (Block::Materials, spheres || planes, scene_type),
+            (Block::Lights, lights, scene_type),
+            (Block::Pixels, true, vk::DescriptorType::STORAGE_BUFFER),
+        ];
+        blocks
+            .into_iter()
+            .filter(|(_, used, _)| *used)
+            .enumerate()
+            .map(|(i, (block, _, ty))| (block, i as u32, ty))
+            .collect()
     }
 
-    fn scene_descriptor(&self) -> vk::DescriptorType {
-        if self.uniforms.is_some() {
-            vk::DescriptorType::UNIFORM_BUFFER
-        } else {
-            vk::DescriptorType::STORAGE_BUFFER
-        }
+    /// (binding, descriptor type) for the descriptor set layout.
+    pub fn descriptor_layout(&self) -> Vec<(u32, vk::DescriptorType)> {
+        self.bindings()
+            .into_iter()
+            .map(|(_, b, t)| (b, t))
+            .collect()
     }
 
     pub fn scene_buffer_usage(&self) -> vk::BufferUsageFlags {
-        if self.uniforms.is_some() {
-            vk::BufferUsageFlags::UNIFORM_BUFFER
-        } else {
-            vk::BufferUsageFlags::STORAGE_BUFFER
+        match self.features.as_ref().and_then(|f| f.uniform_slots) {
+            Some(_) => vk::BufferUsageFlags::UNIFORM_BUFFER,
+            None => vk::BufferUsageFlags::STORAGE_BUFFER,
         }
+    }
+
+    /// A short name for files and messages: the generic shader, or the
+    /// features this variant keeps.
+    pub fn name(&self) -> String {
+        let mut parts = vec![match self.intersect {
+            Intersect::Robust => "robust",
+            Intersect::Naive => "naive",
+        }
+        .to_owned()];
+        match &self.features {
+            None => parts.push("generic".to_owned()),
+            Some(f) => {
+                let [s, p, l] = f.counts;
+                parts.push(format!("s{s}-p{p}-l{l}"));
+                for (on, name) in [
+                    (f.point, "point"),
+                    (f.directional, "dir"),
+                    (f.spot, "spot"),
+                    (f.attenuation, "att"),
+                    (f.shadows, "shadows"),
+                    (f.uniform_slots.is_some(), "ubo"),
+                    (f.unroll, "unrolled"),
+                ] {
+                    if on {
+                        parts.push(name.to_owned());
+                    }
+                }
+                parts.push(format!("d{}-ss{}", f.max_depth, f.samples));
+            }
+        }
+        parts.join("-")
     }
 }

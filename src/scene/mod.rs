@@ -94,6 +94,14 @@ pub struct Light {
     pub exponent: f64,
 }
 
+impl Light {
+    /// Whether the light has a diffuse or specular term: a shadow ray
+    /// towards a light without one could change nothing.
+    pub fn has_direct_term(&self) -> bool {
+        self.diffuse != DVec3::ZERO || self.specular != DVec3::ZERO
+    }
+}
+
 impl Scene {
     /// Reads and validates a scene file, then applies command-line overrides.
     pub fn load(path: &Path, overrides: &Overrides) -> Result<Scene, SceneError> {

@@ -23,6 +23,16 @@ pub struct DeviceInfo {
     pub compute_queue_family: Option<u32>,
 }
 
+impl DeviceInfo {
+    /// A file-name-safe tag for this device and driver, for cache files.
+    pub fn cache_id(&self) -> String {
+        format!("{} {}", self.name, self.driver)
+            .chars()
+            .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+            .collect()
+    }
+}
+
 /// A candidate, with the rank that orders the default choice.
 pub struct Candidate {
     pub physical: vk::PhysicalDevice,

@@ -6,3 +6,4 @@ pub mod command;
 pub mod device;
 pub mod instance;
 pub mod pipeline;
+pub mod pipeline_cache;

@@ -6,14 +6,14 @@ use ash::vk;
 use super::buffer::Buffer;
 use crate::gpu::error::{GpuError, VkContext};
 
-/// One descriptor set of buffers, binding i of type `types[i]`.
+/// One descriptor set of buffers, at the given bindings and types.
 pub struct ComputePipeline {
     pub pipeline: vk::Pipeline,
     pub layout: vk::PipelineLayout,
     pub set_layout: vk::DescriptorSetLayout,
     pub pool: vk::DescriptorPool,
     pub set: vk::DescriptorSet,
-    types: Vec<vk::DescriptorType>,
+    bindings: Vec<(u32, vk::DescriptorType)>,
     device: ash::Device,
 }
 
@@ -21,8 +21,9 @@ impl ComputePipeline {
     pub fn new(
         device: &ash::Device,
         spirv: &[u32],
-        types: &[vk::DescriptorType],
+        bindings: &[(u32, vk::DescriptorType)],
         push_constant_bytes: u32,
+        cache: vk::PipelineCache,
     ) -> Result<Self, GpuError> {
         let mut p = Self {
             pipeline: vk::Pipeline::null(),
@@ -30,23 +31,22 @@ impl ComputePipeline {
             set_layout: vk::DescriptorSetLayout::null(),
             pool: vk::DescriptorPool::null(),
             set: vk::DescriptorSet::null(),
-            types: types.to_vec(),
+            bindings: bindings.to_vec(),
             device: device.clone(),
         };
         // Built up field by field so that Drop frees whatever was made if a
         // later step fails.
-        let bindings: Vec<_> = types
+        let layout_bindings: Vec<_> = bindings
             .iter()
-            .enumerate()
             .map(|(b, ty)| {
                 vk::DescriptorSetLayoutBinding::default()
-                    .binding(b as u32)
+                    .binding(*b)
                     .descriptor_type(*ty)
                     .descriptor_count(1)
                     .stage_flags(vk::ShaderStageFlags::COMPUTE)
             })
             .collect();
-        let set_info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+        let set_info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings);
         p.set_layout = unsafe { device.create_descriptor_set_layout(&set_info, None) }
             .doing("vkCreateDescriptorSetLayout")?;
 
@@ -71,15 +71,14 @@ impl ComputePipeline {
         let info = vk::ComputePipelineCreateInfo::default()
             .stage(stage)
             .layout(p.layout);
-        let created =
-            unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
+        let created = unsafe { device.create_compute_pipelines(cache, &[info], None) };
         unsafe { device.destroy_shader_module(module, None) };
         p.pipeline = created.map_err(|(_, result)| GpuError::Vk {
             what: "vkCreateComputePipelines",
             result,
         })?[0];
 
-        let count = |t| types.iter().filter(|x| **x == t).count() as u32;
+        let count = |t| bindings.iter().filter(|(_, x)| *x == t).count() as u32;
         let sizes: Vec<_> = [
             vk::DescriptorType::UNIFORM_BUFFER,
             vk::DescriptorType::STORAGE_BUFFER,
@@ -105,8 +104,10 @@ impl ComputePipeline {
         Ok(p)
     }
 
-    /// Points binding i at `buffers[i]`.
+    /// Points each binding at its buffer; `buffers` follows the order of
+    /// the bindings given to `new`.
     pub fn bind(&self, buffers: &[&Buffer]) {
+        assert_eq!(buffers.len(), self.bindings.len(), "one buffer per binding");
         let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
             .iter()
             .map(|b| {
@@ -118,12 +119,12 @@ impl ComputePipeline {
             .collect();
         let writes: Vec<_> = infos
             .iter()
-            .enumerate()
-            .map(|(i, info)| {
+            .zip(&self.bindings)
+            .map(|(info, (binding, ty))| {
                 vk::WriteDescriptorSet::default()
                     .dst_set(self.set)
-                    .dst_binding(i as u32)
-                    .descriptor_type(self.types[i])
+                    .dst_binding(*binding)
+                    .descriptor_type(*ty)
                     .buffer_info(info)
             })
             .collect();

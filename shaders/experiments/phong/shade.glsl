@@ -1,0 +1,96 @@
+// Experiment: Phong instead of Blinn-Phong. Replaces shade.glsl: the
+// specular term is (R.V)^n with R the light reflected about N, as the seed
+// article first writes it, instead of (N.H)^n. Highlights come out rounder
+// and smaller for the same n; `glint compare` shows by how much the image
+// departs from the reference, which keeps Blinn-Phong.
+//
+//   glint render scenes/showcase.toml -I shaders/experiments/phong -o phong.png
+
+// x^n with SPEC's conventions: x^0 = 1 (also for x = 0), and 0 for x <= 0
+// otherwise; GLSL's pow leaves both undefined.
+float spec_pow(float x, float n) {
+    if (n == 0.0) {
+        return 1.0;
+    }
+    if (x <= 0.0) {
+        return 0.0;
+    }
+    return pow(x, n);
+}
+
+#if HAS_SHADOWS
+// Whether anything lies on the shadow ray strictly between 0 and dist.
+bool occluded(Ray r, uint from, float dist) {
+#if HAS_SPHERES
+    SCENE_LOOP for (uint i = 0u; i < SPHERE_COUNT; i++) {
+        vec4 s = spheres[i].center_radius;
+        float t = intersect_sphere(r, s.xyz, s.w, from == i);
+        if (t > 0.0 && t < dist) {
+            return true;
+        }
+    }
+#endif
+#if HAS_PLANES
+    SCENE_LOOP for (uint i = 0u; i < PLANE_COUNT; i++) {
+        float t = intersect_plane(r, planes[i].point.xyz, planes[i].normal.xyz, from == SPHERE_COUNT + i);
+        if (t > 0.0 && t < dist) {
+            return true;
+        }
+    }
+#endif
+    return false;
+}
+#endif
+
+// The sum of every light's contribution at p, where n faces the viewer.
+vec3 shade(vec3 p, vec3 n, vec3 v, Material m, uint from) {
+    vec3 local = vec3(0.0);
+#if HAS_LIGHTS
+    SCENE_LOOP for (uint k = 0u; k < LIGHT_COUNT; k++) {
+        Light light = lights[k];
+        uint kind = light.meta.x;
+        vec3 l;
+        float dist;
+        float att = 1.0;
+        if (HAS_DIRECTIONAL != 0 && (!HAS_POSITIONED || kind == LIGHT_DIRECTIONAL)) {
+            l = -light.direction.xyz;
+            dist = INF;
+        } else {
+            vec3 to_light = light.position.xyz - p;
+            dist = length(to_light);
+#if HAS_ATTENUATION
+            vec3 a = light.attenuation.xyz;
+            att = 1.0 / (a.x + a.y * dist + a.z * dist * dist);
+#endif
+            l = to_light / dist;
+        }
+        vec3 ambient = light.ambient.rgb * m.ambient.rgb;
+        // A light exactly at p has no direction: it adds its ambient term only.
+        if (dist == 0.0) {
+            local += ambient * att;
+            continue;
+        }
+        float spot = 1.0;
+        if (HAS_SPOT != 0 && kind == LIGHT_SPOT) {
+            float cos_theta = dot(-l, light.direction.xyz);
+            spot = cos_theta >= light.spot.x ? spec_pow(cos_theta, light.spot.y) : 0.0;
+        }
+        vec3 contribution = ambient;
+        float n_dot_l = dot(n, l);
+        // No shadow ray where the direct term would be zero anyway: facing
+        // away, outside a spot's cone, or a light without diffuse and specular.
+        bool direct = n_dot_l > 0.0 && spot > 0.0 && light.meta.y != 0u;
+#if HAS_SHADOWS
+        direct = direct && !(SHADOWS_ON && occluded(Ray(p, l), from, dist));
+#endif
+        if (direct) {
+            vec3 r = reflect(-l, n);
+            float r_dot_v = max(dot(r, v), 0.0);
+            contribution += light.diffuse.rgb * m.diffuse.rgb * n_dot_l
+                          + light.specular.rgb * m.specular.rgb * spec_pow(r_dot_v, m.params.x);
+        }
+        local += contribution * (att * spot);
+    }
+#endif
+    return local;
+}

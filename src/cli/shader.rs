@@ -1,0 +1,112 @@
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context;
+use clap::{Args, Subcommand};
+
+use glint::gpu::{compile, GpuError, Renderer};
+
+use super::{DeviceArgs, SceneArgs};
+
+#[derive(Args)]
+pub struct ShaderArgs {
+    #[command(subcommand)]
+    command: ShaderCommand,
+}
+
+#[derive(Subcommand)]
+enum ShaderCommand {
+    /// Compile FILE as the main shader (the generic variant) and report errors as file:line: message.
+    Check {
+        file: PathBuf,
+        /// Look for included files in DIR before the built-in ones; repeatable.
+        #[arg(short = 'I', long = "include", value_name = "DIR")]
+        include: Vec<PathBuf>,
+        /// Add a preprocessor define; repeatable.
+        #[arg(short = 'D', value_name = "NAME[=VALUE]")]
+        define: Vec<String>,
+    },
+    /// Write the scene's variant as preprocessed GLSL and as SPIR-V into DIR.
+    Dump {
+        #[command(flatten)]
+        scene: SceneArgs,
+        #[arg(short, long, value_name = "DIR")]
+        output: PathBuf,
+        #[command(flatten)]
+        device: DeviceArgs,
+    },
+}
+
+pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
+    match &a.command {
+        ShaderCommand::Check {
+            file,
+            include,
+            define,
+        } => {
+            let sources = compile::Sources {
+                dirs: include.clone(),
+                main: Some(file.clone()),
+            };
+            let defines = define
+                .iter()
+                .map(|d| super::parse_define(d))
+                .collect::<anyhow::Result<Vec<_>>>()?;
+            match compile::compile(&sources, &defines) {
+                Ok(c) => {
+                    println!(
+                        "{}: compiles ({} words of SPIR-V)",
+                        file.display(),
+                        c.spirv.len()
+                    );
+                    Ok(ExitCode::SUCCESS)
+                }
+                Err(GpuError::Shader(log)) => {
+                    eprintln!("{log}");
+                    Ok(ExitCode::from(1))
+                }
+                Err(e) => Err(e.into()),
+            }
+        }
+        ShaderCommand::Dump {
+            scene,
+            output,
+            device,
+        } => {
+            let scene = scene.load()?;
+            let options = device.options()?;
+            let renderer = Renderer::new(&options)?;
+            let (variant, defines) = renderer.variant_for(&scene);
+            let sources = compile::Sources {
+                dirs: options.include_dirs.clone(),
+                main: options.main_shader.clone(),
+            };
+            let compiled = compile::compile(&sources, &defines)?;
+            std::fs::create_dir_all(output)
+                .with_context(|| format!("cannot create {}", output.display()))?;
+            let name = variant.name();
+            let glsl = output.join(format!("{name}.comp"));
+            let spv = output.join(format!("{name}.spv"));
+            let header: String = defines
+                .iter()
+                .map(|(n, v)| {
+                    format!(
+                        "// -D {n}{}\n",
+                        v.as_ref().map(|v| format!("={v}")).unwrap_or_default()
+                    )
+                })
+                .collect();
+            std::fs::write(&glsl, format!("{header}{}", compiled.preprocessed))
+                .with_context(|| format!("cannot write {}", glsl.display()))?;
+            let bytes: Vec<u8> = compiled
+                .spirv
+                .iter()
+                .flat_map(|w| w.to_le_bytes())
+                .collect();
+            std::fs::write(&spv, bytes)
+                .with_context(|| format!("cannot write {}", spv.display()))?;
+            println!("{}\n{}", glsl.display(), spv.display());
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}

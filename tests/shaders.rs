@@ -1,0 +1,285 @@
+//! Users' own shader code: errors that name their file and line, defines,
+//! a replaced main shader, the experiments, `shader dump` and `watch`.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn glint(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(args)
+        .env("GLINT_VALIDATION", "1")
+        .output()
+        .expect("run glint")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn repo(rel: &str) -> String {
+    common::repo().join(rel).display().to_string()
+}
+
+#[test]
+fn shader_check_accepts_the_builtin_shader() {
+    let o = glint(&["shader", "check", &repo("shaders/main.comp")]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("compiles"));
+}
+
+#[test]
+fn a_broken_include_is_reported_at_the_users_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let shade = std::fs::read_to_string(repo("shaders/shade.glsl")).unwrap();
+    let broken = shade.replace(
+        "    vec3 local = vec3(0.0);",
+        "    vec3 local = vec3(0.0);\n    float oops = undefined_thing;",
+    );
+    std::fs::write(dir.path().join("shade.glsl"), &broken).unwrap();
+    let line = broken
+        .lines()
+        .position(|l| l.contains("undefined_thing"))
+        .unwrap()
+        + 1;
+    let user_file = dir.path().join("shade.glsl").display().to_string();
+    let o = glint(&[
+        "shader",
+        "check",
+        &repo("shaders/main.comp"),
+        "-I",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains(&format!("{user_file}:{line}: error:")),
+        "{err}"
+    );
+    assert!(err.contains("undefined_thing"), "{err}");
+    // And a render with it fails with the same message, exit 2.
+    let o = glint(&[
+        "render",
+        &repo("scenes/seed-fig3.toml"),
+        "-I",
+        dir.path().to_str().unwrap(),
+        "--no-cache",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains(&format!("{user_file}:{line}: error:")),
+        "{}",
+        text(&o.stderr)
+    );
+}
+
+#[test]
+fn a_broken_main_shader_is_reported_at_its_own_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let main = std::fs::read_to_string(repo("shaders/main.comp")).unwrap();
+    let broken = main.replace(
+        "    uint samples = SAMPLES;",
+        "    uint samples = SAMPLES\n",
+    );
+    assert_ne!(main, broken);
+    let file = dir.path().join("mine.comp");
+    std::fs::write(&file, &broken).unwrap();
+    let o = glint(&["shader", "check", file.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = text(&o.stderr);
+    assert!(err.starts_with(&format!("{}:", file.display())), "{err}");
+}
+
+#[test]
+fn defines_reach_the_shader() {
+    // A shade.glsl that scales the light by GAIN, which only -D defines.
+    let dir = tempfile::tempdir().unwrap();
+    let shade = std::fs::read_to_string(repo("shaders/shade.glsl")).unwrap();
+    let gain = shade.replace("    return local;", "    return local * GAIN;");
+    std::fs::write(dir.path().join("shade.glsl"), gain).unwrap();
+    let inc = dir.path().to_str().unwrap();
+    let scene = repo("scenes/seed-fig4.toml");
+    let size = ["--width", "80", "--height", "60"];
+    let with = |extra: &[&str]| {
+        let mut args = vec!["compare", scene.as_str(), "-I", inc, "--no-cache"];
+        args.extend_from_slice(&size);
+        args.extend_from_slice(extra);
+        glint(&args)
+    };
+    assert_eq!(with(&["-D", "GAIN=1.0"]).status.code(), Some(0));
+    assert_eq!(with(&["-D", "GAIN=1.5"]).status.code(), Some(1));
+    let undefined = with(&[]);
+    assert_eq!(undefined.status.code(), Some(2));
+    assert!(
+        text(&undefined.stderr).contains("GAIN"),
+        "{}",
+        text(&undefined.stderr)
+    );
+    assert_eq!(with(&["-D", "1BAD"]).status.code(), Some(2));
+}
+
+#[test]
+fn a_users_main_shader_renders_and_compares() {
+    let dir = tempfile::tempdir().unwrap();
+    let mine = dir.path().join("mine.comp");
+    std::fs::copy(repo("shaders/main.comp"), &mine).unwrap();
+    let o = glint(&[
+        "compare",
+        &repo("scenes/showcase.toml"),
+        "--width",
+        "120",
+        "--height",
+        "90",
+        "--shader",
+        mine.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}{}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+}
+
+#[test]
+fn shader_dump_writes_glsl_and_spirv() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = glint(&[
+        "shader",
+        "dump",
+        &repo("scenes/seed-fig4.toml"),
+        "-o",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let files: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    let glsl = files
+        .iter()
+        .find(|p| p.extension().is_some_and(|e| e == "comp"))
+        .expect("a .comp file");
+    let spv = files
+        .iter()
+        .find(|p| p.extension().is_some_and(|e| e == "spv"))
+        .expect("a .spv file");
+    let text = std::fs::read_to_string(glsl).unwrap();
+    assert!(
+        text.contains("// -D HAS_PLANES=1") && text.contains("void main()"),
+        "{}",
+        &text[..200.min(text.len())]
+    );
+    assert!(!text.contains("#include"), "preprocessed");
+    let words = std::fs::read(spv).unwrap();
+    assert_eq!(&words[..4], &0x0723_0203u32.to_le_bytes());
+}
+
+#[test]
+fn each_experiment_renders() {
+    let scene = glint::scene::Scene::load(
+        Path::new(&repo("scenes/showcase.toml")),
+        &glint::scene::Overrides {
+            width: Some(96),
+            height: Some(72),
+            samples: Some(1),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let reference = common::render_gpu(&scene);
+    for name in ["normals", "cost", "phong"] {
+        let dir = common::repo().join("shaders/experiments").join(name);
+        let options = glint::gpu::GpuOptions {
+            validate: true,
+            include_dirs: vec![dir],
+            ..Default::default()
+        };
+        let mut r = glint::gpu::Renderer::new(&options).unwrap();
+        let image = r
+            .render(&scene, &|_| {})
+            .unwrap_or_else(|e| panic!("{name}: {e}"))
+            .0;
+        assert!(
+            image.pixels.iter().flatten().all(|v| v.is_finite()),
+            "{name}"
+        );
+        assert_ne!(image, reference, "{name} renders something of its own");
+        let first = image.pixels[0];
+        assert!(
+            image.pixels.iter().any(|p| *p != first),
+            "{name} is not one flat colour"
+        );
+    }
+}
+
+/// Waits until `f` holds, for at most `limit`.
+fn wait_for(limit: Duration, mut f: impl FnMut() -> bool) -> bool {
+    let start = Instant::now();
+    while start.elapsed() < limit {
+        if f() {
+            return true;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    false
+}
+
+#[test]
+fn watch_rerenders_on_change_and_keeps_the_last_good_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.toml");
+    let out = dir.path().join("out.pfm");
+    let original = std::fs::read_to_string(repo("scenes/seed-fig4.toml"))
+        .unwrap()
+        .replace("width = 800", "width = 64")
+        .replace("height = 600", "height = 48");
+    std::fs::write(&scene, &original).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args([
+            "watch",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let result = std::panic::catch_unwind(|| {
+        let limit = Duration::from_secs(30);
+        assert!(wait_for(limit, || out.exists()), "first render");
+        let first = std::fs::read(&out).unwrap();
+        // A changed background re-renders.
+        std::thread::sleep(Duration::from_millis(1100));
+        std::fs::write(
+            &scene,
+            original.replace(
+                "background = [0.05, 0.05, 0.1]",
+                "background = [0.5, 0.0, 0.0]",
+            ),
+        )
+        .unwrap();
+        assert!(
+            wait_for(limit, || std::fs::read(&out).is_ok_and(|b| b != first)),
+            "re-render"
+        );
+        let second = std::fs::read(&out).unwrap();
+        // A broken scene leaves the last good image.
+        std::thread::sleep(Duration::from_millis(1100));
+        std::fs::write(&scene, original.replace("radius = 6.0", "radius = -6.0")).unwrap();
+        std::thread::sleep(Duration::from_millis(1500));
+        assert_eq!(std::fs::read(&out).unwrap(), second);
+    });
+    child.kill().unwrap();
+    let output = child.wait_with_output().unwrap();
+    result.unwrap();
+    let err = text(&output.stderr);
+    assert!(
+        err.contains("radius") && err.contains("keeping the last good image"),
+        "{err}"
+    );
+}

@@ -1,0 +1,128 @@
+//! Every scene's own shader variant renders the same image as the generic
+//! shader that handles every feature: leaving code out changes nothing.
+
+mod common;
+
+use glint::gpu::variant::Block;
+use glint::gpu::{GpuOptions, Intersect, Renderer};
+use glint::scene::{Overrides, Scene};
+
+fn renderer(generic: bool, intersect: Intersect) -> Renderer {
+    let options = GpuOptions {
+        validate: true,
+        generic,
+        intersect,
+        ..GpuOptions::default()
+    };
+    Renderer::new(&options).expect("device")
+}
+
+#[test]
+fn each_variant_equals_the_generic_shader() {
+    let mut own = renderer(false, Intersect::Robust);
+    let mut generic = renderer(true, Intersect::Robust);
+    let mut files = common::scene_files("scenes");
+    files.extend(common::scene_files("scenes/extreme"));
+    let mut names = std::collections::BTreeSet::new();
+    for path in files {
+        // A quarter of the pixels keeps this test quick; the variants do not
+        // depend on the size.
+        let full = Scene::load(&path, &Overrides::default()).unwrap();
+        let o = Overrides {
+            width: Some(full.width.div_ceil(2)),
+            height: Some(full.height.div_ceil(2)),
+            ..Overrides::default()
+        };
+        let scene = Scene::load(&path, &o).unwrap();
+        let (variant, _) = own.variant_for(&scene);
+        assert!(variant.features.is_some());
+        names.insert(variant.name());
+        let a = own.render(&scene, &|_| {}).unwrap().0;
+        let b = generic.render(&scene, &|_| {}).unwrap().0;
+        // Bitwise: the variants differ only in code left out and constants
+        // put in, never in the arithmetic of what remains.
+        assert!(
+            a == b,
+            "{}: variant {} differs from the generic shader",
+            path.display(),
+            variant.name()
+        );
+    }
+    // The suite exercises many distinct variants, not one.
+    assert!(names.len() >= 10, "{names:?}");
+}
+
+#[test]
+fn naive_variants_equal_the_naive_generic_shader() {
+    let mut own = renderer(false, Intersect::Naive);
+    let mut generic = renderer(true, Intersect::Naive);
+    for path in common::scene_files("scenes") {
+        let scene = Scene::load(
+            &path,
+            &Overrides {
+                width: Some(200),
+                height: Some(150),
+                ..Overrides::default()
+            },
+        )
+        .unwrap();
+        assert!(
+            own.render(&scene, &|_| {}).unwrap().0 == generic.render(&scene, &|_| {}).unwrap().0,
+            "{}",
+            path.display()
+        );
+    }
+}
+
+#[test]
+fn a_variant_declares_only_the_bindings_it_reads() {
+    let r = renderer(false, Intersect::Robust);
+    let scene = common::scene(
+        r#"
+[image]
+width = 8
+height = 8
+[camera]
+eye = [0, 0, 5]
+look_at = [0, 0, 0]
+vfov = 40.0
+[materials.m]
+diffuse = [1, 1, 1]
+[[spheres]]
+center = [0, 0, 0]
+radius = 1.0
+material = "m"
+"#,
+    );
+    let (variant, defines) = r.variant_for(&scene);
+    let blocks: Vec<Block> = variant.bindings().iter().map(|(b, _, _)| *b).collect();
+    // No planes, no lights, and the rest numbered without gaps.
+    assert_eq!(
+        blocks,
+        [
+            Block::Globals,
+            Block::Spheres,
+            Block::Materials,
+            Block::Pixels
+        ]
+    );
+    let numbers: Vec<u32> = variant.bindings().iter().map(|(_, n, _)| *n).collect();
+    assert_eq!(numbers, [0, 1, 2, 3]);
+    let has = |name: &str, value: &str| {
+        defines
+            .iter()
+            .any(|(n, v)| n == name && v.as_deref() == Some(value))
+    };
+    assert!(
+        has("HAS_PLANES", "0") && has("HAS_SHADOWS", "0") && has("MAX_DEPTH", "1u"),
+        "{defines:?}"
+    );
+    assert_eq!(
+        r.variant_for(&scene).0.bindings().len(),
+        renderer(false, Intersect::Robust)
+            .variant_for(&scene)
+            .0
+            .bindings()
+            .len()
+    );
+}
