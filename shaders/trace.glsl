@@ -5,8 +5,8 @@ vec3 trace(Ray ray) {
 #if HAS_OBJECTS
     float weight = 1.0;
     uint from = NONE;
-    // Never unrolled: with MAX_DEPTH a constant the compiler would copy the
-    // whole bounce up to 64 times (lavapipe crashed compiling that).
+    // Never unrolled: with MAX_DEPTH a constant the compiler could copy the
+    // whole bounce up to 64 times, for a large and slow-to-compile shader.
     [[dont_unroll]] for (uint depth = 1u; depth <= MAX_DEPTH; depth++) {
         Hit hit;
         if (!intersect_scene(ray, from, INF, hit)) {
