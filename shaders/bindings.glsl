@@ -1,23 +1,36 @@
 // The binding interface between the host (src/gpu/layout.rs) and the shader.
+//
+// Precision: the arithmetic type `real` and its vectors are float, or double
+// where the host defines GLINT_F64 (then the scene is uploaded in doubles).
+#ifdef GLINT_F64
+#define real double
+#define vec3r dvec3
+#define vec4r dvec4
+#else
+#define real float
+#define vec3r vec3
+#define vec4r vec4
+#endif
+
 // All buffers are std430 except the std140 uniform block; every struct is
 // made of vec4/uvec4 so both layouts agree with the host's Pod structs.
 
 struct Sphere {
-    vec4 center_radius;     // xyz centre, w radius
+    vec4r center_radius;     // xyz centre, w radius
     uvec4 meta;             // x material index
 };
 
 struct Plane {
-    vec4 point;             // xyz
-    vec4 normal;            // xyz, unit length
+    vec4r point;             // xyz
+    vec4r normal;            // xyz, unit length
     uvec4 meta;             // x material index
 };
 
 struct Material {
-    vec4 ambient;           // rgb Ka
-    vec4 diffuse;           // rgb Kd
-    vec4 specular;          // rgb Ks
-    vec4 params;            // x shininess, y reflectivity
+    vec4r ambient;           // rgb Ka
+    vec4r diffuse;           // rgb Kd
+    vec4r specular;          // rgb Ks
+    vec4r params;            // x shininess, y reflectivity
 };
 
 const uint LIGHT_POINT = 0u;
@@ -25,22 +38,22 @@ const uint LIGHT_DIRECTIONAL = 1u;
 const uint LIGHT_SPOT = 2u;
 
 struct Light {
-    vec4 position;          // xyz (point, spot)
-    vec4 direction;         // xyz unit (directional: travel; spot: axis)
-    vec4 ambient;           // rgb Ia
-    vec4 diffuse;           // rgb Id
-    vec4 specular;          // rgb Is
-    vec4 attenuation;       // xyz = c, l, q
-    vec4 spot;              // x cos(cutoff), y exponent
+    vec4r position;          // xyz (point, spot)
+    vec4r direction;         // xyz unit (directional: travel; spot: axis)
+    vec4r ambient;           // rgb Ia
+    vec4r diffuse;           // rgb Id
+    vec4r specular;          // rgb Is
+    vec4r attenuation;       // xyz = c, l, q
+    vec4r spot;              // x cos(cutoff), y exponent
     uvec4 meta;             // x LIGHT_*, y 1 if it has a diffuse or specular term
 };
 
 layout(std140, set = 0, binding = 0) uniform Globals {
-    vec4 eye;               // xyz
-    vec4 to_screen;         // xyz screen_center - eye, taken in f64 on the host
-    vec4 screen_right;      // xyz
-    vec4 screen_up;         // xyz
-    vec4 background;        // rgb
+    vec4r eye;               // xyz
+    vec4r to_screen;         // xyz screen_center - eye, taken in f64 on the host
+    vec4r screen_right;      // xyz
+    vec4r screen_up;         // xyz
+    vec4r background;        // rgb
     uvec4 size;             // width, height, samples, max_depth
     uvec4 counts;           // spheres, planes, lights, shadows (0 or 1)
 } g;
@@ -153,5 +166,5 @@ layout(push_constant) uniform Tile { uvec4 rect; } tile;
 #define SCENE_LOOP
 #endif
 
-const float INF = uintBitsToFloat(0x7f800000u);
+const real INF = real(uintBitsToFloat(0x7f800000u));
 const uint NONE = 0xffffffffu;

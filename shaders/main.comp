@@ -21,11 +21,11 @@ void main() {
     uint x = tile.rect.x + local.x;
     uint y = tile.rect.y + local.y;
     uint samples = SAMPLES;
-    vec3 sum = vec3(0.0);
+    vec3r sum = vec3r(0.0);
     [[dont_unroll]] for (uint j = 0u; j < samples; j++) {
         [[dont_unroll]] for (uint i = 0u; i < samples; i++) {
             sum += trace(primary_ray(x, y, i, j));
         }
     }
-    pixels[local.y * tile.rect.z + local.x] = vec4(sum * (1.0 / float(samples * samples)), 1.0);
+    pixels[local.y * tile.rect.z + local.x] = vec4(vec3(sum * (1.0 / real(samples * samples))), 1.0);
 }

@@ -3,23 +3,28 @@
 
 // x^n with SPEC's conventions: x^0 = 1 (also for x = 0), and 0 for x <= 0
 // otherwise; GLSL's pow leaves both undefined.
-float spec_pow(float x, float n) {
+real spec_pow(real x, real n) {
     if (n == 0.0) {
         return 1.0;
     }
     if (x <= 0.0) {
         return 0.0;
     }
+#ifdef GLINT_F64
+    // GLSL has no double pow: the specular power is taken in float.
+    return real(pow(float(x), float(n)));
+#else
     return pow(x, n);
+#endif
 }
 
 #if HAS_SHADOWS
 // Whether anything lies on the shadow ray strictly between 0 and dist.
-bool occluded(Ray r, uint from, float dist) {
+bool occluded(Ray r, uint from, real dist) {
 #if HAS_SPHERES
     SCENE_LOOP for (uint i = 0u; i < SPHERE_COUNT; i++) {
-        vec4 s = spheres[i].center_radius;
-        float t = intersect_sphere(r, s.xyz, s.w, from == i);
+        vec4r s = spheres[i].center_radius;
+        real t = intersect_sphere(r, s.xyz, s.w, from == i);
         if (t > 0.0 && t < dist) {
             return true;
         }
@@ -27,7 +32,7 @@ bool occluded(Ray r, uint from, float dist) {
 #endif
 #if HAS_PLANES
     SCENE_LOOP for (uint i = 0u; i < PLANE_COUNT; i++) {
-        float t = intersect_plane(r, planes[i].point.xyz, planes[i].normal.xyz, from == SPHERE_COUNT + i);
+        real t = intersect_plane(r, planes[i].point.xyz, planes[i].normal.xyz, from == SPHERE_COUNT + i);
         if (t > 0.0 && t < dist) {
             return true;
         }
@@ -38,40 +43,40 @@ bool occluded(Ray r, uint from, float dist) {
 #endif
 
 // The sum of every light's contribution at p, where n faces the viewer.
-vec3 shade(vec3 p, vec3 n, vec3 v, Material m, uint from) {
-    vec3 local = vec3(0.0);
+vec3r shade(vec3r p, vec3r n, vec3r v, Material m, uint from) {
+    vec3r local = vec3r(0.0);
 #if HAS_LIGHTS
     SCENE_LOOP for (uint k = 0u; k < LIGHT_COUNT; k++) {
         Light light = lights[k];
         uint kind = light.meta.x;
-        vec3 l;
-        float dist;
-        float att = 1.0;
+        vec3r l;
+        real dist;
+        real att = 1.0;
         if (HAS_DIRECTIONAL != 0 && (!HAS_POSITIONED || kind == LIGHT_DIRECTIONAL)) {
             l = -light.direction.xyz;
             dist = INF;
         } else {
-            vec3 to_light = light.position.xyz - p;
+            vec3r to_light = light.position.xyz - p;
             dist = length(to_light);
 #if HAS_ATTENUATION
-            vec3 a = light.attenuation.xyz;
+            vec3r a = light.attenuation.xyz;
             att = 1.0 / (a.x + a.y * dist + a.z * dist * dist);
 #endif
             l = to_light / dist;
         }
-        vec3 ambient = light.ambient.rgb * m.ambient.rgb;
+        vec3r ambient = light.ambient.rgb * m.ambient.rgb;
         // A light exactly at p has no direction: it adds its ambient term only.
         if (dist == 0.0) {
             local += ambient * att;
             continue;
         }
-        float spot = 1.0;
+        real spot = 1.0;
         if (HAS_SPOT != 0 && kind == LIGHT_SPOT) {
-            float cos_theta = dot(-l, light.direction.xyz);
+            real cos_theta = dot(-l, light.direction.xyz);
             spot = cos_theta >= light.spot.x ? spec_pow(cos_theta, light.spot.y) : 0.0;
         }
-        vec3 contribution = ambient;
-        float n_dot_l = dot(n, l);
+        vec3r contribution = ambient;
+        real n_dot_l = dot(n, l);
         // No shadow ray where the direct term would be zero anyway: facing
         // away, outside a spot's cone, or a light without diffuse and specular.
         bool direct = n_dot_l > 0.0 && spot > 0.0 && light.meta.y != 0u;
@@ -79,8 +84,8 @@ vec3 shade(vec3 p, vec3 n, vec3 v, Material m, uint from) {
         direct = direct && !(SHADOWS_ON && occluded(Ray(p, l), from, dist));
 #endif
         if (direct) {
-            vec3 h = normalize(l + v);
-            float n_dot_h = max(dot(n, h), 0.0);
+            vec3r h = normalize(l + v);
+            real n_dot_h = max(dot(n, h), 0.0);
             contribution += light.diffuse.rgb * m.diffuse.rgb * n_dot_l
                           + light.specular.rgb * m.specular.rgb * spec_pow(n_dot_h, m.params.x);
         }

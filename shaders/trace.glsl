@@ -1,9 +1,9 @@
 // The fixed-depth reflection loop (SPEC §3); mirrors src/cpu/trace.rs.
 
-vec3 trace(Ray ray) {
-    vec3 color = vec3(0.0);
+vec3r trace(Ray ray) {
+    vec3r color = vec3r(0.0);
 #if HAS_OBJECTS
-    float weight = 1.0;
+    real weight = 1.0;
     uint from = NONE;
     // Never unrolled: with MAX_DEPTH a constant the compiler could copy the
     // whole bounce up to 64 times, for a large and slow-to-compile shader.
@@ -13,12 +13,12 @@ vec3 trace(Ray ray) {
             color += g.background.rgb * weight;
             break;
         }
-        vec3 p = ray.origin + ray.dir * hit.t;
-        vec3 outward = surface(hit, p);
-        vec3 n = dot(outward, ray.dir) > 0.0 ? -outward : outward;
+        vec3r p = ray.origin + ray.dir * hit.t;
+        vec3r outward = surface(hit, p);
+        vec3r n = dot(outward, ray.dir) > 0.0 ? -outward : outward;
         Material m = materials[hit.material];
         color += shade(p, n, -ray.dir, m, hit.prim) * weight;
-        float kr = m.params.y;
+        real kr = m.params.y;
         if (depth == MAX_DEPTH || kr == 0.0) {
             break;
         }
@@ -26,7 +26,7 @@ vec3 trace(Ray ray) {
         if (weight == 0.0) {
             break;
         }
-        vec3 d = ray.dir - n * (2.0 * dot(ray.dir, n));
+        vec3r d = ray.dir - n * (2.0 * dot(ray.dir, n));
         ray = Ray(p, normalize(d));
         from = hit.prim;
     }

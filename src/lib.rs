@@ -4,5 +4,6 @@
 pub mod cpu;
 pub mod gpu;
 pub mod raster;
+pub mod report;
 pub mod scene;
 pub mod stability;

@@ -126,3 +126,31 @@ material = "m"
             .len()
     );
 }
+
+#[test]
+fn f64_variants_equal_the_f64_generic_shader() {
+    let options = |generic| GpuOptions {
+        validate: true,
+        generic,
+        precision: glint::gpu::Precision::F64,
+        ..GpuOptions::default()
+    };
+    let mut own = Renderer::new(&options(false)).unwrap();
+    let mut generic = Renderer::new(&options(true)).unwrap();
+    for path in common::scene_files("scenes") {
+        let scene = Scene::load(
+            &path,
+            &Overrides {
+                width: Some(120),
+                height: Some(90),
+                ..Overrides::default()
+            },
+        )
+        .unwrap();
+        assert!(
+            own.render(&scene, &|_| {}).unwrap().0 == generic.render(&scene, &|_| {}).unwrap().0,
+            "{}",
+            path.display()
+        );
+    }
+}

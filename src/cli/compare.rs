@@ -42,7 +42,7 @@ pub fn format_figures(f: &ErrorFigures) -> String {
 
 pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     let scene = a.scene.load()?;
-    let (gpu_image, renderer, gpu_times) = render_gpu_timed(&scene, &a.device)?;
+    let (gpu_image, renderer, gpu_times) = render_gpu_timed(&scene, &a.device, Precision::F32)?;
     let (reference, _, cpu64_s) = render_cpu(&scene, Precision::F64);
     let (cpu32_image, _, cpu32_s) = render_cpu(&scene, Precision::F32);
     let gpu_err = diff::figures(&gpu_image, &reference)?;

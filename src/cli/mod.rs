@@ -6,6 +6,7 @@ mod diff;
 mod info;
 mod progress;
 mod render;
+mod report;
 mod shader;
 mod stability;
 mod watch;
@@ -41,6 +42,8 @@ enum Command {
     Info(info::InfoArgs),
     /// Robust and naive GPU forms and CPU f32 against CPU f64 on the extreme scenes.
     Stability(stability::StabilityArgs),
+    /// Error against run time for every variant of each scene: tables, a plot and a page.
+    Report(report::ReportArgs),
     /// Check a shader file, or dump a scene's shader variant.
     Shader(shader::ShaderArgs),
     /// Re-render whenever the scene or a shader file changes.
@@ -181,6 +184,7 @@ pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Diff(a) => diff::run(&a),
         Command::Info(a) => info::run(&a),
         Command::Stability(a) => stability::run(&a),
+        Command::Report(a) => report::run(&a),
         Command::Shader(a) => shader::run(&a),
         Command::Watch(a) => watch::run(&a),
     }

@@ -2,7 +2,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use anyhow::{bail, Context};
+use anyhow::Context;
 use clap::Args;
 
 use glint::raster::{io, Image};
@@ -36,10 +36,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     io::Format::of(&output)?;
     let scene = a.scene.load()?;
     let (image, label, seconds) = match (a.backend, a.precision) {
-        (Backend::Gpu, Some(Precision::F64)) => {
-            bail!("the GPU renders in f32; use --backend cpu --precision f64 for the f64 reference")
-        }
-        (Backend::Gpu, _) => render_gpu(&scene, &a.device)?,
+        (Backend::Gpu, p) => render_gpu(&scene, &a.device, p.unwrap_or(Precision::F32))?,
         (Backend::Cpu, p) => render_cpu(&scene, p.unwrap_or(Precision::F64)),
     };
     io::write(&output, &image, scene.srgb).with_context(|| "cannot write the image")?;
@@ -54,11 +51,20 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-pub fn render_gpu(scene: &Scene, device: &DeviceArgs) -> anyhow::Result<(Image, String, f64)> {
-    let (image, renderer, times) = render_gpu_timed(scene, device)?;
+pub fn render_gpu(
+    scene: &Scene,
+    device: &DeviceArgs,
+    precision: Precision,
+) -> anyhow::Result<(Image, String, f64)> {
+    let (image, renderer, times) = render_gpu_timed(scene, device, precision)?;
+    let name = if precision == Precision::F64 {
+        "f64"
+    } else {
+        "f32"
+    };
     Ok((
         image,
-        format!("GPU f32 on {}", renderer.device_info().name),
+        format!("GPU {name} on {}", renderer.device_info().name),
         times.total_s(),
     ))
 }
@@ -67,10 +73,23 @@ pub fn render_gpu(scene: &Scene, device: &DeviceArgs) -> anyhow::Result<(Image, 
 pub fn render_gpu_timed(
     scene: &Scene,
     device: &DeviceArgs,
+    precision: Precision,
 ) -> anyhow::Result<(Image, gpu::Renderer, gpu::RenderTimes)> {
-    let mut renderer = gpu::Renderer::new(&device.options()?)?;
+    let mut options = device.options()?;
+    options.precision = match precision {
+        Precision::F32 => gpu::Precision::F32,
+        Precision::F64 => gpu::Precision::F64,
+    };
+    let mut renderer = gpu::Renderer::new(&options)?;
     renderer.prepare_for(scene)?;
-    let bar = progress::bar(scene.pixel_count(), "gpu f32");
+    let bar = progress::bar(
+        scene.pixel_count(),
+        if precision == Precision::F64 {
+            "gpu f64"
+        } else {
+            "gpu f32"
+        },
+    );
     let (image, times) = renderer.render(scene, &|n| bar.inc(n))?;
     bar.finish_and_clear();
     Ok((image, renderer, times))

@@ -1,65 +1,198 @@
-//! The host side of shaders/bindings.glsl: Pod structs of vec4/uvec4 only, so
-//! std140 and std430 place every field where `repr(C)` does.
+//! The host side of shaders/bindings.glsl: Pod structs of 4-vectors only, so
+//! std140 and std430 place every field where `repr(C)` does. Each struct
+//! comes in f32 (vec4) and f64 (dvec4) form; the f64 forms carry explicit
+//! padding to the 32-byte alignment that std140/std430 give a dvec4.
 
 use bytemuck::{Pod, Zeroable};
-use glam::{DVec3, UVec4, Vec4};
+use glam::{DVec3, DVec4, UVec4, Vec4};
 
-use super::Intersect;
+use super::{Intersect, Precision};
 use crate::scene::{LightKind, Scene};
 
-fn v4(v: DVec3) -> Vec4 {
-    v.as_vec3().extend(0.0)
+/// Builds a 4-vector of the layout's scalar from f64 values.
+pub trait Vector: Pod {
+    fn of(x: f64, y: f64, z: f64, w: f64) -> Self;
+    fn of3(v: DVec3) -> Self {
+        Self::of(v.x, v.y, v.z, 0.0)
+    }
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-pub struct Globals {
-    pub eye: Vec4,
-    pub to_screen: Vec4,
-    pub screen_right: Vec4,
-    pub screen_up: Vec4,
-    pub background: Vec4,
-    /// width, height, samples, max_depth
-    pub size: UVec4,
-    /// spheres, planes, lights, shadows
-    pub counts: UVec4,
+impl Vector for Vec4 {
+    fn of(x: f64, y: f64, z: f64, w: f64) -> Self {
+        Vec4::new(x as f32, y as f32, z as f32, w as f32)
+    }
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-pub struct GpuSphere {
-    pub center_radius: Vec4,
-    pub meta: UVec4,
+impl Vector for DVec4 {
+    fn of(x: f64, y: f64, z: f64, w: f64) -> Self {
+        DVec4::new(x, y, z, w)
+    }
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-pub struct GpuPlane {
-    pub point: Vec4,
-    pub normal: Vec4,
-    pub meta: UVec4,
+/// Declares one family of structs: `$v` the 4-vector, `$pad_*` the padding
+/// (in u32s) that rounds each struct up to its alignment.
+macro_rules! structs {
+    ($m:ident, $v:ty, $pad_sphere:expr, $pad_plane:expr, $pad_light:expr) => {
+        pub mod $m {
+            use super::*;
+
+            #[repr(C)]
+            #[derive(Clone, Copy, Pod, Zeroable)]
+            pub struct Globals {
+                pub eye: $v,
+                pub to_screen: $v,
+                pub screen_right: $v,
+                pub screen_up: $v,
+                pub background: $v,
+                /// width, height, samples, max_depth
+                pub size: UVec4,
+                /// spheres, planes, lights, shadows
+                pub counts: UVec4,
+            }
+
+            #[repr(C)]
+            #[derive(Clone, Copy, Pod, Zeroable)]
+            pub struct Sphere {
+                pub center_radius: $v,
+                pub meta: UVec4,
+                pub pad: [u32; $pad_sphere],
+            }
+
+            #[repr(C)]
+            #[derive(Clone, Copy, Pod, Zeroable)]
+            pub struct Plane {
+                pub point: $v,
+                pub normal: $v,
+                pub meta: UVec4,
+                pub pad: [u32; $pad_plane],
+            }
+
+            #[repr(C)]
+            #[derive(Clone, Copy, Pod, Zeroable)]
+            pub struct Material {
+                pub ambient: $v,
+                pub diffuse: $v,
+                pub specular: $v,
+                pub params: $v,
+            }
+
+            #[repr(C)]
+            #[derive(Clone, Copy, Pod, Zeroable)]
+            pub struct Light {
+                pub position: $v,
+                pub direction: $v,
+                pub ambient: $v,
+                pub diffuse: $v,
+                pub specular: $v,
+                pub attenuation: $v,
+                pub spot: $v,
+                pub meta: UVec4,
+                pub pad: [u32; $pad_light],
+            }
+
+            /// The scene's arrays in this layout; an absent kind of object is
+            /// one zeroed slot (Vulkan has no empty buffers, GLSL no empty
+            /// arrays), which the counts never reach.
+            pub fn upload(scene: &Scene) -> Uploads {
+                let cam = &scene.camera;
+                let globals = Globals {
+                    eye: <$v>::of3(cam.eye),
+                    to_screen: <$v>::of3(cam.screen_center - cam.eye),
+                    screen_right: <$v>::of3(cam.screen_right),
+                    screen_up: <$v>::of3(cam.screen_up),
+                    background: <$v>::of3(scene.background),
+                    size: UVec4::new(scene.width, scene.height, scene.samples, scene.max_depth),
+                    counts: UVec4::new(
+                        scene.spheres.len() as u32,
+                        scene.planes.len() as u32,
+                        scene.lights.len() as u32,
+                        u32::from(scene.shadows),
+                    ),
+                };
+                let spheres: Vec<Sphere> = scene
+                    .spheres
+                    .iter()
+                    .map(|s| Sphere {
+                        center_radius: <$v>::of(s.center.x, s.center.y, s.center.z, s.radius),
+                        meta: UVec4::new(s.material, 0, 0, 0),
+                        pad: Zeroable::zeroed(),
+                    })
+                    .collect();
+                let planes: Vec<Plane> = scene
+                    .planes
+                    .iter()
+                    .map(|p| Plane {
+                        point: <$v>::of3(p.point),
+                        normal: <$v>::of3(p.normal),
+                        meta: UVec4::new(p.material, 0, 0, 0),
+                        pad: Zeroable::zeroed(),
+                    })
+                    .collect();
+                let materials: Vec<Material> = scene
+                    .materials
+                    .iter()
+                    .map(|m| Material {
+                        ambient: <$v>::of3(m.ambient),
+                        diffuse: <$v>::of3(m.diffuse),
+                        specular: <$v>::of3(m.specular),
+                        params: <$v>::of(m.shininess, m.reflectivity, 0.0, 0.0),
+                    })
+                    .collect();
+                let lights: Vec<Light> = scene
+                    .lights
+                    .iter()
+                    .map(|l| Light {
+                        position: <$v>::of3(l.position),
+                        direction: <$v>::of3(l.direction),
+                        ambient: <$v>::of3(l.ambient),
+                        diffuse: <$v>::of3(l.diffuse),
+                        specular: <$v>::of3(l.specular),
+                        attenuation: <$v>::of3(l.attenuation),
+                        spot: <$v>::of(l.cos_cutoff, l.exponent, 0.0, 0.0),
+                        meta: UVec4::new(kind_code(l.kind), u32::from(l.has_direct_term()), 0, 0),
+                        pad: Zeroable::zeroed(),
+                    })
+                    .collect();
+                Uploads {
+                    globals: bytemuck::bytes_of(&globals).to_vec(),
+                    arrays: [
+                        array(spheres),
+                        array(planes),
+                        array(materials),
+                        array(lights),
+                    ],
+                }
+            }
+        }
+    };
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-pub struct GpuMaterial {
-    pub ambient: Vec4,
-    pub diffuse: Vec4,
-    pub specular: Vec4,
-    pub params: Vec4,
+structs!(f32_layout, Vec4, 0, 0, 0);
+structs!(f64_layout, DVec4, 4, 4, 4);
+
+fn kind_code(kind: LightKind) -> u32 {
+    match kind {
+        LightKind::Point => 0,
+        LightKind::Directional => 1,
+        LightKind::Spot => 2,
+    }
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-pub struct GpuLight {
-    pub position: Vec4,
-    pub direction: Vec4,
-    pub ambient: Vec4,
-    pub diffuse: Vec4,
-    pub specular: Vec4,
-    pub attenuation: Vec4,
-    pub spot: Vec4,
-    pub meta: UVec4,
+/// One scene array as bytes, with its element count (at least 1).
+#[derive(Debug, Clone)]
+pub struct Array {
+    pub bytes: Vec<u8>,
+    pub len: usize,
+}
+
+fn array<T: Pod>(mut v: Vec<T>) -> Array {
+    if v.is_empty() {
+        v.push(T::zeroed());
+    }
+    Array {
+        bytes: bytemuck::cast_slice(&v).to_vec(),
+        len: v.len(),
+    }
 }
 
 /// The push constant: tile origin x, y, width, height.
@@ -69,17 +202,15 @@ pub struct TileRect(pub UVec4);
 
 /// Everything the shader reads, laid out for upload.
 pub struct Uploads {
-    pub globals: Globals,
-    pub spheres: Vec<GpuSphere>,
-    pub planes: Vec<GpuPlane>,
-    pub materials: Vec<GpuMaterial>,
-    pub lights: Vec<GpuLight>,
+    pub globals: Vec<u8>,
+    /// Spheres, planes, materials, lights.
+    pub arrays: [Array; 4],
 }
 
 impl Uploads {
     /// The robust forms trace the scene in camera-relative coordinates (see
     /// `Scene::camera_relative`); the naive ones trace it as written.
-    pub fn new(scene: &Scene, intersect: Intersect) -> Self {
+    pub fn new(scene: &Scene, intersect: Intersect, precision: Precision) -> Self {
         let relative;
         let scene = match intersect {
             Intersect::Robust => {
@@ -88,106 +219,36 @@ impl Uploads {
             }
             Intersect::Naive => scene,
         };
-        let cam = &scene.camera;
-        let globals = Globals {
-            eye: v4(cam.eye),
-            to_screen: v4(cam.screen_center - cam.eye),
-            screen_right: v4(cam.screen_right),
-            screen_up: v4(cam.screen_up),
-            background: v4(scene.background),
-            size: UVec4::new(scene.width, scene.height, scene.samples, scene.max_depth),
-            counts: UVec4::new(
-                scene.spheres.len() as u32,
-                scene.planes.len() as u32,
-                scene.lights.len() as u32,
-                u32::from(scene.shadows),
-            ),
-        };
-        let spheres = scene
-            .spheres
-            .iter()
-            .map(|s| GpuSphere {
-                center_radius: s.center.as_vec3().extend(s.radius as f32),
-                meta: UVec4::new(s.material, 0, 0, 0),
-            })
-            .collect();
-        let planes = scene
-            .planes
-            .iter()
-            .map(|p| GpuPlane {
-                point: v4(p.point),
-                normal: v4(p.normal),
-                meta: UVec4::new(p.material, 0, 0, 0),
-            })
-            .collect();
-        let materials = scene
-            .materials
-            .iter()
-            .map(|m| GpuMaterial {
-                ambient: v4(m.ambient),
-                diffuse: v4(m.diffuse),
-                specular: v4(m.specular),
-                params: Vec4::new(m.shininess as f32, m.reflectivity as f32, 0.0, 0.0),
-            })
-            .collect();
-        let lights = scene
-            .lights
-            .iter()
-            .map(|l| GpuLight {
-                position: v4(l.position),
-                direction: v4(l.direction),
-                ambient: v4(l.ambient),
-                diffuse: v4(l.diffuse),
-                specular: v4(l.specular),
-                attenuation: v4(l.attenuation),
-                spot: Vec4::new(l.cos_cutoff as f32, l.exponent as f32, 0.0, 0.0),
-                meta: UVec4::new(
-                    match l.kind {
-                        LightKind::Point => 0,
-                        LightKind::Directional => 1,
-                        LightKind::Spot => 2,
-                    },
-                    u32::from(l.has_direct_term()),
-                    0,
-                    0,
-                ),
-            })
-            .collect();
-        Self {
-            globals,
-            spheres: at_least_one(spheres),
-            planes: at_least_one(planes),
-            materials: at_least_one(materials),
-            lights: at_least_one(lights),
+        match precision {
+            Precision::F32 => f32_layout::upload(scene),
+            Precision::F64 => f64_layout::upload(scene),
         }
     }
 
     /// Bytes of each scene array: spheres, planes, materials, lights.
     pub fn array_bytes(&self) -> [usize; 4] {
-        [
-            std::mem::size_of_val(self.spheres.as_slice()),
-            std::mem::size_of_val(self.planes.as_slice()),
-            std::mem::size_of_val(self.materials.as_slice()),
-            std::mem::size_of_val(self.lights.as_slice()),
-        ]
+        self.arrays.each_ref().map(|a| a.bytes.len())
     }
 
     /// Elements of each scene array, as uploaded.
     pub fn array_lengths(&self) -> [usize; 4] {
-        [
-            self.spheres.len(),
-            self.planes.len(),
-            self.materials.len(),
-            self.lights.len(),
-        ]
+        self.arrays.each_ref().map(|a| a.len)
     }
 }
 
-/// Vulkan has no empty buffers and GLSL no empty arrays: an absent kind of
-/// object is uploaded as one zeroed slot, which the counts never reach.
-fn at_least_one<T: Zeroable>(mut v: Vec<T>) -> Vec<T> {
-    if v.is_empty() {
-        v.push(T::zeroed());
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn f64_structs_are_rounded_to_dvec4_alignment() {
+        use std::mem::size_of;
+        assert_eq!(size_of::<f64_layout::Globals>(), 5 * 32 + 2 * 16);
+        assert_eq!(size_of::<f64_layout::Sphere>(), 64);
+        assert_eq!(size_of::<f64_layout::Plane>(), 96);
+        assert_eq!(size_of::<f64_layout::Material>(), 128);
+        assert_eq!(size_of::<f64_layout::Light>(), 256);
+        assert_eq!(size_of::<f32_layout::Sphere>(), 32);
+        assert_eq!(size_of::<f32_layout::Light>(), 128);
     }
-    v
 }

@@ -43,6 +43,17 @@ pub enum Intersect {
     Naive,
 }
 
+/// The shader's arithmetic.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Precision {
+    #[default]
+    F32,
+    /// Doubles throughout, the scene uploaded in doubles; needs the device's
+    /// shaderFloat64. GLSL has no double pow, so the specular power is f32.
+    F64,
+}
+
 #[derive(Debug, Clone, Default)]
 pub struct GpuOptions {
     /// Pick the first device whose name contains this.
@@ -56,6 +67,7 @@ pub struct GpuOptions {
     /// Defines added after the variant's own (-D NAME=VALUE).
     pub defines: Vec<(String, Option<String>)>,
     pub intersect: Intersect,
+    pub precision: Precision,
     /// Render with the one shader that handles every feature.
     pub generic: bool,
     /// Where compiled SPIR-V and the Vulkan pipeline cache are kept between
@@ -123,6 +135,8 @@ pub struct Renderer {
     cache_dir: Option<PathBuf>,
     /// The intersection forms of the next renders.
     pub intersect: Intersect,
+    /// The arithmetic of the next renders.
+    pub precision: Precision,
     /// Whether the next renders use the generic shader.
     pub generic: bool,
     pub setup: SetupTimes,
@@ -156,6 +170,7 @@ impl Renderer {
             defines: opts.defines.clone(),
             cache_dir: opts.cache_dir.as_ref().map(|d| d.join("spirv")),
             intersect: opts.intersect,
+            precision: opts.precision,
             generic: opts.generic,
             setup: SetupTimes {
                 device_s: secs(t0.elapsed()),
@@ -194,10 +209,12 @@ impl Renderer {
 
     /// The variant `scene` renders with, and its defines (the user's last).
     pub fn variant_for(&self, scene: &Scene) -> (Variant, Vec<(String, Option<String>)>) {
+        let uploads = Uploads::new(scene, self.intersect, self.precision);
         let variant = Variant::for_scene(
             scene,
-            &Uploads::new(scene, self.intersect),
+            &uploads,
             self.intersect,
+            self.precision,
             &self.device.info,
             self.generic,
         );
@@ -250,13 +267,19 @@ impl Renderer {
         scene: &Scene,
         progress: &dyn Fn(u64),
     ) -> Result<(Image, RenderTimes), GpuError> {
+        if self.precision == Precision::F64 && !self.device.info.shader_float64 {
+            return Err(GpuError::Unsupported(format!(
+                "{} has no shaderFloat64: render in f32, or on the CPU in f64",
+                self.device.info.name
+            )));
+        }
         let (variant, defines) = self.variant_for(scene);
         let key = self.prepare(&variant, &defines)?;
         let pipeline = &self.pipelines[&key];
 
         let mut times = RenderTimes::default();
         let t0 = Instant::now();
-        let up = Uploads::new(scene, self.intersect);
+        let up = Uploads::new(scene, self.intersect, self.precision);
         let usage = variant.scene_buffer_usage();
         let d = &self.device;
         let (tile_w, tile_h) = self.tile_size(scene);
@@ -267,14 +290,14 @@ impl Renderer {
             buffers.push(match block {
                 Block::Globals => Buffer::with_data(
                     d,
-                    &[up.globals],
+                    &up.globals,
                     raw::BufferUsageFlags::UNIFORM_BUFFER,
                     "the uniform block",
                 )?,
-                Block::Spheres => Buffer::with_data(d, &up.spheres, usage, "spheres")?,
-                Block::Planes => Buffer::with_data(d, &up.planes, usage, "planes")?,
-                Block::Materials => Buffer::with_data(d, &up.materials, usage, "materials")?,
-                Block::Lights => Buffer::with_data(d, &up.lights, usage, "lights")?,
+                Block::Spheres => Buffer::with_data(d, &up.arrays[0].bytes, usage, "spheres")?,
+                Block::Planes => Buffer::with_data(d, &up.arrays[1].bytes, usage, "planes")?,
+                Block::Materials => Buffer::with_data(d, &up.arrays[2].bytes, usage, "materials")?,
+                Block::Lights => Buffer::with_data(d, &up.arrays[3].bytes, usage, "lights")?,
                 Block::Pixels => Buffer::new(
                     d,
                     out_bytes,

@@ -7,7 +7,7 @@ use ash::vk;
 
 use super::layout::Uploads;
 use super::vk::device::DeviceInfo;
-use super::Intersect;
+use super::{Intersect, Precision};
 use crate::scene::{LightKind, Scene};
 
 /// Unrolling the scene loops is worth its compile time up to this many
@@ -32,6 +32,7 @@ pub enum Block {
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Variant {
     pub intersect: Intersect,
+    pub precision: Precision,
     /// None: the generic shader.
     pub features: Option<Features>,
 }
@@ -126,11 +127,13 @@ impl Variant {
         scene: &Scene,
         uploads: &Uploads,
         intersect: Intersect,
+        precision: Precision,
         device: &DeviceInfo,
         generic: bool,
     ) -> Self {
         Self {
             intersect,
+            precision,
             features: (!generic).then(|| Features::of(scene, uploads, device)),
         }
     }
@@ -139,6 +142,9 @@ impl Variant {
         let mut d = Vec::new();
         if self.intersect == Intersect::Naive {
             d.push(("INTERSECT_NAIVE".to_owned(), None));
+        }
+        if self.precision == Precision::F64 {
+            d.push(("GLINT_F64".to_owned(), None));
         }
         if let Some(f) = &self.features {
             f.defines(&mut d);
@@ -207,6 +213,9 @@ impl Variant {
             Intersect::Naive => "naive",
         }
         .to_owned()];
+        if self.precision == Precision::F64 {
+            parts.push("f64".to_owned());
+        }
         match &self.features {
             None => parts.push("generic".to_owned()),
             Some(f) => {

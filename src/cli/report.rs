@@ -1,0 +1,105 @@
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+
+use glint::gpu::Renderer;
+use glint::report::{self, Report, Settings};
+use glint::scene::{Overrides, Scene};
+
+use super::{progress, DeviceArgs};
+
+#[derive(Args)]
+pub struct ReportArgs {
+    /// Scene files [default: every scene in scenes/]
+    scenes: Vec<PathBuf>,
+    /// The directory to write report.md, report.csv, report.json, error_vs_time.svg and index.html into.
+    #[arg(short, long, value_name = "DIR")]
+    output: PathBuf,
+    /// Warm runs per variant (the median is reported).
+    #[arg(long, default_value_t = 5)]
+    runs: usize,
+    /// Small images (160x120), 2 runs, no depth or sample sweeps: for tests and CI.
+    #[arg(long)]
+    quick: bool,
+    #[command(flatten)]
+    device: DeviceArgs,
+}
+
+fn default_scenes() -> anyhow::Result<Vec<PathBuf>> {
+    use anyhow::Context;
+    let mut v: Vec<PathBuf> = std::fs::read_dir("scenes")
+        .context("cannot list scenes/ (name scene files, or run from the repository)")?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    v.sort();
+    Ok(v)
+}
+
+pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
+    anyhow::ensure!(a.runs >= 1, "--runs must be at least 1");
+    let paths = if a.scenes.is_empty() {
+        default_scenes()?
+    } else {
+        a.scenes.clone()
+    };
+    let overrides = if a.quick {
+        Overrides {
+            width: Some(160),
+            height: Some(120),
+            ..Overrides::default()
+        }
+    } else {
+        Overrides::default()
+    };
+    // Load every scene first: a bad one fails before minutes of measuring.
+    let scenes = paths
+        .iter()
+        .map(|p| Scene::load(p, &overrides))
+        .collect::<Result<Vec<_>, _>>()?;
+    let settings = Settings {
+        runs: if a.quick { 2 } else { a.runs },
+        sweeps: !a.quick,
+    };
+    let mut renderer = Renderer::new(&a.device.options()?)?;
+    let device_s = renderer.setup.device_s;
+    let total: u64 = scenes
+        .iter()
+        .map(|s| {
+            5 + if settings.sweeps {
+                u64::from(s.max_depth - 1 + s.samples - 1)
+            } else {
+                0
+            }
+        })
+        .sum();
+    let bar = progress::bar(total, "report");
+    let mut reports = Vec::new();
+    for (path, scene) in paths.iter().zip(&scenes) {
+        let name = path
+            .file_stem()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
+        let r = report::measure(&mut renderer, scene, &name, settings, &|variant| {
+            bar.set_message(format!("{name}: {variant}"));
+            bar.inc(1);
+        })?;
+        reports.push(r);
+    }
+    bar.finish_and_clear();
+    let report = Report {
+        machine: report::machine(),
+        device: renderer.device_info().clone(),
+        device_s,
+        runs: settings.runs,
+        scenes: reports,
+    };
+    report::html::write_all(&report, &a.output)?;
+    eprintln!(
+        "wrote {}/index.html, report.md, report.csv, report.json, error_vs_time.svg",
+        a.output.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}

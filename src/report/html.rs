@@ -1,0 +1,134 @@
+//! index.html: the plot, then per scene the GPU image, the reference and the
+//! heat-map of their difference side by side, with the figures. The images
+//! are PNG files beside the page, so it opens without a server.
+
+use std::fmt::Write;
+use std::path::Path;
+
+use super::{tables, Report};
+use crate::raster::{diff, io};
+
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// A file-name-safe form of a scene's name.
+fn slug(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// Writes report.md, report.csv, report.json, error_vs_time.svg, index.html
+/// and the images under img/ into `dir`.
+pub fn write_all(r: &Report, dir: &Path) -> anyhow::Result<()> {
+    use anyhow::Context;
+    let img_dir = dir.join("img");
+    std::fs::create_dir_all(&img_dir)
+        .with_context(|| format!("cannot create {}", img_dir.display()))?;
+    let write = |name: &str, text: String| -> anyhow::Result<()> {
+        let path = dir.join(name);
+        std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))
+    };
+    write("report.md", tables::markdown(r))?;
+    write("report.csv", tables::csv(r))?;
+    write("report.json", tables::json(r))?;
+    write("error_vs_time.svg", super::svg::plot(r))?;
+    for s in &r.scenes {
+        let slug = slug(&s.name);
+        if let (Some(gpu), Some(reference)) = (&s.images.gpu, &s.images.reference) {
+            io::write(&img_dir.join(format!("{slug}-gpu.png")), gpu, s.images.srgb)?;
+            io::write(
+                &img_dir.join(format!("{slug}-reference.png")),
+                reference,
+                s.images.srgb,
+            )?;
+            io::write(
+                &img_dir.join(format!("{slug}-diff.png")),
+                &diff::heat_map(gpu, reference)?,
+                false,
+            )?;
+        }
+    }
+    write("index.html", page(r))
+}
+
+fn page(r: &Report) -> String {
+    let mut h = String::from(
+        "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>glint report</title>\n<style>\
+body{font-family:sans-serif;margin:2em;max-width:1400px}table{border-collapse:collapse;font-size:13px}\
+td,th{border:1px solid #ccc;padding:3px 6px;text-align:right}th{background:#f3f3f3}td:first-child{text-align:left}\
+.images{display:flex;gap:12px;flex-wrap:wrap}.images figure{margin:0}.images img{max-width:440px;border:1px solid #ccc}\
+figcaption{font-size:13px;color:#444}.pareto{font-weight:bold}</style></head><body>\n<h1>glint: error against run time</h1>\n",
+    );
+    let _ = writeln!(
+        h,
+        "<p>Machine: {} ({} threads), {}. Vulkan device: {} ({}), driver {}. Times are medians of {} warm runs; GPU times are upload + dispatch + readback, apart from opening the device ({:.3} s) and compiling each shader variant.</p>",
+        escape(&r.machine.cpu),
+        r.machine.threads,
+        escape(&r.machine.os),
+        escape(&r.device.name),
+        escape(&r.device.kind),
+        escape(&r.device.driver),
+        r.runs,
+        r.device_s
+    );
+    h.push_str("<p><img src=\"error_vs_time.svg\" alt=\"error against run time, log-log\"></p>\n");
+    h.push_str("<p>Errors are against the CPU f64 reference at the scene's own settings. Bold rows are on the scene's Pareto front: no other variant is both faster and more accurate. The heat-map is black where the images agree, blue to red to white from 1e-7 through 1/255 to 1, magenta where a value is not finite.</p>\n");
+    for s in &r.scenes {
+        let slug = slug(&s.name);
+        let _ = writeln!(
+            h,
+            "<h2>{} <small>({}x{}, {} spp, depth {})</small></h2>",
+            escape(&s.name),
+            s.width,
+            s.height,
+            s.samples * s.samples,
+            s.max_depth
+        );
+        if s.images.gpu.is_some() {
+            let _ = writeln!(
+                h,
+                "<div class=\"images\"><figure><img src=\"img/{slug}-gpu.png\" alt=\"GPU\"><figcaption>GPU f32 (robust)</figcaption></figure>\
+<figure><img src=\"img/{slug}-reference.png\" alt=\"reference\"><figcaption>CPU f64 reference</figcaption></figure>\
+<figure><img src=\"img/{slug}-diff.png\" alt=\"difference\"><figcaption>|GPU - reference|, per pixel</figcaption></figure></div>"
+            );
+        }
+        h.push_str("<table><tr><th>variant</th><th>time (s)</th><th>upload / dispatch / readback (s)</th><th>Mrays/s</th><th>compile + pipeline (s)</th><th>max_abs</th><th>rmse</th><th>PSNR</th><th>over 1/255</th><th>nonfinite</th><th>FLIP</th></tr>\n");
+        for m in &s.measurements {
+            let e = &m.error;
+            let parts = match (m.time.upload_s, m.time.dispatch_s, m.time.readback_s) {
+                (Some(u), Some(d), Some(rb)) => format!("{u:.4} / {d:.4} / {rb:.4}"),
+                _ => String::new(),
+            };
+            let _ = writeln!(
+                h,
+                "<tr{}><td>{}</td><td>{:.4}</td><td>{}</td><td>{:.2}</td><td>{}</td><td>{:.2e}</td><td>{:.2e}</td><td>{}</td><td>{:.4}%</td><td>{}</td><td>{:.2e}</td></tr>",
+                if m.pareto { " class=\"pareto\"" } else { "" },
+                escape(&m.variant),
+                m.time.median_s,
+                parts,
+                m.time.rays_per_s / 1e6,
+                m.setup.map_or(String::new(), |x| format!("{:.3}", x.compile_s + x.pipeline_s)),
+                e.max_abs,
+                e.rmse,
+                if e.psnr_db.is_finite() { format!("{:.1} dB", e.psnr_db) } else { "inf".into() },
+                100.0 * e.frac_over_1_255,
+                e.nonfinite,
+                m.flip_mean
+            );
+        }
+        h.push_str("</table>\n");
+    }
+    h.push_str("</body></html>\n");
+    h
+}

@@ -1,0 +1,188 @@
+//! error_vs_time.svg: every measurement as a point, rmse against median time,
+//! both on log scales; each scene's Pareto front as a dashed line.
+
+use std::fmt::Write;
+
+use super::{Measurement, Report};
+
+const W: f64 = 900.0;
+const H: f64 = 600.0;
+const LEFT: f64 = 80.0;
+const RIGHT: f64 = 230.0;
+const TOP: f64 = 40.0;
+const BOTTOM: f64 = 60.0;
+/// Where an error of exactly zero (the reference itself) is drawn.
+const ZERO_ERROR: f64 = 1e-9;
+
+/// The colour of a variant's family.
+fn colour(m: &Measurement) -> &'static str {
+    match m.variant.as_str() {
+        "gpu f32 robust" => "#1f77b4",
+        "gpu f32 naive" => "#d62728",
+        "gpu f64" => "#9467bd",
+        "cpu f32" => "#2ca02c",
+        "cpu f64" => "#111111",
+        v if v.contains("depth") => "#7fb8e6",
+        _ => "#ff9f3f",
+    }
+}
+
+const FAMILIES: [(&str, &str); 7] = [
+    ("gpu f32 robust", "#1f77b4"),
+    ("gpu f32 naive", "#d62728"),
+    ("gpu f64", "#9467bd"),
+    ("cpu f32", "#2ca02c"),
+    ("cpu f64 (reference)", "#111111"),
+    ("gpu f32, lower depth", "#7fb8e6"),
+    ("gpu f32, fewer samples", "#ff9f3f"),
+];
+
+fn marker(shape: usize, x: f64, y: f64, fill: &str, title: &str) -> String {
+    let r = 5.5;
+    let body = match shape % 4 {
+        0 => format!("<circle cx=\"{x:.1}\" cy=\"{y:.1}\" r=\"{r}\""),
+        1 => format!(
+            "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"",
+            x - r,
+            y - r,
+            2.0 * r,
+            2.0 * r
+        ),
+        2 => format!(
+            "<polygon points=\"{x:.1},{:.1} {:.1},{y:.1} {x:.1},{:.1} {:.1},{y:.1}\"",
+            y - r * 1.3,
+            x + r * 1.3,
+            y + r * 1.3,
+            x - r * 1.3
+        ),
+        _ => format!(
+            "<polygon points=\"{x:.1},{:.1} {:.1},{:.1} {:.1},{:.1}\"",
+            y - r * 1.3,
+            x + r * 1.2,
+            y + r,
+            x - r * 1.2,
+            y + r
+        ),
+    };
+    format!("{body} fill=\"{fill}\" fill-opacity=\"0.85\" stroke=\"#fff\" stroke-width=\"1\"><title>{title}</title></{}>\n", match shape % 4 {
+        0 => "circle",
+        1 => "rect",
+        _ => "polygon",
+    })
+}
+
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+pub fn plot(r: &Report) -> String {
+    let points: Vec<(usize, &Measurement)> = r
+        .scenes
+        .iter()
+        .enumerate()
+        .flat_map(|(i, s)| s.measurements.iter().map(move |m| (i, m)))
+        .collect();
+    let err = |m: &Measurement| m.error.rmse.max(ZERO_ERROR);
+    let (mut tmin, mut tmax, mut emin, mut emax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for (_, m) in &points {
+        tmin = tmin.min(m.time.median_s);
+        tmax = tmax.max(m.time.median_s);
+        emin = emin.min(err(m));
+        emax = emax.max(err(m));
+    }
+    if points.is_empty() {
+        (tmin, tmax, emin, emax) = (1e-3, 1.0, ZERO_ERROR, 1.0);
+    }
+    let (lt0, lt1) = (
+        tmin.log10().floor(),
+        tmax.log10().ceil().max(tmin.log10().floor() + 1.0),
+    );
+    let (le0, le1) = (
+        emin.log10().floor(),
+        emax.log10().ceil().max(emin.log10().floor() + 1.0),
+    );
+    let x = |t: f64| LEFT + (t.log10() - lt0) / (lt1 - lt0) * (W - LEFT - RIGHT);
+    let y = |e: f64| H - BOTTOM - (e.log10() - le0) / (le1 - le0) * (H - TOP - BOTTOM);
+
+    let mut s = String::new();
+    let _ = writeln!(s, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{W}\" height=\"{H}\" viewBox=\"0 0 {W} {H}\" font-family=\"sans-serif\" font-size=\"12\">");
+    let _ = writeln!(s, "<rect width=\"{W}\" height=\"{H}\" fill=\"#fff\"/>");
+    let _ = writeln!(
+        s,
+        "<text x=\"{LEFT}\" y=\"22\" font-size=\"15\">Error against run time ({}; {})</text>",
+        escape(&r.device.name),
+        escape(&r.machine.cpu)
+    );
+    for d in lt0 as i32..=lt1 as i32 {
+        let px = x(10f64.powi(d));
+        let _ = writeln!(s, "<line x1=\"{px:.1}\" y1=\"{TOP}\" x2=\"{px:.1}\" y2=\"{:.1}\" stroke=\"#ddd\"/><text x=\"{px:.1}\" y=\"{:.1}\" text-anchor=\"middle\">1e{d}</text>", H - BOTTOM, H - BOTTOM + 18.0);
+    }
+    for d in le0 as i32..=le1 as i32 {
+        let py = y(10f64.powi(d));
+        let label = if 10f64.powi(d) <= ZERO_ERROR {
+            "0".to_owned()
+        } else {
+            format!("1e{d}")
+        };
+        let _ = writeln!(s, "<line x1=\"{LEFT}\" y1=\"{py:.1}\" x2=\"{:.1}\" y2=\"{py:.1}\" stroke=\"#ddd\"/><text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{label}</text>", W - RIGHT, LEFT - 6.0, py + 4.0);
+    }
+    let _ = writeln!(s, "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">median render time (s), log scale</text>", (LEFT + W - RIGHT) / 2.0, H - 18.0);
+    let _ = writeln!(s, "<text transform=\"translate(22 {:.1}) rotate(-90)\" text-anchor=\"middle\">RMSE against CPU f64, log scale (bottom row: exactly 0)</text>", (TOP + H - BOTTOM) / 2.0);
+    // Pareto fronts first, under the points.
+    for (i, scene) in r.scenes.iter().enumerate() {
+        let mut front: Vec<&Measurement> = scene.measurements.iter().filter(|m| m.pareto).collect();
+        front.sort_by(|a, b| a.time.median_s.total_cmp(&b.time.median_s));
+        let path: Vec<String> = front
+            .iter()
+            .map(|m| format!("{:.1},{:.1}", x(m.time.median_s), y(err(m))))
+            .collect();
+        if path.len() > 1 {
+            let _ = writeln!(s, "<polyline points=\"{}\" fill=\"none\" stroke=\"#888\" stroke-dasharray=\"5 4\" stroke-width=\"1.5\"><title>Pareto front of {}</title></polyline>", path.join(" "), escape(&scene.name));
+        }
+        let _ = i;
+    }
+    for (i, m) in &points {
+        let scene = &r.scenes[*i];
+        let title = format!(
+            "{} / {}: {:.4} s, rmse {:.2e}{}",
+            scene.name,
+            m.variant,
+            m.time.median_s,
+            m.error.rmse,
+            if m.pareto { " (Pareto front)" } else { "" }
+        );
+        s.push_str(&marker(
+            *i,
+            x(m.time.median_s),
+            y(err(m)),
+            colour(m),
+            &escape(&title),
+        ));
+        if m.pareto {
+            let _ = writeln!(s, "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"9\" fill=\"none\" stroke=\"#444\" stroke-width=\"1\"/>", x(m.time.median_s), y(err(m)));
+        }
+    }
+    // Legend: colours for variants, shapes for scenes.
+    let lx = W - RIGHT + 20.0;
+    let mut ly = TOP + 10.0;
+    for (name, c) in FAMILIES {
+        let _ = writeln!(s, "<rect x=\"{lx}\" y=\"{:.1}\" width=\"12\" height=\"12\" fill=\"{c}\"/><text x=\"{:.1}\" y=\"{:.1}\">{name}</text>", ly - 10.0, lx + 18.0, ly);
+        ly += 20.0;
+    }
+    ly += 10.0;
+    for (i, scene) in r.scenes.iter().enumerate() {
+        s.push_str(&marker(i, lx + 6.0, ly - 4.0, "#666", &escape(&scene.name)));
+        let _ = writeln!(
+            s,
+            "<text x=\"{:.1}\" y=\"{ly:.1}\">{}</text>",
+            lx + 18.0,
+            escape(&scene.name)
+        );
+        ly += 20.0;
+    }
+    let _ = writeln!(s, "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"9\" fill=\"none\" stroke=\"#444\"/><text x=\"{:.1}\" y=\"{:.1}\">Pareto front (dashed)</text>", lx + 6.0, ly + 6.0, lx + 18.0, ly + 10.0);
+    s.push_str("</svg>\n");
+    s
+}

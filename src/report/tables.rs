@@ -1,0 +1,106 @@
+//! report.md, report.csv and report.json.
+
+use std::fmt::Write;
+
+use super::Report;
+
+fn opt(v: Option<f64>) -> String {
+    v.map_or_else(String::new, |v| format!("{v:.6}"))
+}
+
+pub fn csv(r: &Report) -> String {
+    let mut out = String::from(
+        "scene,variant,backend,precision,intersect,max_depth,samples,width,height,median_s,upload_s,dispatch_s,readback_s,rays_per_s,compile_s,pipeline_s,max_abs,rmse,psnr_db,frac_over_1_255,nonfinite,flip_mean,pareto\n",
+    );
+    for s in &r.scenes {
+        for m in &s.measurements {
+            let e = &m.error;
+            let _ = writeln!(
+                out,
+                "{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{:.0},{},{},{:e},{:e},{},{:e},{},{:e},{}",
+                s.name,
+                m.variant,
+                m.backend,
+                m.precision,
+                m.intersect.map_or(String::new(), |i| format!("{i:?}").to_lowercase()),
+                m.max_depth,
+                m.samples,
+                s.width,
+                s.height,
+                m.time.median_s,
+                opt(m.time.upload_s),
+                opt(m.time.dispatch_s),
+                opt(m.time.readback_s),
+                m.time.rays_per_s,
+                opt(m.setup.map(|x| x.compile_s)),
+                opt(m.setup.map(|x| x.pipeline_s)),
+                e.max_abs,
+                e.rmse,
+                if e.psnr_db.is_finite() { format!("{:.2}", e.psnr_db) } else { "inf".into() },
+                e.frac_over_1_255,
+                e.nonfinite,
+                m.flip_mean,
+                m.pareto
+            );
+        }
+    }
+    out
+}
+
+pub fn json(r: &Report) -> String {
+    serde_json::to_string_pretty(r).expect("a report serializes")
+}
+
+pub fn markdown(r: &Report) -> String {
+    let mut out = String::from("# glint report: error against run time\n\n");
+    let _ = writeln!(
+        out,
+        "- machine: {} ({} threads), {}",
+        r.machine.cpu, r.machine.threads, r.machine.os
+    );
+    let _ = writeln!(
+        out,
+        "- Vulkan device: {} ({}), driver {}, Vulkan {}",
+        r.device.name, r.device.kind, r.device.driver, r.device.api_version
+    );
+    let _ = writeln!(out, "- times: median of {} warm runs; GPU times are upload + dispatch + readback, apart from the one-time device ({:.3} s), shader compile and pipeline costs", r.runs, r.device_s);
+    let _ = writeln!(out, "- errors: against the CPU f64 reference at the scene's own settings; FLIP is the mean LDR-FLIP of the sRGB 8-bit images; * marks the scene's Pareto front (no variant both faster and more accurate)\n");
+    for s in &r.scenes {
+        let _ = writeln!(
+            out,
+            "## {} ({}x{}, {} spp, depth {})\n",
+            s.name,
+            s.width,
+            s.height,
+            s.samples * s.samples,
+            s.max_depth
+        );
+        out.push_str("| variant | time | upload / dispatch / readback | Mrays/s | compile + pipeline | max_abs | rmse | PSNR | over 1/255 | nonfinite | FLIP |\n");
+        out.push_str("|---|---|---|---|---|---|---|---|---|---|---|\n");
+        for m in &s.measurements {
+            let e = &m.error;
+            let parts = match (m.time.upload_s, m.time.dispatch_s, m.time.readback_s) {
+                (Some(u), Some(d), Some(rb)) => format!("{:.4} / {:.4} / {:.4}", u, d, rb),
+                _ => String::new(),
+            };
+            let _ = writeln!(
+                out,
+                "| {}{} | {:.4} s | {} | {:.2} | {} | {:.2e} | {:.2e} | {} | {:.4}% | {} | {:.2e} |",
+                m.variant,
+                if m.pareto { " *" } else { "" },
+                m.time.median_s,
+                parts,
+                m.time.rays_per_s / 1e6,
+                m.setup.map_or(String::new(), |x| format!("{:.3} s", x.compile_s + x.pipeline_s)),
+                e.max_abs,
+                e.rmse,
+                if e.psnr_db.is_finite() { format!("{:.1} dB", e.psnr_db) } else { "inf".into() },
+                100.0 * e.frac_over_1_255,
+                e.nonfinite,
+                m.flip_mean
+            );
+        }
+        out.push('\n');
+    }
+    out
+}

@@ -1,0 +1,125 @@
+//! `glint report` on small scenes: every file is written, the JSON holds
+//! every variant, the reference has no error against itself, f32 has some,
+//! every time is positive; and GPU f64 agrees with CPU f64 far closer than f32.
+
+mod common;
+
+use std::process::Command;
+
+use glint::cpu;
+use glint::gpu::{GpuOptions, Precision, Renderer};
+use glint::raster::diff::figures;
+
+#[test]
+fn the_quick_report_writes_every_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = common::repo().join("scenes/seed-fig4.toml");
+    let o = Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args([
+            "report",
+            scene.to_str().unwrap(),
+            "--quick",
+            "-o",
+            dir.path().to_str().unwrap(),
+        ])
+        .env("GLINT_VALIDATION", "1")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in [
+        "report.md",
+        "report.csv",
+        "report.json",
+        "error_vs_time.svg",
+        "index.html",
+        "img/seed-fig4-gpu.png",
+        "img/seed-fig4-reference.png",
+        "img/seed-fig4-diff.png",
+    ] {
+        let path = dir.path().join(f);
+        assert!(
+            std::fs::metadata(&path).is_ok_and(|m| m.len() > 0),
+            "{f} missing or empty"
+        );
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("report.json")).unwrap())
+            .unwrap();
+    assert!(json["device"]["name"].as_str().is_some());
+    assert!(json["machine"]["cpu"].as_str().is_some());
+    let scenes = json["scenes"].as_array().unwrap();
+    assert_eq!(scenes.len(), 1);
+    let ms = scenes[0]["measurements"].as_array().unwrap();
+    let variant = |name: &str| {
+        ms.iter()
+            .find(|m| m["variant"] == name)
+            .unwrap_or_else(|| panic!("no {name} in {ms:?}"))
+    };
+    for name in [
+        "gpu f32 robust",
+        "gpu f32 naive",
+        "gpu f64",
+        "cpu f32",
+        "cpu f64",
+    ] {
+        let m = variant(name);
+        assert!(m["time"]["median_s"].as_f64().unwrap() > 0.0, "{name}");
+        assert!(m["time"]["rays_per_s"].as_f64().unwrap() > 0.0, "{name}");
+        assert_eq!(m["error"]["nonfinite"], 0, "{name}");
+    }
+    assert_eq!(variant("cpu f64")["error"]["max_abs"], 0.0);
+    assert_eq!(variant("cpu f64")["flip_mean"], 0.0);
+    assert!(variant("cpu f32")["error"]["max_abs"].as_f64().unwrap() > 0.0);
+    assert!(
+        variant("gpu f32 robust")["error"]["max_abs"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
+    assert!(
+        variant("gpu f32 robust")["time"]["dispatch_s"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
+    assert!(variant("gpu f32 robust")["setup"]["compile_s"]
+        .as_f64()
+        .is_some());
+    // The reference is on the Pareto front (nothing is more accurate).
+    assert_eq!(variant("cpu f64")["pareto"], true);
+    // The CSV has a header and one row per measurement.
+    let csv = std::fs::read_to_string(dir.path().join("report.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + ms.len());
+    let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
+    assert!(html.contains("img/seed-fig4-diff.png") && html.contains("error_vs_time.svg"));
+    let svg = std::fs::read_to_string(dir.path().join("error_vs_time.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("Pareto front"));
+}
+
+#[test]
+fn gpu_f64_is_far_closer_to_the_reference_than_f32() {
+    let mut scene = common::scene_sized(common::SMALL, 160, 120);
+    scene.samples = 2;
+    let reference = cpu::render::<f64>(&scene);
+    let mut f32r = Renderer::new(&GpuOptions {
+        validate: true,
+        ..GpuOptions::default()
+    })
+    .unwrap();
+    let mut f64r = Renderer::new(&GpuOptions {
+        validate: true,
+        precision: Precision::F64,
+        ..GpuOptions::default()
+    })
+    .unwrap();
+    assert!(
+        f64r.device_info().shader_float64,
+        "lavapipe has shaderFloat64"
+    );
+    let e32 = figures(&f32r.render(&scene, &|_| {}).unwrap().0, &reference).unwrap();
+    let e64 = figures(&f64r.render(&scene, &|_| {}).unwrap().0, &reference).unwrap();
+    // f64 differs from the reference only by the f32 specular power and the
+    // final rounding to f32.
+    assert!(e64.rmse < 1e-6 && e64.max_abs < 1e-4, "{e64:?}");
+    assert!(e64.rmse < e32.rmse / 3.0, "f64 {e64:?} against f32 {e32:?}");
+}
