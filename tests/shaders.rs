@@ -35,9 +35,10 @@ fn a_broken_include_is_reported_at_the_users_file_and_line() {
     let dir = tempfile::tempdir().unwrap();
     let shade = std::fs::read_to_string(repo("shaders/shade.glsl")).unwrap();
     let broken = shade.replace(
-        "    vec3 local = vec3(0.0);",
-        "    vec3 local = vec3(0.0);\n    float oops = undefined_thing;",
+        "    vec3r local = vec3r(0.0);",
+        "    vec3r local = vec3r(0.0);\n    float oops = undefined_thing;",
     );
+    assert_ne!(shade, broken);
     std::fs::write(dir.path().join("shade.glsl"), &broken).unwrap();
     let line = broken
         .lines()
