@@ -85,6 +85,11 @@ fn the_quick_report_writes_every_file() {
     assert!(variant("gpu f32 robust")["setup"]["compile_s"]
         .as_f64()
         .is_some());
+    // The generic shader renders the same image as the scene's own variant.
+    assert_eq!(
+        variant("gpu f32 generic")["error"],
+        variant("gpu f32 robust")["error"]
+    );
     // The reference is on the Pareto front (nothing is more accurate).
     assert_eq!(variant("cpu f64")["pareto"], true);
     // The CSV has a header and one row per measurement.

@@ -144,6 +144,8 @@ pub fn flip_mean(image: &Image, reference: &Image) -> f64 {
 enum Backend {
     Gpu(Intersect),
     Gpu64,
+    /// The generic shader, to show what the scene's own variant saves.
+    GpuGeneric,
     Cpu32,
     Cpu64,
 }
@@ -225,13 +227,15 @@ pub fn measure(
         s.samples = samples;
         let rays = s.ray_count() as f64;
         let (image, time, setup) = match backend {
-            Backend::Gpu(_) | Backend::Gpu64 => {
+            Backend::Gpu(_) | Backend::Gpu64 | Backend::GpuGeneric => {
                 let (form, precision) = match backend {
                     Backend::Gpu(form) => (form, Precision::F32),
-                    _ => (Intersect::Robust, Precision::F64),
+                    Backend::Gpu64 => (Intersect::Robust, Precision::F64),
+                    _ => (Intersect::Robust, Precision::F32),
                 };
                 renderer.intersect = form;
                 renderer.precision = precision;
+                renderer.generic = matches!(backend, Backend::GpuGeneric);
                 renderer.prepare_for(&s)?;
                 let setup = renderer.setup;
                 let (image, _) = renderer.render(&s, &|_| {})?; // warm-up, untimed
@@ -242,6 +246,7 @@ pub fn measure(
                 }
                 renderer.intersect = Intersect::Robust;
                 renderer.precision = Precision::F32;
+                renderer.generic = false;
                 runs.sort_by(|a, b| a.0.total_cmp(&b.0));
                 let (m, parts) = runs[runs.len() / 2];
                 let time = Timing {
@@ -286,6 +291,7 @@ pub fn measure(
         let (backend_name, precision, intersect) = match backend {
             Backend::Gpu(form) => ("gpu", "f32", Some(form)),
             Backend::Gpu64 => ("gpu", "f64", Some(Intersect::Robust)),
+            Backend::GpuGeneric => ("gpu", "f32", Some(Intersect::Robust)),
             Backend::Cpu32 => ("cpu", "f32", None),
             Backend::Cpu64 => ("cpu", "f64", None),
         };

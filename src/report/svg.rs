@@ -19,6 +19,7 @@ fn colour(m: &Measurement) -> &'static str {
     match m.variant.as_str() {
         "gpu f32 robust" => "#1f77b4",
         "gpu f32 naive" => "#d62728",
+        "gpu f32 generic" => "#8c564b",
         "gpu f64" => "#9467bd",
         "cpu f32" => "#2ca02c",
         "cpu f64" => "#111111",
@@ -27,9 +28,10 @@ fn colour(m: &Measurement) -> &'static str {
     }
 }
 
-const FAMILIES: [(&str, &str); 7] = [
+const FAMILIES: [(&str, &str); 8] = [
     ("gpu f32 robust", "#1f77b4"),
     ("gpu f32 naive", "#d62728"),
+    ("gpu f32 generic shader", "#8c564b"),
     ("gpu f64", "#9467bd"),
     ("cpu f32", "#2ca02c"),
     ("cpu f64 (reference)", "#111111"),
