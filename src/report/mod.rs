@@ -196,6 +196,12 @@ pub fn measure(
             ),
         );
     }
+    variants.push((
+        "gpu f32 generic".into(),
+        Backend::GpuGeneric,
+        scene.max_depth,
+        scene.samples,
+    ));
     if settings.sweeps {
         for d in 1..scene.max_depth {
             variants.push((
