@@ -18,6 +18,8 @@ real spec_pow(real x, real n) {
 #endif
 }
 
+#include "specular.glsl"
+
 #if HAS_SHADOWS
 // Whether anything lies on the shadow ray strictly between 0 and dist.
 bool occluded(Ray r, uint from, real dist) {
@@ -84,10 +86,8 @@ vec3r shade(vec3r p, vec3r n, vec3r v, Material m, uint from) {
         direct = direct && !(SHADOWS_ON && occluded(Ray(p, l), from, dist));
 #endif
         if (direct) {
-            vec3r h = normalize(l + v);
-            real n_dot_h = max(dot(n, h), 0.0);
             contribution += light.diffuse.rgb * m.diffuse.rgb * n_dot_l
-                          + light.specular.rgb * m.specular.rgb * spec_pow(n_dot_h, m.params.x);
+                          + light.specular.rgb * m.specular.rgb * specular(n, l, v, m.params.x);
         }
         local += contribution * (att * spot);
     }

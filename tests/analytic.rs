@@ -9,7 +9,6 @@
 mod common;
 
 use glint::cpu;
-use glint::raster::Image;
 
 const R: f64 = 3.0;
 const KA: [f64; 3] = [0.1, 0.2, 0.3];
@@ -70,20 +69,6 @@ fn expected(depth: u32) -> [f64; 3] {
     [0, 1, 2].map(|c| att * (IA[c] * KA[c] + ID[c] * KD[c] + IS[c] * KS[c]) * series)
 }
 
-fn assert_uniform(image: &Image, want: [f64; 3], rel: f64, what: &str) {
-    for (i, p) in image.pixels.iter().enumerate() {
-        for c in 0..3 {
-            let err = (f64::from(p[c]) - want[c]).abs() / want[c];
-            assert!(
-                err <= rel,
-                "{what}: pixel {i} channel {c}: {} against {} (relative error {err:.2e})",
-                p[c],
-                want[c]
-            );
-        }
-    }
-}
-
 #[test]
 fn eye_and_light_at_the_centre_of_a_sphere() {
     for (depth, shadows) in [(1, true), (3, true), (3, false), (8, true)] {
@@ -91,9 +76,9 @@ fn eye_and_light_at_the_centre_of_a_sphere() {
         let want = expected(depth);
         // f64 agrees to its own rounding (and the final cast to f32); f32 to
         // a few ulp per operation along the ray.
-        assert_uniform(&cpu::render::<f64>(&scene), want, 1e-7, "CPU f64");
-        assert_uniform(&cpu::render::<f32>(&scene), want, 1e-5, "CPU f32");
-        assert_uniform(&common::render_gpu(&scene), want, 1e-5, "GPU f32");
+        common::assert_uniform(&cpu::render::<f64>(&scene), want, 1e-7, "CPU f64");
+        common::assert_uniform(&cpu::render::<f32>(&scene), want, 1e-5, "CPU f32");
+        common::assert_uniform(&common::render_gpu(&scene), want, 1e-5, "GPU f32");
     }
 }
 

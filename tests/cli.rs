@@ -8,13 +8,7 @@ use std::process::{Command, Output};
 
 use glint::raster::io;
 
-fn glint(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args(args)
-        .env("GLINT_VALIDATION", "1")
-        .output()
-        .expect("run glint")
-}
+use common::glint;
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

@@ -170,17 +170,7 @@ fn camera_inside_a_sphere_gives_the_analytic_value() {
             ("CPU f32", cpu::render::<f32>(&scene), 1e-5),
             ("CPU f64", cpu::render::<f64>(&scene), 1e-7),
         ] {
-            for p in &image.pixels {
-                for c in 0..3 {
-                    let e = (f64::from(p[c]) - want[c]).abs() / want[c];
-                    assert!(
-                        e <= rel,
-                        "{name} {what}: {} against {} ({e:.1e})",
-                        p[c],
-                        want[c]
-                    );
-                }
-            }
+            common::assert_uniform(&image, want, rel, &format!("{name} {what}"));
         }
     }
 }
@@ -232,13 +222,8 @@ fn parallel_mirrors_sum_the_geometric_series() {
             ("CPU f32", cpu::render::<f32>(&scene), 1e-5),
             ("CPU f64", cpu::render::<f64>(&scene), 1e-7),
         ] {
-            for p in &image.pixels {
-                for c in 0..3 {
-                    let want = local[c] * series;
-                    let e = (f64::from(p[c]) - want).abs() / want;
-                    assert!(e <= rel, "{name} {what}: {} against {want} ({e:.1e})", p[c]);
-                }
-            }
+            let want = local.map(|l| l * series);
+            common::assert_uniform(&image, want, rel, &format!("{name} {what}"));
         }
     }
 }

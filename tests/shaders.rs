@@ -4,16 +4,10 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-fn glint(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args(args)
-        .env("GLINT_VALIDATION", "1")
-        .output()
-        .expect("run glint")
-}
+use common::glint;
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()

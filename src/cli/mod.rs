@@ -159,6 +159,21 @@ impl DeviceArgs {
     }
 }
 
+/// The scene files in `dir`, sorted; for commands that default to a
+/// directory of the repository.
+pub fn scene_files(dir: &str) -> anyhow::Result<Vec<PathBuf>> {
+    use anyhow::Context;
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| {
+            format!("cannot list {dir}/ (name scene files, or run from the repository)")
+        })?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    v.sort();
+    Ok(v)
+}
+
 /// NAME or NAME=VALUE, NAME a C identifier.
 pub fn parse_define(d: &str) -> anyhow::Result<(String, Option<String>)> {
     let (name, value) = match d.split_once('=') {

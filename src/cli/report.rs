@@ -26,21 +26,10 @@ pub struct ReportArgs {
     device: DeviceArgs,
 }
 
-fn default_scenes() -> anyhow::Result<Vec<PathBuf>> {
-    use anyhow::Context;
-    let mut v: Vec<PathBuf> = std::fs::read_dir("scenes")
-        .context("cannot list scenes/ (name scene files, or run from the repository)")?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    v.sort();
-    Ok(v)
-}
-
 pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
     anyhow::ensure!(a.runs >= 1, "--runs must be at least 1");
     let paths = if a.scenes.is_empty() {
-        default_scenes()?
+        super::scene_files("scenes")?
     } else {
         a.scenes.clone()
     };

@@ -1,7 +1,6 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::Context;
 use clap::Args;
 use serde_json::json;
 
@@ -22,25 +21,9 @@ pub struct StabilityArgs {
     device: DeviceArgs,
 }
 
-fn default_scenes() -> anyhow::Result<Vec<PathBuf>> {
-    let dir = PathBuf::from("scenes/extreme");
-    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .with_context(|| {
-            format!(
-                "cannot list {} (name scene files, or run from the repository)",
-                dir.display()
-            )
-        })?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    v.sort();
-    Ok(v)
-}
-
 pub fn run(a: &StabilityArgs) -> anyhow::Result<ExitCode> {
     let scenes = if a.scenes.is_empty() {
-        default_scenes()?
+        super::scene_files("scenes/extreme")?
     } else {
         a.scenes.clone()
     };

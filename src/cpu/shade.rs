@@ -20,6 +20,13 @@ pub fn spec_pow<R: Real>(x: R, n: R) -> R {
     }
 }
 
+/// The specular term of one light: Blinn-Phong, (N·H)^n with H halfway
+/// between L and V; mirrors shaders/specular.glsl.
+pub fn specular<R: Real>(n: Vec3<R>, l: Vec3<R>, v: Vec3<R>, shininess: R) -> R {
+    let h = (l + v).normalize();
+    spec_pow(n.dot(h).max(R::zero()), shininess)
+}
+
 /// Whether anything lies on the shadow ray strictly between 0 and `dist`.
 pub fn occluded<R: Real>(w: &World<R>, ray: &Ray<R>, from: usize, dist: R) -> bool {
     let base = w.spheres.len();
@@ -74,10 +81,8 @@ pub fn shade<R: Real>(
         // away, outside a spot's cone, or a light without diffuse and specular.
         let direct = n_dot_l > R::zero() && spot > R::zero() && light.direct;
         if direct && !(w.shadows && occluded(w, &Ray { origin: p, dir: l }, from, dist)) {
-            let h = (l + v).normalize();
-            let n_dot_h = n.dot(h).max(R::zero());
             contribution += light.diffuse * m.diffuse * n_dot_l
-                + light.specular * m.specular * spec_pow(n_dot_h, m.shininess);
+                + light.specular * m.specular * specular(n, l, v, m.shininess);
         }
         local += contribution * (att * spot);
     }

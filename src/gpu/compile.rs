@@ -24,6 +24,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
         include_str!("../../shaders/intersect.glsl"),
     ),
     ("shade.glsl", include_str!("../../shaders/shade.glsl")),
+    ("specular.glsl", include_str!("../../shaders/specular.glsl")),
     ("trace.glsl", include_str!("../../shaders/trace.glsl")),
 ];
 

@@ -5,7 +5,7 @@
 use std::fmt::Write;
 use std::path::Path;
 
-use super::{tables, Report};
+use super::{tables, Report, ROW_HEADERS};
 use crate::raster::{diff, io};
 
 fn escape(s: &str) -> String {
@@ -103,29 +103,19 @@ figcaption{font-size:13px;color:#444}.pareto{font-weight:bold}</style></head><bo
 <figure><img src=\"img/{slug}-diff.png\" alt=\"difference\"><figcaption>|GPU - reference|, per pixel</figcaption></figure></div>"
             );
         }
-        h.push_str("<table><tr><th>variant</th><th>time (s)</th><th>upload / dispatch / readback (s)</th><th>Mrays/s</th><th>compile + pipeline (s)</th><th>max_abs</th><th>rmse</th><th>PSNR</th><th>over 1/255</th><th>nonfinite</th><th>FLIP</th></tr>\n");
+        let headers: String = ROW_HEADERS
+            .iter()
+            .map(|c| format!("<th>{}</th>", escape(c)))
+            .collect();
+        let _ = writeln!(h, "<table><tr>{headers}</tr>");
         for m in &s.measurements {
-            let e = &m.error;
-            let parts = match (m.time.upload_s, m.time.dispatch_s, m.time.readback_s) {
-                (Some(u), Some(d), Some(rb)) => format!("{u:.4} / {d:.4} / {rb:.4}"),
-                _ => String::new(),
-            };
-            let _ = writeln!(
-                h,
-                "<tr{}><td>{}</td><td>{:.4}</td><td>{}</td><td>{:.2}</td><td>{}</td><td>{:.2e}</td><td>{:.2e}</td><td>{}</td><td>{:.4}%</td><td>{}</td><td>{:.2e}</td></tr>",
-                if m.pareto { " class=\"pareto\"" } else { "" },
-                escape(&m.variant),
-                m.time.median_s,
-                parts,
-                m.time.rays_per_s / 1e6,
-                m.setup.map_or(String::new(), |x| format!("{:.3}", x.compile_s + x.pipeline_s)),
-                e.max_abs,
-                e.rmse,
-                if e.psnr_db.is_finite() { format!("{:.1} dB", e.psnr_db) } else { "inf".into() },
-                100.0 * e.frac_over_1_255,
-                e.nonfinite,
-                m.flip_mean
-            );
+            let cells: String = m
+                .row()
+                .iter()
+                .map(|c| format!("<td>{}</td>", escape(c)))
+                .collect();
+            let class = if m.pareto { " class=\"pareto\"" } else { "" };
+            let _ = writeln!(h, "<tr{class}>{cells}</tr>");
         }
         h.push_str("</table>\n");
     }

@@ -55,6 +55,55 @@ pub struct Measurement {
     pub pareto: bool,
 }
 
+/// The columns of a measurement's row in report.md and index.html.
+pub const ROW_HEADERS: [&str; 11] = [
+    "variant",
+    "time",
+    "upload / dispatch / readback (s)",
+    "Mrays/s",
+    "compile + pipeline",
+    "max_abs",
+    "rmse",
+    "PSNR",
+    "over 1/255",
+    "nonfinite",
+    "FLIP",
+];
+
+impl Measurement {
+    /// The cells of this measurement's row, as the tables show them.
+    pub fn row(&self) -> [String; 11] {
+        let e = &self.error;
+        let parts = match (
+            self.time.upload_s,
+            self.time.dispatch_s,
+            self.time.readback_s,
+        ) {
+            (Some(u), Some(d), Some(r)) => format!("{u:.4} / {d:.4} / {r:.4}"),
+            _ => String::new(),
+        };
+        [
+            self.variant.clone(),
+            format!("{:.4} s", self.time.median_s),
+            parts,
+            format!("{:.2}", self.time.rays_per_s / 1e6),
+            self.setup.map_or(String::new(), |x| {
+                format!("{:.3} s", x.compile_s + x.pipeline_s)
+            }),
+            format!("{:.2e}", e.max_abs),
+            format!("{:.2e}", e.rmse),
+            if e.psnr_db.is_finite() {
+                format!("{:.1} dB", e.psnr_db)
+            } else {
+                "inf".to_owned()
+            },
+            format!("{:.4}%", 100.0 * e.frac_over_1_255),
+            e.nonfinite.to_string(),
+            format!("{:.2e}", self.flip_mean),
+        ]
+    }
+}
+
 #[derive(Debug, Clone, Serialize)]
 pub struct SceneReport {
     pub name: String,

@@ -2,7 +2,7 @@
 
 use std::fmt::Write;
 
-use super::Report;
+use super::{Report, ROW_HEADERS};
 
 fn opt(v: Option<f64>) -> String {
     v.map_or_else(String::new, |v| format!("{v:.6}"))
@@ -75,30 +75,14 @@ pub fn markdown(r: &Report) -> String {
             s.samples * s.samples,
             s.max_depth
         );
-        out.push_str("| variant | time | upload / dispatch / readback | Mrays/s | compile + pipeline | max_abs | rmse | PSNR | over 1/255 | nonfinite | FLIP |\n");
-        out.push_str("|---|---|---|---|---|---|---|---|---|---|---|\n");
+        let _ = writeln!(out, "| {} |", ROW_HEADERS.join(" | "));
+        let _ = writeln!(out, "|{}", "---|".repeat(ROW_HEADERS.len()));
         for m in &s.measurements {
-            let e = &m.error;
-            let parts = match (m.time.upload_s, m.time.dispatch_s, m.time.readback_s) {
-                (Some(u), Some(d), Some(rb)) => format!("{:.4} / {:.4} / {:.4}", u, d, rb),
-                _ => String::new(),
-            };
-            let _ = writeln!(
-                out,
-                "| {}{} | {:.4} s | {} | {:.2} | {} | {:.2e} | {:.2e} | {} | {:.4}% | {} | {:.2e} |",
-                m.variant,
-                if m.pareto { " *" } else { "" },
-                m.time.median_s,
-                parts,
-                m.time.rays_per_s / 1e6,
-                m.setup.map_or(String::new(), |x| format!("{:.3} s", x.compile_s + x.pipeline_s)),
-                e.max_abs,
-                e.rmse,
-                if e.psnr_db.is_finite() { format!("{:.1} dB", e.psnr_db) } else { "inf".into() },
-                100.0 * e.frac_over_1_255,
-                e.nonfinite,
-                m.flip_mean
-            );
+            let mut cells = m.row();
+            if m.pareto {
+                cells[0].push_str(" *");
+            }
+            let _ = writeln!(out, "| {} |", cells.join(" | "));
         }
         out.push('\n');
     }

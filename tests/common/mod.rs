@@ -4,6 +4,7 @@
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 
 use glint::gpu::{GpuOptions, Renderer};
 use glint::raster::Image;
@@ -16,6 +17,30 @@ pub fn gpu() -> Renderer {
     };
     Renderer::new(&options)
         .unwrap_or_else(|e| panic!("cannot open the Vulkan device with validation: {e}"))
+}
+
+/// Runs the glint binary with validation on, as a user would.
+pub fn glint(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(args)
+        .env("GLINT_VALIDATION", "1")
+        .output()
+        .expect("run glint")
+}
+
+/// Every pixel of `image` equals `want` to a relative error of `rel`.
+pub fn assert_uniform(image: &Image, want: [f64; 3], rel: f64, what: &str) {
+    for (i, p) in image.pixels.iter().enumerate() {
+        for c in 0..3 {
+            let err = (f64::from(p[c]) - want[c]).abs() / want[c];
+            assert!(
+                err <= rel,
+                "{what}: pixel {i} channel {c}: {} against {} (relative error {err:.2e})",
+                p[c],
+                want[c]
+            );
+        }
+    }
 }
 
 pub fn render_gpu(scene: &Scene) -> Image {
