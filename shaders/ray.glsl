@@ -1,4 +1,4 @@
-// Eye rays through the virtual screen (SPEC §2); mirrors src/cpu/ray.rs.
+// Eye rays through the virtual screen (docs/scene-format.md, Rays); mirrors src/cpu/ray.rs.
 
 struct Ray {
     vec3r origin;

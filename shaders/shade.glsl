@@ -1,7 +1,7 @@
-// Local Blinn-Phong shading with hard shadows (SPEC §3); mirrors
+// Local Blinn-Phong shading with hard shadows (docs/scene-format.md, Shading); mirrors
 // src/cpu/shade.rs.
 
-// x^n with SPEC's conventions: x^0 = 1 (also for x = 0), and 0 for x <= 0
+// x^n with the scene format's conventions: x^0 = 1 (also for x = 0), and 0 for x <= 0
 // otherwise; GLSL's pow leaves both undefined.
 real spec_pow(real x, real n) {
     if (n == 0.0) {

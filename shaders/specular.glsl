@@ -1,5 +1,5 @@
 // The specular term of one light: Blinn-Phong, (N.H)^n with H halfway
-// between L and V (SPEC §3); mirrors specular() in src/cpu/shade.rs. Its own
+// between L and V (docs/scene-format.md, Shading); mirrors specular() in src/cpu/shade.rs. Its own
 // file so that another model can replace it alone
 // (shaders/experiments/phong).
 

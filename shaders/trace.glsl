@@ -1,4 +1,4 @@
-// The fixed-depth reflection loop (SPEC §3); mirrors src/cpu/trace.rs.
+// The fixed-depth reflection loop (docs/scene-format.md, Shading); mirrors src/cpu/trace.rs.
 
 vec3r trace(Ray ray) {
     vec3r color = vec3r(0.0);

@@ -1,4 +1,4 @@
-//! The `glint` command line (SPEC §5).
+//! The `glint` command line (README, Command line).
 
 mod cli;
 

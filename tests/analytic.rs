@@ -1,4 +1,4 @@
-//! A scene whose image follows from SPEC §3 by hand: the eye at the centre
+//! A scene whose image follows from docs/scene-format.md, Shading by hand: the eye at the centre
 //! of a sphere of radius R with a point light there too. Every eye ray meets
 //! the sphere at distance R facing the light head on: N·L = N·H = 1,
 //! att = 1/(c + l R + q R²), no shadow (the shadow ray's only hit is the far

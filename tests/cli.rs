@@ -126,6 +126,7 @@ fn compare_json_passes_on_a_seed_scene() {
     }
     assert!(v["gpu_f32"]["seconds"].as_f64().unwrap() > 0.0);
     assert!(v["cpu_f64"]["seconds"].as_f64().unwrap() > 0.0);
+    assert!(v["gpu_f32"]["first_render_s"].as_f64().unwrap() > 0.0);
     assert!(v["setup"]["compile_s"].as_f64().unwrap() >= 0.0);
 }
 

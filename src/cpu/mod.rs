@@ -1,4 +1,4 @@
-//! The CPU reference renderer: SPEC §2-3 in f32 or f64, one function per
+//! The CPU reference renderer: docs/scene-format.md (Rays, Shading) in f32 or f64, one function per
 //! stage of the shader (ray, intersect, shade, trace) so that a disagreement
 //! points at one stage.
 

@@ -1,4 +1,4 @@
-//! Eye rays through the virtual screen (SPEC §2); mirrors shaders/ray.glsl.
+//! Eye rays through the virtual screen (docs/scene-format.md, Rays); mirrors shaders/ray.glsl.
 
 use super::real::{Real, Vec3};
 use super::world::World;

@@ -7,7 +7,6 @@ use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 use num_traits::Float;
 
 pub trait Real: Float + Debug + Send + Sync + AddAssign + 'static {
-    const NAME: &'static str;
     /// Veltkamp's splitting constant, 2^ceil(p/2) + 1 for a p-bit significand.
     const SPLIT: f64;
     fn of(v: f64) -> Self;
@@ -15,7 +14,6 @@ pub trait Real: Float + Debug + Send + Sync + AddAssign + 'static {
 }
 
 impl Real for f32 {
-    const NAME: &'static str = "f32";
     const SPLIT: f64 = 4097.0;
     fn of(v: f64) -> Self {
         v as f32
@@ -26,7 +24,6 @@ impl Real for f32 {
 }
 
 impl Real for f64 {
-    const NAME: &'static str = "f64";
     const SPLIT: f64 = 134_217_729.0;
     fn of(v: f64) -> Self {
         v

@@ -1,4 +1,4 @@
-//! Local Blinn-Phong shading with hard shadows (SPEC §3); mirrors
+//! Local Blinn-Phong shading with hard shadows (docs/scene-format.md, Shading); mirrors
 //! shaders/shade.glsl.
 
 use crate::scene::LightKind;
@@ -8,7 +8,7 @@ use super::ray::Ray;
 use super::real::{Real, Vec3};
 use super::world::{MaterialR, World};
 
-/// x^n with SPEC's conventions: x^0 = 1 (also for x = 0), and 0 for x <= 0
+/// x^n with the scene format's conventions: x^0 = 1 (also for x = 0), and 0 for x <= 0
 /// otherwise; GLSL's pow leaves both undefined.
 pub fn spec_pow<R: Real>(x: R, n: R) -> R {
     if n == R::zero() {

@@ -1,4 +1,4 @@
-//! The fixed-depth reflection loop (SPEC §3); mirrors shaders/trace.glsl.
+//! The fixed-depth reflection loop (docs/scene-format.md, Shading); mirrors shaders/trace.glsl.
 
 use super::intersect::{intersect_scene, surface, NONE};
 use super::ray::Ray;

@@ -1,4 +1,4 @@
-//! The GPU renderer: SPEC §2-3 as a Vulkan compute shader, one invocation
+//! The GPU renderer: docs/scene-format.md (Rays, Shading) as a Vulkan compute shader, one invocation
 //! per pixel, large images in tiles.
 
 pub mod compile;

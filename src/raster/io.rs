@@ -1,4 +1,4 @@
-//! PNG, PFM and EXR files (SPEC §4). Writes go to a temporary file beside the
+//! PNG, PFM and EXR files (docs/scene-format.md, Outputs). Writes go to a temporary file beside the
 //! target and are renamed over it, so a failed run leaves the old file whole.
 
 use std::fs::File;

@@ -1,4 +1,4 @@
-//! Linear RGB float images, their files (SPEC §4) and their differences.
+//! Linear RGB float images, their files (docs/scene-format.md, Outputs) and their differences.
 
 pub mod diff;
 pub mod io;
@@ -39,7 +39,7 @@ pub fn srgb_encode(c: f32) -> f32 {
     }
 }
 
-/// SPEC §4: round(255 * clamp(c, 0, 1)), after the sRGB curve if asked.
+/// docs/scene-format.md, Outputs: round(255 * clamp(c, 0, 1)), after the sRGB curve if asked.
 /// NaN maps to 0, as `clamp` would leave it undefined.
 pub fn quantize(c: f32, srgb: bool) -> u8 {
     let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };

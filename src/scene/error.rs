@@ -10,7 +10,7 @@ pub enum SceneError {
         path: PathBuf,
         cause: std::io::Error,
     },
-    /// A value that breaks SPEC §1: the file, the line and column, the key.
+    /// A value that breaks docs/scene-format.md: the file, the line and column, the key.
     #[error("{}:{line}:{column}: {key}: {message}", file.display())]
     Invalid {
         file: PathBuf,

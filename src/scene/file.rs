@@ -1,4 +1,4 @@
-//! The scene file as written (SPEC §1): typed serde structs, defaults applied,
+//! The scene file as written (docs/scene-format.md): typed serde structs, defaults applied,
 //! nothing checked beyond types. `validate` turns this into a [`super::Scene`].
 
 use std::collections::BTreeMap;

@@ -1,4 +1,4 @@
-//! The scene: read from TOML (SPEC §1), validated, and resolved into the
+//! The scene: read from TOML (docs/scene-format.md), validated, and resolved into the
 //! form both renderers consume (materials by index, unit normals, the camera
 //! as an eye and a virtual screen).
 
@@ -35,7 +35,8 @@ pub struct Scene {
     pub lights: Vec<Light>,
 }
 
-/// SPEC §1 form (a): an eye and a virtual screen. Form (b) is converted to
+/// The camera of form (a) in docs/scene-format.md: an eye and a virtual
+/// screen. Form (b) is converted to
 /// this on load.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {

@@ -1,4 +1,4 @@
-//! Checks a parsed [`SceneFile`] against SPEC §1 and resolves it into a
+//! Checks a parsed [`SceneFile`] against docs/scene-format.md and resolves it into a
 //! [`Scene`]. Every error carries the key path, which [`Located`] turns into
 //! a line and column of the file.
 
