@@ -1,6 +1,6 @@
-//! The CPU reference renderer: docs/scene-format.md (Rays, Shading) in f32 or f64, one function per
-//! stage of the shader (ray, intersect, shade, trace) so that a disagreement
-//! points at one stage.
+//! The CPU reference renderer: the model of docs/scene-format.md (Rays,
+//! Shading) in f32 or f64, one function per stage of the shader (ray,
+//! intersect, shade, trace) so that a disagreement points at one stage.
 
 pub mod intersect;
 pub mod ray;

@@ -1,5 +1,5 @@
-//! The GPU renderer: docs/scene-format.md (Rays, Shading) as a Vulkan compute shader, one invocation
-//! per pixel, large images in tiles.
+//! The GPU renderer: the model of docs/scene-format.md (Rays, Shading) as a
+//! Vulkan compute shader, one invocation per pixel, large images in tiles.
 
 pub mod compile;
 pub mod error;
