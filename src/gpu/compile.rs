@@ -180,16 +180,18 @@ pub fn compile(sources: &Sources, defines: &Defines) -> Result<Compiled, GpuErro
 }
 
 /// Compiles through a cache of SPIR-V files in `dir`, keyed by the sources'
-/// fingerprint and the defines. Returns whether the cache had it.
+/// fingerprint (`Sources::fingerprint`) and the defines. Returns whether the
+/// cache had it.
 pub fn compile_cached(
     sources: &Sources,
+    fingerprint: u64,
     defines: &Defines,
     dir: Option<&Path>,
 ) -> Result<(Vec<u32>, bool), GpuError> {
     let Some(dir) = dir else {
         return Ok((compile(sources, defines)?.spirv, false));
     };
-    let file = dir.join(format!("{}.spv", cache_key(sources.fingerprint(), defines)));
+    let file = dir.join(format!("{}.spv", cache_key(fingerprint, defines)));
     if let Ok(bytes) = std::fs::read(&file) {
         if bytes.len() % 4 == 0 && bytes.len() >= 20 {
             let words: Vec<u32> = bytes

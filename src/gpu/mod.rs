@@ -209,10 +209,18 @@ impl Renderer {
 
     /// The variant `scene` renders with, and its defines (the user's last).
     pub fn variant_for(&self, scene: &Scene) -> (Variant, Vec<(String, Option<String>)>) {
-        let uploads = Uploads::new(scene, self.intersect, self.precision);
+        self.variant_of(scene, &Uploads::new(scene, self.intersect, self.precision))
+    }
+
+    /// As `variant_for`, with the scene's uploads already built.
+    fn variant_of(
+        &self,
+        scene: &Scene,
+        uploads: &Uploads,
+    ) -> (Variant, Vec<(String, Option<String>)>) {
         let variant = Variant::for_scene(
             scene,
-            &uploads,
+            uploads,
             self.intersect,
             self.precision,
             &self.device.info,
@@ -230,13 +238,18 @@ impl Renderer {
         variant: &Variant,
         defines: &[(String, Option<String>)],
     ) -> Result<(Variant, u64), GpuError> {
-        let key = (variant.clone(), self.sources.fingerprint());
+        let fingerprint = self.sources.fingerprint();
+        let key = (variant.clone(), fingerprint);
         if self.pipelines.contains_key(&key) {
             return Ok(key);
         }
         let t0 = Instant::now();
-        let (spirv, cached) =
-            compile::compile_cached(&self.sources, defines, self.cache_dir.as_deref())?;
+        let (spirv, cached) = compile::compile_cached(
+            &self.sources,
+            fingerprint,
+            defines,
+            self.cache_dir.as_deref(),
+        )?;
         let t1 = Instant::now();
         let push_bytes = std::mem::size_of::<TileRect>() as u32;
         let pipeline = ComputePipeline::new(
@@ -273,13 +286,16 @@ impl Renderer {
                 self.device.info.name
             )));
         }
-        let (variant, defines) = self.variant_for(scene);
+        // Laying the scene out counts as upload, but not the compile between.
+        let t_layout = Instant::now();
+        let up = Uploads::new(scene, self.intersect, self.precision);
+        let layout_s = secs(t_layout.elapsed());
+        let (variant, defines) = self.variant_of(scene, &up);
         let key = self.prepare(&variant, &defines)?;
         let pipeline = &self.pipelines[&key];
 
         let mut times = RenderTimes::default();
         let t0 = Instant::now();
-        let up = Uploads::new(scene, self.intersect, self.precision);
         let usage = variant.scene_buffer_usage();
         let d = &self.device;
         let (tile_w, tile_h) = self.tile_size(scene);
@@ -308,7 +324,7 @@ impl Renderer {
         }
         pipeline.bind(&buffers.iter().collect::<Vec<_>>());
         let out = buffers.last().expect("the output binding is last");
-        times.upload_s = secs(t0.elapsed());
+        times.upload_s = layout_s + secs(t0.elapsed());
 
         let (width, height) = (scene.width, scene.height);
         let mut pixels = vec![[0.0f32; 3]; scene.pixel_count() as usize];

@@ -166,9 +166,10 @@ impl Variant {
     /// The blocks the shader declares, numbered densely from 0, with their
     /// descriptor types.
     pub fn bindings(&self) -> Vec<(Block, u32, vk::DescriptorType)> {
-        let scene_type = match self.features.as_ref().and_then(|f| f.uniform_slots) {
-            Some(_) => vk::DescriptorType::UNIFORM_BUFFER,
-            None => vk::DescriptorType::STORAGE_BUFFER,
+        let scene_type = if self.in_uniforms() {
+            vk::DescriptorType::UNIFORM_BUFFER
+        } else {
+            vk::DescriptorType::STORAGE_BUFFER
         };
         let [spheres, planes, lights] = match &self.features {
             Some(f) => f.counts.map(|n| n > 0),
@@ -198,10 +199,18 @@ impl Variant {
             .collect()
     }
 
+    /// Whether the scene's arrays are uniform buffers (else storage buffers).
+    fn in_uniforms(&self) -> bool {
+        self.features
+            .as_ref()
+            .is_some_and(|f| f.uniform_slots.is_some())
+    }
+
     pub fn scene_buffer_usage(&self) -> vk::BufferUsageFlags {
-        match self.features.as_ref().and_then(|f| f.uniform_slots) {
-            Some(_) => vk::BufferUsageFlags::UNIFORM_BUFFER,
-            None => vk::BufferUsageFlags::STORAGE_BUFFER,
+        if self.in_uniforms() {
+            vk::BufferUsageFlags::UNIFORM_BUFFER
+        } else {
+            vk::BufferUsageFlags::STORAGE_BUFFER
         }
     }
 
