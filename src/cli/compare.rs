@@ -41,6 +41,12 @@ pub fn format_figures(f: &ErrorFigures) -> String {
 }
 
 pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
+    if let Some(path) = &a.diff_out {
+        io::Format::of(path)?;
+        let mut inputs = vec![a.scene.scene.as_path()];
+        inputs.extend(a.device.shader.as_deref());
+        io::refuse_input(path, &inputs)?;
+    }
     let scene = a.scene.load()?;
     // The first render pays for the driver's own compile of the shader (on
     // lavapipe, LLVM at the first dispatch); the timed one is the second.

@@ -20,6 +20,10 @@ pub struct DiffArgs {
 }
 
 pub fn run(a: &DiffArgs) -> anyhow::Result<ExitCode> {
+    if let Some(path) = &a.diff_out {
+        io::Format::of(path)?;
+        io::refuse_input(path, &[&a.a, &a.b])?;
+    }
     let img = io::read(&a.a)?;
     let reference = io::read(&a.b)?;
     let figures = diff::figures(&img, &reference)?;

@@ -1,4 +1,4 @@
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -27,6 +27,15 @@ pub struct RenderArgs {
     device: DeviceArgs,
 }
 
+impl RenderArgs {
+    /// Every file the render reads, none of which it may write.
+    fn inputs(&self) -> Vec<&Path> {
+        let mut v = vec![self.scene.scene.as_path()];
+        v.extend(self.device.shader.as_deref());
+        v
+    }
+}
+
 pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     let output = match &a.output {
         Some(o) => o.clone(),
@@ -34,6 +43,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     };
     // Refuse a bad output name before spending time on the render.
     io::Format::of(&output)?;
+    io::refuse_input(&output, &a.inputs())?;
     let scene = a.scene.load()?;
     let (image, label, seconds) = match (a.backend, a.precision) {
         (Backend::Gpu, p) => render_gpu(&scene, &a.device, p.unwrap_or(Precision::F32))?,

@@ -48,6 +48,9 @@ fn stamp(scene: &Path, device: &DeviceArgs) -> Vec<(PathBuf, Option<SystemTime>,
 /// interrupted.
 pub fn run(a: &WatchArgs) -> anyhow::Result<ExitCode> {
     io::Format::of(&a.output)?;
+    let mut inputs = vec![a.scene.scene.as_path()];
+    inputs.extend(a.device.shader.as_deref());
+    io::refuse_input(&a.output, &inputs)?;
     let mut renderer = Renderer::new(&a.device.options()?)?;
     let mut last = None;
     eprintln!("watching {} (Ctrl-C to stop)", a.scene.scene.display());

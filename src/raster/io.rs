@@ -25,6 +25,8 @@ pub enum ImageIoError {
     },
     #[error("{}: not a valid PFM file: {reason}", path.display())]
     BadPfm { path: PathBuf, reason: String },
+    #[error("{}: is the input {}; refusing to overwrite an input (name another output)", output.display(), input.display())]
+    OverwritesInput { output: PathBuf, input: PathBuf },
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -54,6 +56,40 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> ImageIoError + '_ {
         path: path.to_owned(),
         cause,
     }
+}
+
+/// Fails when `output` is one of `inputs`: the same file by device and inode
+/// (so hard links, symbolic links and `./x` spellings all count), or the same
+/// canonical path. An output that does not exist yet cannot be an input.
+pub fn refuse_input(output: &Path, inputs: &[&Path]) -> Result<(), ImageIoError> {
+    let Ok(out_meta) = std::fs::metadata(output) else {
+        return Ok(());
+    };
+    let out_canon = std::fs::canonicalize(output).ok();
+    for input in inputs {
+        let Ok(in_meta) = std::fs::metadata(input) else {
+            continue;
+        };
+        let same_canon = out_canon.is_some() && std::fs::canonicalize(input).ok() == out_canon;
+        if same_file(&out_meta, &in_meta) || same_canon {
+            return Err(ImageIoError::OverwritesInput {
+                output: output.to_owned(),
+                input: input.to_path_buf(),
+            });
+        }
+    }
+    Ok(())
+}
+
+#[cfg(unix)]
+fn same_file(a: &std::fs::Metadata, b: &std::fs::Metadata) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    a.dev() == b.dev() && a.ino() == b.ino()
+}
+
+#[cfg(not(unix))]
+fn same_file(_: &std::fs::Metadata, _: &std::fs::Metadata) -> bool {
+    false
 }
 
 /// Writes `img` to `path` in the format its extension names.
