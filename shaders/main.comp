@@ -12,6 +12,7 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 #include "intersect.glsl"
 #include "shade.glsl"
 #include "trace.glsl"
+#include "budget.glsl"
 
 void main() {
     uvec2 local = gl_GlobalInvocationID.xy;
@@ -27,5 +28,5 @@ void main() {
             sum += trace(primary_ray(x, y, i, j));
         }
     }
-    pixels[local.y * tile.rect.z + local.x] = vec4(vec3(sum * (1.0 / real(samples * samples))), 1.0);
+    pixels[local.y * tile.rect.z + local.x] = vec4(vec3(sum * (1.0 / real(samples * samples))), loops_completed() ? 1.0 : 0.0);
 }

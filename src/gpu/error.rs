@@ -27,6 +27,8 @@ pub enum GpuError {
     Validation(Vec<String>),
     #[error("{0}")]
     Unsupported(String),
+    #[error("the shader's loops were cut short at pixel ({x}, {y}) of {device}: the scene needs more loop iterations per pixel than the driver allows (llvmpipe: about 65,535), so the image would be wrong; render with --accel bvh, fewer samples or a smaller max_depth, or with --backend cpu")]
+    LoopBudget { x: u32, y: u32, device: String },
 }
 
 /// Attaches what was being done to a raw Vulkan result.

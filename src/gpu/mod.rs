@@ -335,6 +335,14 @@ impl Renderer {
                 self.dispatch(pipeline, TileRect(UVec4::new(x0, y0, w, h)))?;
                 let t2 = Instant::now();
                 let tile: &[[f32; 4]] = out.read(w as usize * h as usize);
+                // Alpha 1: every loop of the invocation ran to its end (shaders/budget.glsl).
+                if let Some(i) = tile.iter().position(|s| s[3] != 1.0) {
+                    return Err(GpuError::LoopBudget {
+                        x: x0 + i as u32 % w,
+                        y: y0 + i as u32 / w,
+                        device: self.device.info.name.clone(),
+                    });
+                }
                 for (row, src) in tile.chunks_exact(w as usize).enumerate() {
                     let start = (y0 as usize + row) * width as usize + x0 as usize;
                     for (dst, s) in pixels[start..start + w as usize].iter_mut().zip(src) {

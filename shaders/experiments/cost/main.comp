@@ -19,6 +19,7 @@ uint cost = 0u;
 #include "intersect.glsl"
 #include "shade.glsl"
 #include "trace.glsl"
+#include "budget.glsl"
 
 vec3 ramp(float t) {
     vec3 a = mix(vec3(0.05, 0.05, 0.3), vec3(0.9, 0.1, 0.1), clamp(t * 2.0, 0.0, 1.0));
@@ -39,5 +40,5 @@ void main() {
         }
     }
     float per_ray = float(cost) / float(samples * samples);
-    pixels[local.y * tile.rect.z + local.x] = vec4(ramp(log2(1.0 + per_ray) / log2(10001.0)), 1.0);
+    pixels[local.y * tile.rect.z + local.x] = vec4(ramp(log2(1.0 + per_ray) / log2(10001.0)), loops_completed() ? 1.0 : 0.0);
 }
