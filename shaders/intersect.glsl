@@ -129,10 +129,16 @@ struct Hit {
     vec4r shape;            // a sphere's centre and radius; a plane's normal
 };
 
-// The nearest hit with t in (0, t_max).
+#ifdef USE_BVH
+#include "bvh.glsl"
+#endif
+
+// The nearest hit with t in (0, t_max); ties in t go to the lower primitive id.
 bool intersect_scene(Ray r, uint from, real t_max, out Hit hit) {
     hit = Hit(t_max, NONE, 0u, vec4r(0.0));
-#if HAS_SPHERES
+#if HAS_SPHERES && defined(USE_BVH)
+    bvh_nearest(r, from, hit);
+#elif HAS_SPHERES
     SCENE_LOOP for (uint i = 0u; i < SPHERE_COUNT; i++) {
         vec4r s = spheres[i].center_radius;
         real t = intersect_sphere(r, s.xyz, s.w, from == i);

@@ -23,7 +23,11 @@ real spec_pow(real x, real n) {
 #if HAS_SHADOWS
 // Whether anything lies on the shadow ray strictly between 0 and dist.
 bool occluded(Ray r, uint from, real dist) {
-#if HAS_SPHERES
+#if HAS_SPHERES && defined(USE_BVH)
+    if (bvh_occluded(r, from, dist)) {
+        return true;
+    }
+#elif HAS_SPHERES
     SCENE_LOOP for (uint i = 0u; i < SPHERE_COUNT; i++) {
         vec4r s = spheres[i].center_radius;
         real t = intersect_sphere(r, s.xyz, s.w, from == i);

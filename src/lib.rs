@@ -1,6 +1,7 @@
 //! glint: a headless Whitted-style ray tracer. A Vulkan compute shader
 //! renders; a CPU reference in f64 (and f32) checks it pixel by pixel.
 
+pub mod accel;
 pub mod cpu;
 pub mod gpu;
 pub mod raster;

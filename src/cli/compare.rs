@@ -56,8 +56,8 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         warm_image == gpu_image,
         "two GPU renders of the same scene differ"
     );
-    let (reference, _, cpu64_s) = render_cpu(&scene, Precision::F64);
-    let (cpu32_image, _, cpu32_s) = render_cpu(&scene, Precision::F32);
+    let (reference, _, cpu64_s) = render_cpu(&scene, Precision::F64, a.device.accel.into());
+    let (cpu32_image, _, cpu32_s) = render_cpu(&scene, Precision::F32, a.device.accel.into());
     let gpu_err = diff::figures(&gpu_image, &reference)?;
     let cpu32_err = diff::figures(&cpu32_image, &reference)?;
     let tolerance = Tolerance::default();

@@ -16,6 +16,7 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+use glint::accel::Accel;
 use glint::gpu::{GpuOptions, Intersect};
 use glint::scene::{Overrides, Scene};
 
@@ -114,9 +115,29 @@ pub struct DeviceArgs {
     /// Render with the one shader that handles every feature, not the scene's own variant.
     #[arg(long)]
     generic: bool,
+    /// Scene management: a BVH over the spheres, none (every ray tests every object), or auto (by the sphere count). The CPU renderer follows it too.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub accel: AccelArg,
     /// Compile the shader afresh and keep no SPIR-V or pipeline cache.
     #[arg(long)]
     no_cache: bool,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum AccelArg {
+    Auto,
+    Bvh,
+    None,
+}
+
+impl From<AccelArg> for Accel {
+    fn from(a: AccelArg) -> Accel {
+        match a {
+            AccelArg::Auto => Accel::Auto,
+            AccelArg::Bvh => Accel::Bvh,
+            AccelArg::None => Accel::None,
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -146,6 +167,7 @@ impl DeviceArgs {
             .map(|d| parse_define(d))
             .collect::<anyhow::Result<_>>()?;
         options.generic = self.generic;
+        options.accel = self.accel.into();
         options.cache_dir = if self.no_cache {
             None
         } else {

@@ -5,6 +5,7 @@ use std::time::Instant;
 use anyhow::Context;
 use clap::Args;
 
+use glint::accel::Accel;
 use glint::raster::{io, Image};
 use glint::scene::Scene;
 use glint::{cpu, gpu};
@@ -47,7 +48,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     let scene = a.scene.load()?;
     let (image, label, seconds) = match (a.backend, a.precision) {
         (Backend::Gpu, p) => render_gpu(&scene, &a.device, p.unwrap_or(Precision::F32))?,
-        (Backend::Cpu, p) => render_cpu(&scene, p.unwrap_or(Precision::F64)),
+        (Backend::Cpu, p) => render_cpu(&scene, p.unwrap_or(Precision::F64), a.device.accel.into()),
     };
     io::write(&output, &image, scene.srgb).with_context(|| "cannot write the image")?;
     eprintln!(
@@ -105,15 +106,15 @@ pub fn render_gpu_timed(
     Ok((image, renderer, times))
 }
 
-pub fn render_cpu(scene: &Scene, precision: Precision) -> (Image, String, f64) {
+pub fn render_cpu(scene: &Scene, precision: Precision, accel: Accel) -> (Image, String, f64) {
     let bar = progress::bar(
         u64::from(scene.height),
         &format!("cpu {precision:?}").to_lowercase(),
     );
     let start = Instant::now();
     let image = match precision {
-        Precision::F32 => cpu::render_rows::<f32>(scene, &|n| bar.inc(n)),
-        Precision::F64 => cpu::render_rows::<f64>(scene, &|n| bar.inc(n)),
+        Precision::F32 => cpu::render_rows::<f32>(scene, accel, &|n| bar.inc(n)),
+        Precision::F64 => cpu::render_rows::<f64>(scene, accel, &|n| bar.inc(n)),
     };
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();

@@ -4,6 +4,8 @@
 //! surface carries that primitive's id. A plane cannot be met again; a sphere
 //! is met again only by a ray that leaves it inwards, at t = -2 (o - c)·d.
 
+use crate::accel::bvh::{Bvh, Node};
+
 use super::ray::Ray;
 use super::real::{Real, Vec3};
 use super::world::World;
@@ -105,7 +107,7 @@ pub fn intersect_plane<R: Real>(
 }
 
 /// The nearest hit with t in (0, t_max), skipping the originating primitive's
-/// own surface as described above.
+/// own surface as described above. Ties in t go to the lower primitive id.
 pub fn intersect_scene<R: Real>(
     w: &World<R>,
     ray: &Ray<R>,
@@ -114,11 +116,42 @@ pub fn intersect_scene<R: Real>(
 ) -> Option<Hit<R>> {
     let mut best: Option<Hit<R>> = None;
     let mut limit = t_max;
-    for (i, s) in w.spheres.iter().enumerate() {
-        if let Some(t) = intersect_sphere(ray, s.center, s.radius, from == i) {
-            if t < limit {
-                limit = t;
-                best = Some(Hit { t, prim: i });
+    match &w.bvh {
+        Some(tree) => {
+            let walk = BoxWalk::new(ray);
+            let mut i = 0;
+            while i < tree.nodes.len() {
+                let node = &tree.nodes[i];
+                if !walk.enters(node, limit) {
+                    i = node.skip as usize;
+                    continue;
+                }
+                let Some(slots) = node.prims() else {
+                    i += 1;
+                    continue;
+                };
+                for slot in slots {
+                    let id = tree.order[slot] as usize;
+                    let s = &w.spheres[id];
+                    if let Some(t) = intersect_sphere(ray, s.center, s.radius, from == id) {
+                        let tie = t == limit && best.is_some_and(|b| id < b.prim);
+                        if t < limit || tie {
+                            limit = t;
+                            best = Some(Hit { t, prim: id });
+                        }
+                    }
+                }
+                i = node.skip as usize;
+            }
+        }
+        None => {
+            for (i, s) in w.spheres.iter().enumerate() {
+                if let Some(t) = intersect_sphere(ray, s.center, s.radius, from == i) {
+                    if t < limit {
+                        limit = t;
+                        best = Some(Hit { t, prim: i });
+                    }
+                }
             }
         }
     }
@@ -132,6 +165,83 @@ pub fn intersect_scene<R: Real>(
         }
     }
     best
+}
+
+/// Whether any sphere lies on the ray strictly between 0 and `dist`: the
+/// shadow rays' any-hit walk of the BVH.
+pub fn bvh_occluded<R: Real>(w: &World<R>, tree: &Bvh, ray: &Ray<R>, from: usize, dist: R) -> bool {
+    let walk = BoxWalk::new(ray);
+    let mut i = 0;
+    while i < tree.nodes.len() {
+        let node = &tree.nodes[i];
+        if walk.enters(node, dist) {
+            if let Some(slots) = node.prims() {
+                for slot in slots {
+                    let id = tree.order[slot] as usize;
+                    let s = &w.spheres[id];
+                    if intersect_sphere(ray, s.center, s.radius, from == id)
+                        .is_some_and(|t| t < dist)
+                    {
+                        return true;
+                    }
+                }
+            } else {
+                i += 1;
+                continue;
+            }
+        }
+        i = node.skip as usize;
+    }
+    false
+}
+
+/// A ray's slab test against node boxes; mirrors shaders/bvh.glsl.
+struct BoxWalk<R> {
+    origin: Vec3<R>,
+    inv: Vec3<R>,
+}
+
+/// Widens a box's far distance against the rounding of the slab test
+/// (1 + 2γ₃ of Ize, "Robust BVH Ray Traversal", JCGT 2013, for f32 with
+/// room to spare; the boxes are padded besides).
+const BOX_SLACK: f64 = 1.000_002;
+
+impl<R: Real> BoxWalk<R> {
+    fn new(ray: &Ray<R>) -> Self {
+        // ±1e30 for a zero component: (lo - o) * inv is then never 0 * inf.
+        let inv = |d: R| {
+            if d.abs() > R::of(1e-30) {
+                d.recip()
+            } else if d >= R::zero() {
+                R::of(1e30)
+            } else {
+                R::of(-1e30)
+            }
+        };
+        Self {
+            origin: ray.origin,
+            inv: Vec3::new(inv(ray.dir.x), inv(ray.dir.y), inv(ray.dir.z)),
+        }
+    }
+
+    /// Whether the ray meets the node's box somewhere in [0, t_max].
+    fn enters(&self, node: &Node, t_max: R) -> bool {
+        let lo = Vec3::new(
+            R::of(node.lo[0].into()),
+            R::of(node.lo[1].into()),
+            R::of(node.lo[2].into()),
+        );
+        let hi = Vec3::new(
+            R::of(node.hi[0].into()),
+            R::of(node.hi[1].into()),
+            R::of(node.hi[2].into()),
+        );
+        let t0 = (lo - self.origin) * self.inv;
+        let t1 = (hi - self.origin) * self.inv;
+        let near = t0.x.min(t1.x).max(t0.y.min(t1.y)).max(t0.z.min(t1.z));
+        let far = t0.x.max(t1.x).min(t0.y.max(t1.y)).min(t0.z.max(t1.z)) * R::of(BOX_SLACK);
+        near <= far && far >= R::zero() && near <= t_max * R::of(BOX_SLACK)
+    }
 }
 
 /// The outward surface normal at `p` and the hit primitive's material.

@@ -11,23 +11,30 @@ pub mod world;
 
 use rayon::prelude::*;
 
+use crate::accel::Accel;
 use crate::raster::Image;
 use crate::scene::Scene;
 
 pub use real::Real;
 use world::World;
 
-/// Renders `scene` in precision `R`, rows in parallel.
+/// Renders `scene` in precision `R`, rows in parallel, with the BVH where
+/// `Accel::Auto` takes it (the image is the same either way).
 pub fn render<R: Real>(scene: &Scene) -> Image {
-    render_rows::<R>(scene, &|_| {})
+    render_rows::<R>(scene, Accel::Auto, &|_| {})
 }
 
-/// As [`render`], calling `progress(rows_done)` as rows finish.
-pub fn render_rows<R: Real>(scene: &Scene, progress: &(dyn Fn(u64) + Sync)) -> Image {
-    let world = World::<R>::new(scene);
+/// As [`render`], with the given scene management, calling
+/// `progress(rows_done)` as rows finish.
+pub fn render_rows<R: Real>(scene: &Scene, accel: Accel, progress: &(dyn Fn(u64) + Sync)) -> Image {
+    render_world(&World::<R>::new(scene, accel), progress)
+}
+
+/// Renders a prepared world (tests use it to alter the BVH).
+pub fn render_world<R: Real>(world: &World<R>, progress: &(dyn Fn(u64) + Sync)) -> Image {
     let (width, height, samples) = (world.width, world.height, world.samples);
     let inv = R::one() / R::of(f64::from(samples * samples));
-    let mut pixels = vec![[0.0f32; 3]; scene.pixel_count() as usize];
+    let mut pixels = vec![[0.0f32; 3]; width as usize * height as usize];
     pixels
         .par_chunks_mut(width as usize)
         .enumerate()
@@ -36,8 +43,8 @@ pub fn render_rows<R: Real>(scene: &Scene, progress: &(dyn Fn(u64) + Sync)) -> I
                 let mut sum = real::Vec3::zero();
                 for j in 0..samples {
                     for i in 0..samples {
-                        let ray = ray::primary_ray(&world, x as u32, y as u32, i, j);
-                        sum += trace::trace(&world, ray);
+                        let ray = ray::primary_ray(world, x as u32, y as u32, i, j);
+                        sum += trace::trace(world, ray);
                     }
                 }
                 let c = sum * inv;

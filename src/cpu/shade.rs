@@ -3,7 +3,7 @@
 
 use crate::scene::LightKind;
 
-use super::intersect::{intersect_plane, intersect_sphere};
+use super::intersect::{bvh_occluded, intersect_plane, intersect_sphere};
 use super::ray::Ray;
 use super::real::{Real, Vec3};
 use super::world::{MaterialR, World};
@@ -30,11 +30,16 @@ pub fn specular<R: Real>(n: Vec3<R>, l: Vec3<R>, v: Vec3<R>, shininess: R) -> R 
 /// Whether anything lies on the shadow ray strictly between 0 and `dist`.
 pub fn occluded<R: Real>(w: &World<R>, ray: &Ray<R>, from: usize, dist: R) -> bool {
     let base = w.spheres.len();
-    w.spheres.iter().enumerate().any(|(i, s)| {
-        intersect_sphere(ray, s.center, s.radius, from == i).is_some_and(|t| t < dist)
-    }) || w.planes.iter().enumerate().any(|(i, p)| {
-        intersect_plane(ray, p.point, p.normal, from == base + i).is_some_and(|t| t < dist)
-    })
+    let spheres = match &w.bvh {
+        Some(tree) => bvh_occluded(w, tree, ray, from, dist),
+        None => w.spheres.iter().enumerate().any(|(i, s)| {
+            intersect_sphere(ray, s.center, s.radius, from == i).is_some_and(|t| t < dist)
+        }),
+    };
+    spheres
+        || w.planes.iter().enumerate().any(|(i, p)| {
+            intersect_plane(ray, p.point, p.normal, from == base + i).is_some_and(|t| t < dist)
+        })
 }
 
 /// The sum of every light's contribution at `p`, where `n` faces the viewer.

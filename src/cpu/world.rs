@@ -1,5 +1,6 @@
 //! The scene in the reference's scalar type: what the shader's buffers hold.
 
+use crate::accel::{self, bvh::Bvh, Accel};
 use crate::scene::{LightKind, Scene};
 
 use super::real::{Real, Vec3};
@@ -12,6 +13,8 @@ pub struct World<R> {
     pub screen_right: Vec3<R>,
     pub screen_up: Vec3<R>,
     pub spheres: Vec<SphereR<R>>,
+    /// The spheres' BVH, where the scene is traced through one.
+    pub bvh: Option<Bvh>,
     pub planes: Vec<PlaneR<R>>,
     pub materials: Vec<MaterialR<R>>,
     pub lights: Vec<LightR<R>>,
@@ -60,8 +63,9 @@ pub struct LightR<R> {
 impl<R: Real> World<R> {
     /// The scene in camera-relative coordinates (see `Scene::camera_relative`),
     /// rounded to `R`.
-    pub fn new(scene: &Scene) -> Self {
+    pub fn new(scene: &Scene, accel: Accel) -> Self {
         let scene = &scene.camera_relative();
+        let bvh = accel.uses_bvh(scene).then(|| accel::sphere_bvh(scene));
         let cam = &scene.camera;
         Self {
             eye: Vec3::of(cam.eye),
@@ -77,6 +81,7 @@ impl<R: Real> World<R> {
                     material: s.material as usize,
                 })
                 .collect(),
+            bvh,
             planes: scene
                 .planes
                 .iter()

@@ -26,6 +26,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("shade.glsl", include_str!("../../shaders/shade.glsl")),
     ("specular.glsl", include_str!("../../shaders/specular.glsl")),
     ("trace.glsl", include_str!("../../shaders/trace.glsl")),
+    ("bvh.glsl", include_str!("../../shaders/bvh.glsl")),
     ("budget.glsl", include_str!("../../shaders/budget.glsl")),
 ];
 

@@ -7,6 +7,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{DVec3, DVec4, UVec4, Vec4};
 
 use super::{Intersect, Precision};
+use crate::accel::{self, Accel};
 use crate::scene::{LightKind, Scene};
 
 /// Builds a 4-vector of the layout's scalar from f64 values.
@@ -93,7 +94,8 @@ macro_rules! structs {
             /// The scene's arrays in this layout; an absent kind of object is
             /// one zeroed slot (Vulkan has no empty buffers, GLSL no empty
             /// arrays), which the counts never reach.
-            pub fn upload(scene: &Scene) -> Uploads {
+            /// `order`: the spheres in the BVH's leaf order, where there is one.
+            pub fn upload(scene: &Scene, order: Option<&[u32]>) -> Uploads {
                 let cam = &scene.camera;
                 let globals = Globals {
                     eye: <$v>::of3(cam.eye),
@@ -109,13 +111,23 @@ macro_rules! structs {
                         u32::from(scene.shadows),
                     ),
                 };
-                let spheres: Vec<Sphere> = scene
-                    .spheres
+                let linear: Vec<u32>;
+                let order = match order {
+                    Some(o) => o,
+                    None => {
+                        linear = (0..scene.spheres.len() as u32).collect();
+                        &linear
+                    }
+                };
+                let spheres: Vec<Sphere> = order
                     .iter()
-                    .map(|s| Sphere {
-                        center_radius: <$v>::of(s.center.x, s.center.y, s.center.z, s.radius),
-                        meta: UVec4::new(s.material, 0, 0, 0),
-                        pad: Zeroable::zeroed(),
+                    .map(|&i| {
+                        let s = &scene.spheres[i as usize];
+                        Sphere {
+                            center_radius: <$v>::of(s.center.x, s.center.y, s.center.z, s.radius),
+                            meta: UVec4::new(s.material, i, 0, 0),
+                            pad: Zeroable::zeroed(),
+                        }
                     })
                     .collect();
                 let planes: Vec<Plane> = scene
@@ -154,6 +166,8 @@ macro_rules! structs {
                     })
                     .collect();
                 Uploads {
+                    nodes: None,
+                    bvh_s: 0.0,
                     globals: bytemuck::bytes_of(&globals).to_vec(),
                     arrays: [
                         array(spheres),
@@ -205,12 +219,16 @@ pub struct Uploads {
     pub globals: Vec<u8>,
     /// Spheres, planes, materials, lights.
     pub arrays: [Array; 4],
+    /// The spheres' BVH nodes, where the scene is traced through one.
+    pub nodes: Option<Array>,
+    /// Seconds spent building the BVH.
+    pub bvh_s: f64,
 }
 
 impl Uploads {
     /// The robust forms trace the scene in camera-relative coordinates (see
     /// `Scene::camera_relative`); the naive ones trace it as written.
-    pub fn new(scene: &Scene, intersect: Intersect, precision: Precision) -> Self {
+    pub fn new(scene: &Scene, intersect: Intersect, precision: Precision, accel: Accel) -> Self {
         let relative;
         let scene = match intersect {
             Intersect::Robust => {
@@ -219,10 +237,17 @@ impl Uploads {
             }
             Intersect::Naive => scene,
         };
-        match precision {
-            Precision::F32 => f32_layout::upload(scene),
-            Precision::F64 => f64_layout::upload(scene),
-        }
+        let t0 = std::time::Instant::now();
+        let bvh = accel.uses_bvh(scene).then(|| accel::sphere_bvh(scene));
+        let bvh_s = t0.elapsed().as_secs_f64();
+        let order = bvh.as_ref().map(|b| b.order.as_slice());
+        let mut up = match precision {
+            Precision::F32 => f32_layout::upload(scene, order),
+            Precision::F64 => f64_layout::upload(scene, order),
+        };
+        up.nodes = bvh.map(|b| array(b.nodes));
+        up.bvh_s = bvh_s;
+        up
     }
 
     /// Bytes of each scene array: spheres, planes, materials, lights.

@@ -14,6 +14,7 @@ use std::time::{Duration, Instant};
 use ash::vk as raw;
 use glam::UVec4;
 
+use crate::accel::Accel;
 use crate::raster::Image;
 use crate::scene::Scene;
 pub use error::GpuError;
@@ -68,6 +69,8 @@ pub struct GpuOptions {
     pub defines: Vec<(String, Option<String>)>,
     pub intersect: Intersect,
     pub precision: Precision,
+    /// Which primitives each ray tests: every one, or through a BVH.
+    pub accel: Accel,
     /// Render with the one shader that handles every feature.
     pub generic: bool,
     /// Where compiled SPIR-V and the Vulkan pipeline cache are kept between
@@ -109,6 +112,8 @@ pub struct SetupTimes {
 /// The cost of one render.
 #[derive(Debug, Clone, Copy, Default, serde::Serialize)]
 pub struct RenderTimes {
+    /// Building the BVH: a setup cost, apart from the render's total.
+    pub bvh_s: f64,
     pub upload_s: f64,
     pub dispatch_s: f64,
     pub readback_s: f64,
@@ -137,6 +142,8 @@ pub struct Renderer {
     pub intersect: Intersect,
     /// The arithmetic of the next renders.
     pub precision: Precision,
+    /// The scene management of the next renders.
+    pub accel: Accel,
     /// Whether the next renders use the generic shader.
     pub generic: bool,
     pub setup: SetupTimes,
@@ -171,6 +178,7 @@ impl Renderer {
             cache_dir: opts.cache_dir.as_ref().map(|d| d.join("spirv")),
             intersect: opts.intersect,
             precision: opts.precision,
+            accel: opts.accel,
             generic: opts.generic,
             setup: SetupTimes {
                 device_s: secs(t0.elapsed()),
@@ -209,7 +217,10 @@ impl Renderer {
 
     /// The variant `scene` renders with, and its defines (the user's last).
     pub fn variant_for(&self, scene: &Scene) -> (Variant, Vec<(String, Option<String>)>) {
-        self.variant_of(scene, &Uploads::new(scene, self.intersect, self.precision))
+        self.variant_of(
+            scene,
+            &Uploads::new(scene, self.intersect, self.precision, self.accel),
+        )
     }
 
     /// As `variant_for`, with the scene's uploads already built.
@@ -288,7 +299,7 @@ impl Renderer {
         }
         // Laying the scene out counts as upload, but not the compile between.
         let t_layout = Instant::now();
-        let up = Uploads::new(scene, self.intersect, self.precision);
+        let up = Uploads::new(scene, self.intersect, self.precision, self.accel);
         let layout_s = secs(t_layout.elapsed());
         let (variant, defines) = self.variant_of(scene, &up);
         let key = self.prepare(&variant, &defines)?;
@@ -314,6 +325,12 @@ impl Renderer {
                 Block::Planes => Buffer::with_data(d, &up.arrays[1].bytes, usage, "planes")?,
                 Block::Materials => Buffer::with_data(d, &up.arrays[2].bytes, usage, "materials")?,
                 Block::Lights => Buffer::with_data(d, &up.arrays[3].bytes, usage, "lights")?,
+                Block::Nodes => Buffer::with_data(
+                    d,
+                    &up.nodes.as_ref().expect("a BVH variant has nodes").bytes,
+                    usage,
+                    "BVH nodes",
+                )?,
                 Block::Pixels => Buffer::new(
                     d,
                     out_bytes,
@@ -324,7 +341,8 @@ impl Renderer {
         }
         pipeline.bind(&buffers.iter().collect::<Vec<_>>());
         let out = buffers.last().expect("the output binding is last");
-        times.upload_s = layout_s + secs(t0.elapsed());
+        times.upload_s = layout_s - up.bvh_s + secs(t0.elapsed());
+        times.bvh_s = up.bvh_s;
 
         let (width, height) = (scene.width, scene.height);
         let mut pixels = vec![[0.0f32; 3]; scene.pixel_count() as usize];

@@ -26,6 +26,7 @@ pub enum Block {
     Planes,
     Materials,
     Lights,
+    Nodes,
     Pixels,
 }
 
@@ -33,6 +34,8 @@ pub enum Block {
 pub struct Variant {
     pub intersect: Intersect,
     pub precision: Precision,
+    /// Spheres traced through the BVH (shaders/bvh.glsl), not a linear scan.
+    pub bvh: bool,
     /// None: the generic shader.
     pub features: Option<Features>,
 }
@@ -56,6 +59,8 @@ pub struct Features {
     /// planes, materials, lights) where they fit; else storage buffers.
     pub uniform_slots: Option<[usize; 4]>,
     pub unroll: bool,
+    /// BVH nodes; 0 without a BVH.
+    pub nodes: usize,
 }
 
 impl Features {
@@ -67,11 +72,13 @@ impl Features {
         // Lavapipe (Mesa 22.3) crashed in a worker thread rendering the
         // uniform-buffer variant of scenes without spheres (planes and lights
         // only); those take storage buffers.
+        let range = device.max_uniform_buffer_range as usize;
         let fits = counts[0] > 0
+            && uploads.array_bytes().iter().all(|b| *b <= range)
             && uploads
-                .array_bytes()
-                .iter()
-                .all(|b| *b <= device.max_uniform_buffer_range as usize);
+                .nodes
+                .as_ref()
+                .is_none_or(|n| n.bytes.len() <= range);
         Self {
             counts,
             point: has(LightKind::Point),
@@ -85,6 +92,7 @@ impl Features {
             samples: scene.samples,
             uniform_slots: fits.then(|| uploads.array_lengths()),
             unroll: fits && counts[0] + counts[1] <= UNROLL_OBJECTS && counts[2] <= UNROLL_LIGHTS,
+            nodes: uploads.nodes.as_ref().map_or(0, |n| n.len),
         }
     }
 
@@ -119,6 +127,12 @@ impl Features {
         if self.unroll {
             d.push(("UNROLL_LOOPS".to_owned(), None));
         }
+        if self.nodes > 0 {
+            d.push(("NODE_COUNT".to_owned(), Some(format!("{}u", self.nodes))));
+            if self.uniform_slots.is_some() {
+                d.push(("NODE_SLOTS".to_owned(), Some(format!("{}u", self.nodes))));
+            }
+        }
     }
 }
 
@@ -134,6 +148,7 @@ impl Variant {
         Self {
             intersect,
             precision,
+            bvh: uploads.nodes.is_some(),
             features: (!generic).then(|| Features::of(scene, uploads, device)),
         }
     }
@@ -146,19 +161,23 @@ impl Variant {
         if self.precision == Precision::F64 {
             d.push(("GLINT_F64".to_owned(), None));
         }
+        if self.bvh {
+            d.push(("USE_BVH".to_owned(), None));
+        }
         if let Some(f) = &self.features {
             f.defines(&mut d);
-            for (block, binding, _) in self.bindings() {
-                let name = match block {
-                    Block::Globals => continue,
-                    Block::Spheres => "SPHERES_BINDING",
-                    Block::Planes => "PLANES_BINDING",
-                    Block::Materials => "MATERIALS_BINDING",
-                    Block::Lights => "LIGHTS_BINDING",
-                    Block::Pixels => "PIXELS_BINDING",
-                };
-                d.push((name.to_owned(), Some(binding.to_string())));
-            }
+        }
+        for (block, binding, _) in self.bindings() {
+            let name = match block {
+                Block::Globals => continue,
+                Block::Spheres => "SPHERES_BINDING",
+                Block::Planes => "PLANES_BINDING",
+                Block::Materials => "MATERIALS_BINDING",
+                Block::Lights => "LIGHTS_BINDING",
+                Block::Nodes => "NODES_BINDING",
+                Block::Pixels => "PIXELS_BINDING",
+            };
+            d.push((name.to_owned(), Some(binding.to_string())));
         }
         d
     }
@@ -181,6 +200,7 @@ impl Variant {
             (Block::Planes, planes, scene_type),
             (Block::Materials, spheres || planes, scene_type),
             (Block::Lights, lights, scene_type),
+            (Block::Nodes, self.bvh, scene_type),
             (Block::Pixels, true, vk::DescriptorType::STORAGE_BUFFER),
         ];
         blocks
@@ -224,6 +244,9 @@ impl Variant {
         .to_owned()];
         if self.precision == Precision::F64 {
             parts.push("f64".to_owned());
+        }
+        if self.bvh {
+            parts.push("bvh".to_owned());
         }
         match &self.features {
             None => parts.push("generic".to_owned()),

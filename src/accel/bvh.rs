@@ -1,0 +1,385 @@
+//! A bounding volume hierarchy over the bounded primitives (spheres),
+//! built once on the host with binned SAH (Wald 2007) and flattened
+//! depth-first into 32-byte nodes that both renderers walk the same way
+//! (shaders/bvh.glsl, `cpu::intersect`).
+//!
+//! The walk needs no stack. Nodes are stored in pre-order and each one keeps
+//! the index of the node that follows its subtree (`skip`): a ray that
+//! misses a node's box, or has tested a leaf, goes on at `skip`; one that
+//! enters an inner node goes on at the next index. A stack on lavapipe is
+//! a per-lane array in memory; this walk keeps only an index in a register.
+//!
+//! Boxes are f32 for every precision, rounded outwards and padded so that a
+//! box is never missed by a ray that hits what is inside it (docs/performance.md,
+//! The BVH): the image does not depend on the tree.
+
+use bytemuck::{Pod, Zeroable};
+use glam::DVec3;
+
+/// Primitives in a leaf at most (the leaf word keeps the count in 4 bits).
+pub const LEAF_MAX: usize = 4;
+/// Beyond this depth the build splits at the median, which halves each
+/// node, so no tree is deeper than `DEPTH_SWITCH + log2(count)`.
+const DEPTH_SWITCH: u32 = 40;
+/// The deepest tree the build makes (asserted): 40 + 24 levels of halving
+/// cover 2^24 primitives, the most a leaf word can address.
+pub const MAX_DEPTH: u32 = 64;
+const BINS: usize = 16;
+/// The SAH costs of one box test and one primitive test.
+const COST_NODE: f64 = 1.0;
+const COST_PRIM: f64 = 1.5;
+
+/// One node as both renderers read it (std430: two vec4s).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct Node {
+    pub lo: [f32; 3],
+    /// The node after this one's subtree; the node count for the last.
+    pub skip: u32,
+    pub hi: [f32; 3],
+    /// 0 for an inner node; for a leaf, first primitive << 4 | count.
+    pub leaf: u32,
+}
+
+impl Node {
+    /// The leaf's primitive slots, or None for an inner node.
+    pub fn prims(&self) -> Option<std::ops::Range<usize>> {
+        (self.leaf != 0).then(|| {
+            let first = (self.leaf >> 4) as usize;
+            first..first + (self.leaf & 15) as usize
+        })
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Aabb {
+    pub lo: DVec3,
+    pub hi: DVec3,
+}
+
+impl Aabb {
+    pub const EMPTY: Aabb = Aabb {
+        lo: DVec3::splat(f64::INFINITY),
+        hi: DVec3::splat(f64::NEG_INFINITY),
+    };
+
+    pub fn sphere(center: DVec3, radius: f64) -> Aabb {
+        Aabb {
+            lo: center - radius,
+            hi: center + radius,
+        }
+    }
+
+    fn union(self, o: Aabb) -> Aabb {
+        Aabb {
+            lo: self.lo.min(o.lo),
+            hi: self.hi.max(o.hi),
+        }
+    }
+
+    fn grow(self, p: DVec3) -> Aabb {
+        Aabb {
+            lo: self.lo.min(p),
+            hi: self.hi.max(p),
+        }
+    }
+
+    fn half_area(&self) -> f64 {
+        let d = (self.hi - self.lo).max(DVec3::ZERO);
+        d.x * d.y + d.y * d.z + d.z * d.x
+    }
+
+    fn center(&self) -> DVec3 {
+        (self.lo + self.hi) * 0.5
+    }
+}
+
+/// The tree, and which primitive each leaf slot holds.
+#[derive(Debug, Clone)]
+pub struct Bvh {
+    pub nodes: Vec<Node>,
+    /// `order[slot]` is the scene index of the primitive in leaf slot `slot`.
+    pub order: Vec<u32>,
+    pub depth: u32,
+}
+
+/// Builds the tree over `bounds`, one box per primitive (at least one).
+pub fn build(bounds: &[Aabb]) -> Bvh {
+    assert!(!bounds.is_empty(), "a BVH needs a primitive");
+    assert!(
+        bounds.len() < 1 << 28,
+        "a leaf word addresses 2^28 primitives"
+    );
+    let mut b = Builder {
+        bounds,
+        centers: bounds.iter().map(Aabb::center).collect(),
+        order: (0..bounds.len() as u32).collect(),
+        nodes: Vec::with_capacity(2 * bounds.len() / LEAF_MAX + 1),
+        depth: 0,
+    };
+    b.node(0, bounds.len(), 1);
+    assert!(
+        b.depth <= MAX_DEPTH,
+        "BVH depth {} over {MAX_DEPTH}",
+        b.depth
+    );
+    Bvh {
+        nodes: b.nodes,
+        order: b.order,
+        depth: b.depth,
+    }
+}
+
+struct Builder<'a> {
+    bounds: &'a [Aabb],
+    centers: Vec<DVec3>,
+    order: Vec<u32>,
+    nodes: Vec<Node>,
+    depth: u32,
+}
+
+impl Builder<'_> {
+    fn bounds_of(&self, start: usize, end: usize) -> (Aabb, Aabb) {
+        let mut all = Aabb::EMPTY;
+        let mut centers = Aabb::EMPTY;
+        for &i in &self.order[start..end] {
+            all = all.union(self.bounds[i as usize]);
+            centers = centers.grow(self.centers[i as usize]);
+        }
+        (all, centers)
+    }
+
+    /// Emits the subtree of slots start..end in pre-order.
+    fn node(&mut self, start: usize, end: usize, depth: u32) {
+        self.depth = self.depth.max(depth);
+        let (bounds, centers) = self.bounds_of(start, end);
+        let index = self.nodes.len();
+        let (lo, hi) = padded(bounds);
+        self.nodes.push(Node {
+            lo,
+            skip: 0,
+            hi,
+            leaf: 0,
+        });
+        let count = end - start;
+        let split = if count == 1 {
+            None
+        } else if depth >= DEPTH_SWITCH {
+            Some(self.median(start, end, centers))
+        } else {
+            self.sah(start, end, bounds, centers)
+        };
+        match split {
+            None => self.nodes[index].leaf = ((start as u32) << 4) | count as u32,
+            Some(mid) => {
+                self.node(start, mid, depth + 1);
+                self.node(mid, end, depth + 1);
+            }
+        }
+        self.nodes[index].skip = self.nodes.len() as u32;
+    }
+
+    /// Splits at the median centre along the widest axis of the centres.
+    fn median(&mut self, start: usize, end: usize, centers: Aabb) -> usize {
+        let axis = widest(centers);
+        let c = &self.centers;
+        let mid = start + (end - start) / 2;
+        self.order[start..end].select_nth_unstable_by(mid - start, |a, b| {
+            c[*a as usize][axis]
+                .total_cmp(&c[*b as usize][axis])
+                .then(a.cmp(b))
+        });
+        mid
+    }
+
+    /// The binned SAH split over all three axes, or None where a leaf is
+    /// cheaper and small enough.
+    fn sah(&mut self, start: usize, end: usize, bounds: Aabb, centers: Aabb) -> Option<usize> {
+        let count = end - start;
+        let extent = centers.hi - centers.lo;
+        let mut best: Option<(f64, usize, usize)> = None; // cost, axis, bins left
+        for axis in 0..3 {
+            if extent[axis] <= 0.0 {
+                continue;
+            }
+            let scale = BINS as f64 / extent[axis];
+            let bin_of = |c: DVec3| (((c[axis] - centers.lo[axis]) * scale) as usize).min(BINS - 1);
+            let mut boxes = [Aabb::EMPTY; BINS];
+            let mut counts = [0usize; BINS];
+            for &i in &self.order[start..end] {
+                let b = bin_of(self.centers[i as usize]);
+                boxes[b] = boxes[b].union(self.bounds[i as usize]);
+                counts[b] += 1;
+            }
+            // Right-hand sweeps, then left-hand sweep with the costs.
+            let mut right_area = [0.0; BINS];
+            let mut right_count = [0usize; BINS];
+            let (mut acc, mut n) = (Aabb::EMPTY, 0);
+            for b in (1..BINS).rev() {
+                acc = acc.union(boxes[b]);
+                n += counts[b];
+                right_area[b] = acc.half_area();
+                right_count[b] = n;
+            }
+            let (mut acc, mut n) = (Aabb::EMPTY, 0);
+            for b in 1..BINS {
+                acc = acc.union(boxes[b - 1]);
+                n += counts[b - 1];
+                if n == 0 || right_count[b] == 0 {
+                    continue;
+                }
+                let cost = acc.half_area() * n as f64 + right_area[b] * right_count[b] as f64;
+                if best.is_none_or(|(c, _, _)| cost < c) {
+                    best = Some((cost, axis, b));
+                }
+            }
+        }
+        let leaf_cost = COST_PRIM * count as f64;
+        let Some((cost, axis, bin)) = best else {
+            // Every centre is the same point: only a split by index is left.
+            return (count > LEAF_MAX).then(|| start + count / 2);
+        };
+        let split_cost = COST_NODE + COST_PRIM * cost / bounds.half_area().max(f64::MIN_POSITIVE);
+        if count <= LEAF_MAX && leaf_cost <= split_cost {
+            return None;
+        }
+        let scale = BINS as f64 / extent[axis];
+        let lo = centers.lo[axis];
+        let c = &self.centers;
+        let slots = &mut self.order[start..end];
+        // A stable partition keeps the build deterministic.
+        let (mut left, right): (Vec<u32>, Vec<u32>) = slots
+            .iter()
+            .partition(|&&i| ((((c[i as usize][axis] - lo) * scale) as usize).min(BINS - 1)) < bin);
+        let mid = left.len();
+        left.extend(right);
+        slots.copy_from_slice(&left);
+        Some(start + mid)
+    }
+}
+
+fn widest(b: Aabb) -> usize {
+    let e = b.hi - b.lo;
+    if e.x >= e.y && e.x >= e.z {
+        0
+    } else if e.y >= e.z {
+        1
+    } else {
+        2
+    }
+}
+
+/// The box in f32, padded and rounded outwards. The pad (2^-14 of the box's
+/// extent plus 2^-18 of its largest coordinate, hundreds of f32 ulps)
+/// covers the rounding of the slab test and of the primitive's own t, so a
+/// ray that the primitive test would call a hit always enters the box.
+fn padded(b: Aabb) -> ([f32; 3], [f32; 3]) {
+    let mut lo = [0.0f32; 3];
+    let mut hi = [0.0f32; 3];
+    for a in 0..3 {
+        let size = b.lo[a].abs().max(b.hi[a].abs());
+        let pad = (b.hi[a] - b.lo[a]) * (1.0 / 16384.0) + size * (1.0 / 262144.0);
+        lo[a] = round_down(b.lo[a] - pad);
+        hi[a] = round_up(b.hi[a] + pad);
+    }
+    (lo, hi)
+}
+
+fn round_down(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) > x {
+        next_toward_neg(f)
+    } else {
+        f
+    }
+}
+
+fn round_up(x: f64) -> f32 {
+    -round_down(-x)
+}
+
+/// The next f32 below `f` (finite `f`).
+fn next_toward_neg(f: f32) -> f32 {
+    if f == 0.0 {
+        return -f32::from_bits(1);
+    }
+    let bits = f.to_bits();
+    f32::from_bits(if f > 0.0 { bits - 1 } else { bits + 1 })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spheres(n: usize) -> Vec<Aabb> {
+        // A deterministic scatter with clusters and duplicates.
+        (0..n)
+            .map(|i| {
+                let t = i as f64;
+                let c = DVec3::new(
+                    (t * 0.7).sin() * 50.0,
+                    (t * 1.3).cos() * 20.0,
+                    (i % 7) as f64,
+                );
+                Aabb::sphere(c, 0.1 + (i % 5) as f64 * 0.3)
+            })
+            .collect()
+    }
+
+    /// Every primitive is in exactly one leaf, every node's box holds its
+    /// subtree, and the skip links close each subtree.
+    fn check(b: &[Aabb], bvh: &Bvh) {
+        let mut seen = vec![0; b.len()];
+        let n = bvh.nodes.len() as u32;
+        fn walk(bvh: &Bvh, b: &[Aabb], i: u32, seen: &mut [u32]) -> u32 {
+            let node = bvh.nodes[i as usize];
+            let inside = |a: Aabb| {
+                (0..3).all(|k| f64::from(node.lo[k]) <= a.lo[k] && a.hi[k] <= f64::from(node.hi[k]))
+            };
+            let next = match node.prims() {
+                Some(r) => {
+                    assert!(!r.is_empty() && r.len() <= LEAF_MAX);
+                    for slot in r {
+                        let p = bvh.order[slot] as usize;
+                        seen[p] += 1;
+                        assert!(inside(b[p]));
+                    }
+                    i + 1
+                }
+                None => {
+                    let after_left = walk(bvh, b, i + 1, seen);
+                    walk(bvh, b, after_left, seen)
+                }
+            };
+            assert_eq!(next, node.skip, "node {i}");
+            next
+        }
+        assert_eq!(walk(bvh, b, 0, &mut seen), n);
+        assert!(seen.iter().all(|&s| s == 1));
+    }
+
+    #[test]
+    fn every_primitive_is_in_one_leaf_inside_every_box_above_it() {
+        for n in [1, 2, 3, 5, 17, 100, 1000] {
+            let b = spheres(n);
+            check(&b, &build(&b));
+        }
+    }
+
+    #[test]
+    fn identical_primitives_still_make_a_shallow_tree() {
+        let b = vec![Aabb::sphere(DVec3::ONE, 1.0); 10_000];
+        let bvh = build(&b);
+        check(&b, &bvh);
+        assert!(bvh.depth <= 16, "depth {}", bvh.depth);
+    }
+
+    #[test]
+    fn boxes_are_rounded_outwards() {
+        let b = Aabb::sphere(DVec3::new(0.1, 1e6 + 0.3, -7.7), 1e-3);
+        let (lo, hi) = padded(b);
+        for a in 0..3 {
+            assert!(f64::from(lo[a]) < b.lo[a] && b.hi[a] < f64::from(hi[a]));
+        }
+    }
+}

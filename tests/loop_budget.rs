@@ -1,0 +1,92 @@
+//! llvmpipe stops every loop of an invocation once it has run about 65,535
+//! iterations in all (issue 10, defect 2). glint never writes the image
+//! that results: the canary loop of shaders/budget.glsl finds the spent
+//! budget and the render fails with one clear error, naming the pixel.
+
+mod common;
+
+use glint::accel::Accel;
+use glint::cpu;
+use glint::gpu::{GpuError, GpuOptions, Renderer};
+use glint::raster::diff::{figures, Tolerance};
+use glint::scene::Scene;
+
+/// One visible sphere and `n` tiny ones off screen, 2x2 samples: a linear
+/// scan makes 4 * (n + 1) sphere tests per pixel for the eye rays alone.
+fn scene_text(n: usize) -> String {
+    let mut text = String::from(
+        "[image]\nwidth = 32\nheight = 24\nsamples = 2\n[render]\nmax_depth = 1\n\
+         [camera]\neye = [0, 0, 40]\nscreen_center = [0, 0, 0]\n\
+         screen_right = [20, 0, 0]\nscreen_up = [0, 15, 0]\n\
+         [materials.m]\ndiffuse = [0.8, 0.3, 0.2]\nambient = [0.1, 0.1, 0.1]\n\
+         [[lights]]\ntype = \"point\"\nposition = [30, 30, 50]\ndiffuse = [1, 1, 1]\n\
+         [[spheres]]\ncenter = [0, 0, 0]\nradius = 10\nmaterial = \"m\"\n",
+    );
+    for i in 0..n {
+        text += &format!(
+            "[[spheres]]\ncenter = [{}, {}, 0]\nradius = 0.5\nmaterial = \"m\"\n",
+            1000 + (i % 100) * 3,
+            (i / 100) * 3
+        );
+    }
+    text
+}
+
+fn scene() -> Scene {
+    common::scene(&scene_text(20_000))
+}
+
+fn renderer(accel: Accel) -> Renderer {
+    Renderer::new(&GpuOptions {
+        validate: true,
+        accel,
+        ..GpuOptions::default()
+    })
+    .expect("device")
+}
+
+#[test]
+fn a_linear_scan_past_the_budget_is_an_error_not_an_image() {
+    match renderer(Accel::None).render(&scene(), &|_| {}) {
+        Err(GpuError::LoopBudget { x, y, .. }) => assert!(x < 32 && y < 24),
+        Err(e) => panic!("wrong error: {e}"),
+        Ok(_) => panic!("an image past the loop budget was returned"),
+    }
+}
+
+#[test]
+fn the_bvh_renders_the_same_scene_right() {
+    let scene = scene();
+    let (image, _) = renderer(Accel::Bvh)
+        .render(&scene, &|_| {})
+        .expect("renders");
+    let reference = cpu::render::<f64>(&scene);
+    let f = figures(&image, &reference).unwrap();
+    assert!(Tolerance::default().violations(&f).is_empty(), "{f:?}");
+}
+
+#[test]
+fn render_exits_2_with_one_line_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("many.toml");
+    std::fs::write(&path, scene_text(20_000)).unwrap();
+    let out = dir.path().join("many.png");
+    let o = common::glint(&[
+        "render",
+        path.to_str().unwrap(),
+        "--accel",
+        "none",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("loops were cut short"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(!out.exists());
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        1,
+        "no temp file left"
+    );
+}
