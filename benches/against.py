@@ -35,11 +35,12 @@ def target_dir():
     return os.environ.get("CARGO_TARGET_DIR", os.path.join(REPO, "target"))
 
 
-def build(src, out):
-    """Builds glint in `src`, copies the binary to `out`."""
-    env = dict(os.environ, CARGO_TARGET_DIR=target_dir())
-    subprocess.run(["cargo", "build", "--release", "--quiet"], cwd=src, env=env, check=True)
-    shutil.copy(os.path.join(target_dir(), "release", "glint"), out)
+def build(src, out, target):
+    """Builds glint in `src` with the target directory `target`, copies the
+    binary to `out`."""
+    env = dict(os.environ, CARGO_TARGET_DIR=target)
+    subprocess.run(["cargo", "build", "--release", "--quiet", "--bin", "glint"], cwd=src, env=env, check=True)
+    shutil.copy(os.path.join(target, "release", "glint"), out)
 
 
 def compare(binary, scene, extra):
@@ -67,12 +68,19 @@ def main():
     tree = os.path.join(work, "tree")
     subprocess.run(["git", "worktree", "add", "--detach", "-q", tree, a.rev], cwd=REPO, check=True)
     try:
+        # Its own target directory, seeded with a copy of this checkout's so
+        # that glslang's C++ is not compiled again: two checkouts of one
+        # package in one target directory confuse cargo's freshness checks.
+        old_target = os.path.join(work, "target")
+        if os.path.isdir(target_dir()):
+            subprocess.run(["cp", "-a", target_dir(), old_target], check=True)
         print(f"building {a.rev} ...", file=sys.stderr)
-        build(tree, old_bin)
+        build(tree, old_bin, old_target)
     finally:
         subprocess.run(["git", "worktree", "remove", "--force", tree], cwd=REPO, check=False)
+        shutil.rmtree(os.path.join(work, "target"), ignore_errors=True)
     print("building this checkout ...", file=sys.stderr)
-    build(REPO, new_bin)
+    build(REPO, new_bin, target_dir())
 
     rows = []
     for scene in scenes:

@@ -1,5 +1,6 @@
 // The spheres' BVH (src/accel/bvh.rs): pre-order nodes with skip links,
-// walked without a stack; mirrors the BVH walks of src/cpu/intersect.rs.
+// walked without a stack, in one of eight layouts chosen by the ray's
+// direction; mirrors the BVH walks of src/cpu/intersect.rs.
 // The spheres are uploaded in leaf order, so a leaf names a range of them;
 // each sphere's meta.y is its index in the scene file, which breaks ties in t
 // the way the linear scan does (the first in the file wins).
@@ -16,9 +17,24 @@ SCENE_BLOCK(NODES_BINDING) Nodes { Node nodes[NODE_SLOTS]; };
 layout(std430, set = 0, binding = NODES_BINDING) readonly buffer Nodes { Node nodes[]; };
 #endif
 
-#ifndef NODE_COUNT
-#define NODE_COUNT uint(nodes.length())
+// A hook called once per node visited; empty unless a user's shader defines
+// it (shaders/experiments/cost counts the visits with it).
+#ifndef ON_NODE
+#define ON_NODE()
 #endif
+
+// Nodes in one layout; there are 8, one per octant of ray directions.
+#ifndef NODE_COUNT
+#define NODE_COUNT (uint(nodes.length()) / 8u)
+#endif
+
+// The first node of the layout for the ray's octant (src/accel/bvh.rs): in
+// it, the child a ray of that octant meets first along the split axis comes
+// first. Bit k is set where component k is negative.
+uint layout_base(vec3r d) {
+    uint octant = (d.x < 0.0 ? 1u : 0u) | (d.y < 0.0 ? 2u : 0u) | (d.z < 0.0 ? 4u : 0u);
+    return octant * NODE_COUNT;
+}
 
 #ifdef PACKET_WALK
 #extension GL_KHR_shader_subgroup_vote : require
@@ -51,10 +67,12 @@ bool enters(Ray r, vec3r inv, Node node, real t_max) {
 // The nearest sphere hit closer than hit.t, into hit.
 void bvh_nearest(Ray r, uint from, inout Hit hit) {
     vec3r inv = inverse_dir(r.dir);
+    uint base = layout_base(r.dir);
     uint key = NONE;
     uint i = 0u;
     [[dont_unroll]] while (i < NODE_COUNT) {
-        Node node = nodes[i];
+        ON_NODE();
+        Node node = nodes[base + i];
         uint skip = floatBitsToUint(node.lo_skip.w);
         uint leaf = floatBitsToUint(node.hi_leaf.w);
         if (!ANY(enters(r, inv, node, hit.t))) {
@@ -82,10 +100,12 @@ void bvh_nearest(Ray r, uint from, inout Hit hit) {
 // Whether a sphere lies on the ray strictly between 0 and dist: any hit ends the walk.
 bool bvh_occluded(Ray r, uint from, real dist) {
     vec3r inv = inverse_dir(r.dir);
+    uint base = layout_base(r.dir);
     bool blocked = false;
     uint i = 0u;
     [[dont_unroll]] while (i < NODE_COUNT) {
-        Node node = nodes[i];
+        ON_NODE();
+        Node node = nodes[base + i];
         uint skip = floatBitsToUint(node.lo_skip.w);
         uint leaf = floatBitsToUint(node.hi_leaf.w);
         if (!ANY(!blocked && enters(r, inv, node, dist))) {

@@ -9,6 +9,13 @@
 //! enters an inner node goes on at the next index. A stack on lavapipe is
 //! a per-lane array in memory; this walk keeps only an index in a register.
 //!
+//! A pre-order fixes which child comes first, so the tree is flattened
+//! eight times, once per octant of ray directions: in the layout for an
+//! octant, the child on the side a ray of that octant meets first along the
+//! node's split axis comes first. A nearest-hit walk then finds near hits
+//! early and skips boxes behind them. Ray direction d takes the layout
+//! `octant(d)`; the eight layouts lie one after the other.
+//!
 //! Boxes are f32 for every precision, rounded outwards and padded so that a
 //! box is never missed by a ray that hits what is inside it (docs/performance.md,
 //! The BVH): the image does not depend on the tree.
@@ -97,10 +104,42 @@ impl Aabb {
 /// The tree, and which primitive each leaf slot holds.
 #[derive(Debug, Clone)]
 pub struct Bvh {
+    /// `OCTANTS` layouts of `layout_len` nodes each; skip links count from
+    /// the start of their layout.
     pub nodes: Vec<Node>,
+    pub layout_len: usize,
     /// `order[slot]` is the scene index of the primitive in leaf slot `slot`.
     pub order: Vec<u32>,
     pub depth: u32,
+}
+
+/// Layouts: one per octant of ray directions.
+pub const OCTANTS: usize = 8;
+
+/// The layout a ray of direction (x, y, z) walks: bit k set where
+/// component k is negative (-0 counts as positive, as in the shader).
+pub fn octant(x: f64, y: f64, z: f64) -> usize {
+    usize::from(x < 0.0) | usize::from(y < 0.0) << 1 | usize::from(z < 0.0) << 2
+}
+
+impl Bvh {
+    /// The nodes a ray of the given octant walks.
+    pub fn layout(&self, octant: usize) -> &[Node] {
+        &self.nodes[octant * self.layout_len..(octant + 1) * self.layout_len]
+    }
+}
+
+/// A node of the built tree, before it is flattened.
+#[derive(Debug, Clone, Copy)]
+enum Built {
+    Leaf,
+    /// The children's indices in the build list, split along `axis` (the
+    /// first holds the lower centres).
+    Inner {
+        axis: usize,
+        low: usize,
+        high: usize,
+    },
 }
 
 /// Builds the tree over `bounds`, one box per primitive (at least one).
@@ -114,7 +153,7 @@ pub fn build(bounds: &[Aabb]) -> Bvh {
         bounds,
         centers: bounds.iter().map(Aabb::center).collect(),
         order: (0..bounds.len() as u32).collect(),
-        nodes: Vec::with_capacity(2 * bounds.len() / LEAF_MAX + 1),
+        built: Vec::with_capacity(2 * bounds.len() / LEAF_MAX + 1),
         depth: 0,
     };
     b.node(0, bounds.len(), 1);
@@ -123,18 +162,45 @@ pub fn build(bounds: &[Aabb]) -> Bvh {
         "BVH depth {} over {MAX_DEPTH}",
         b.depth
     );
+    let layout_len = b.built.len();
+    let mut nodes = Vec::with_capacity(OCTANTS * layout_len);
+    for oct in 0..OCTANTS {
+        let start = nodes.len();
+        flatten(&b.built, 0, oct, start, &mut nodes);
+    }
     Bvh {
-        nodes: b.nodes,
+        nodes,
+        layout_len,
         order: b.order,
         depth: b.depth,
     }
+}
+
+/// Appends the subtree of `built[i]` in pre-order for octant `oct`, its
+/// skip links relative to `base`.
+fn flatten(built: &[(Built, Node)], i: usize, oct: usize, base: usize, out: &mut Vec<Node>) {
+    let (kind, node) = built[i];
+    let at = out.len();
+    out.push(node);
+    if let Built::Inner { axis, low, high } = kind {
+        // A ray going down the axis meets the high side first.
+        let (first, second) = if oct >> axis & 1 == 1 {
+            (high, low)
+        } else {
+            (low, high)
+        };
+        flatten(built, first, oct, base, out);
+        flatten(built, second, oct, base, out);
+    }
+    out[at].skip = (out.len() - base) as u32;
 }
 
 struct Builder<'a> {
     bounds: &'a [Aabb],
     centers: Vec<DVec3>,
     order: Vec<u32>,
-    nodes: Vec<Node>,
+    /// The tree with each node's box (skip links not yet set).
+    built: Vec<(Built, Node)>,
     depth: u32,
 }
 
@@ -149,19 +215,20 @@ impl Builder<'_> {
         (all, centers)
     }
 
-    /// Emits the subtree of slots start..end in pre-order.
-    fn node(&mut self, start: usize, end: usize, depth: u32) {
+    /// Builds the subtree of slots start..end; returns its index in `built`.
+    fn node(&mut self, start: usize, end: usize, depth: u32) -> usize {
         self.depth = self.depth.max(depth);
         let (bounds, centers) = self.bounds_of(start, end);
-        let index = self.nodes.len();
         let (lo, hi) = padded(bounds);
-        self.nodes.push(Node {
+        let count = end - start;
+        let index = self.built.len();
+        let leaf = Node {
             lo,
             skip: 0,
             hi,
-            leaf: 0,
-        });
-        let count = end - start;
+            leaf: ((start as u32) << 4) | count as u32,
+        };
+        self.built.push((Built::Leaf, leaf));
         let split = if count == 1 {
             None
         } else if depth >= DEPTH_SWITCH {
@@ -169,18 +236,16 @@ impl Builder<'_> {
         } else {
             self.sah(start, end, bounds, centers)
         };
-        match split {
-            None => self.nodes[index].leaf = ((start as u32) << 4) | count as u32,
-            Some(mid) => {
-                self.node(start, mid, depth + 1);
-                self.node(mid, end, depth + 1);
-            }
+        if let Some((mid, axis)) = split {
+            let low = self.node(start, mid, depth + 1);
+            let high = self.node(mid, end, depth + 1);
+            self.built[index] = (Built::Inner { axis, low, high }, Node { leaf: 0, ..leaf });
         }
-        self.nodes[index].skip = self.nodes.len() as u32;
+        index
     }
 
     /// Splits at the median centre along the widest axis of the centres.
-    fn median(&mut self, start: usize, end: usize, centers: Aabb) -> usize {
+    fn median(&mut self, start: usize, end: usize, centers: Aabb) -> (usize, usize) {
         let axis = widest(centers);
         let c = &self.centers;
         let mid = start + (end - start) / 2;
@@ -189,12 +254,18 @@ impl Builder<'_> {
                 .total_cmp(&c[*b as usize][axis])
                 .then(a.cmp(b))
         });
-        mid
+        (mid, axis)
     }
 
     /// The binned SAH split over all three axes, or None where a leaf is
     /// cheaper and small enough.
-    fn sah(&mut self, start: usize, end: usize, bounds: Aabb, centers: Aabb) -> Option<usize> {
+    fn sah(
+        &mut self,
+        start: usize,
+        end: usize,
+        bounds: Aabb,
+        centers: Aabb,
+    ) -> Option<(usize, usize)> {
         let count = end - start;
         let extent = centers.hi - centers.lo;
         let mut best: Option<(f64, usize, usize)> = None; // cost, axis, bins left
@@ -237,7 +308,7 @@ impl Builder<'_> {
         let leaf_cost = COST_PRIM * count as f64;
         let Some((cost, axis, bin)) = best else {
             // Every centre is the same point: only a split by index is left.
-            return (count > LEAF_MAX).then(|| start + count / 2);
+            return (count > LEAF_MAX).then_some((start + count / 2, 0));
         };
         let split_cost = COST_NODE + COST_PRIM * cost / bounds.half_area().max(f64::MIN_POSITIVE);
         if count <= LEAF_MAX && leaf_cost <= split_cost {
@@ -254,7 +325,7 @@ impl Builder<'_> {
         let mid = left.len();
         left.extend(right);
         slots.copy_from_slice(&left);
-        Some(start + mid)
+        Some((start + mid, axis))
     }
 }
 
@@ -326,36 +397,57 @@ mod tests {
             .collect()
     }
 
-    /// Every primitive is in exactly one leaf, every node's box holds its
-    /// subtree, and the skip links close each subtree.
+    /// In every layout: every primitive is in exactly one leaf, every
+    /// node's box holds its subtree, and the skip links close each subtree.
     fn check(b: &[Aabb], bvh: &Bvh) {
-        let mut seen = vec![0; b.len()];
-        let n = bvh.nodes.len() as u32;
-        fn walk(bvh: &Bvh, b: &[Aabb], i: u32, seen: &mut [u32]) -> u32 {
-            let node = bvh.nodes[i as usize];
-            let inside = |a: Aabb| {
-                (0..3).all(|k| f64::from(node.lo[k]) <= a.lo[k] && a.hi[k] <= f64::from(node.hi[k]))
-            };
-            let next = match node.prims() {
-                Some(r) => {
-                    assert!(!r.is_empty() && r.len() <= LEAF_MAX);
-                    for slot in r {
-                        let p = bvh.order[slot] as usize;
-                        seen[p] += 1;
-                        assert!(inside(b[p]));
-                    }
-                    i + 1
-                }
-                None => {
-                    let after_left = walk(bvh, b, i + 1, seen);
-                    walk(bvh, b, after_left, seen)
-                }
-            };
-            assert_eq!(next, node.skip, "node {i}");
-            next
+        assert_eq!(bvh.nodes.len(), OCTANTS * bvh.layout_len);
+        for oct in 0..OCTANTS {
+            let nodes = bvh.layout(oct);
+            let mut seen = vec![0; b.len()];
+            assert_eq!(walk(bvh, nodes, b, 0, &mut seen), nodes.len() as u32);
+            assert!(seen.iter().all(|&s| s == 1));
         }
-        assert_eq!(walk(bvh, b, 0, &mut seen), n);
-        assert!(seen.iter().all(|&s| s == 1));
+    }
+
+    fn walk(bvh: &Bvh, nodes: &[Node], b: &[Aabb], i: u32, seen: &mut [u32]) -> u32 {
+        let node = nodes[i as usize];
+        let inside = |a: Aabb| {
+            (0..3).all(|k| f64::from(node.lo[k]) <= a.lo[k] && a.hi[k] <= f64::from(node.hi[k]))
+        };
+        let next = match node.prims() {
+            Some(r) => {
+                assert!(!r.is_empty() && r.len() <= LEAF_MAX);
+                for slot in r {
+                    let p = bvh.order[slot] as usize;
+                    seen[p] += 1;
+                    assert!(inside(b[p]));
+                }
+                i + 1
+            }
+            None => {
+                let after_first = walk(bvh, nodes, b, i + 1, seen);
+                walk(bvh, nodes, b, after_first, seen)
+            }
+        };
+        assert_eq!(next, node.skip, "node {i}");
+        next
+    }
+
+    #[test]
+    fn each_octant_walks_the_near_child_first() {
+        // Two spheres apart along x: a ray going +x meets the low one first.
+        let b = vec![
+            Aabb::sphere(DVec3::new(-10.0, 0.0, 0.0), 1.0),
+            Aabb::sphere(DVec3::new(10.0, 0.0, 0.0), 1.0),
+        ];
+        let bvh = build(&b);
+        check(&b, &bvh);
+        let first_leaf = |oct: usize| {
+            let slot = bvh.layout(oct)[1].prims().unwrap().start;
+            bvh.order[slot]
+        };
+        assert_eq!(first_leaf(octant(1.0, 0.5, -0.5)), 0);
+        assert_eq!(first_leaf(octant(-1.0, 0.5, -0.5)), 1);
     }
 
     #[test]

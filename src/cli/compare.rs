@@ -8,7 +8,7 @@ use glint::gpu;
 use glint::raster::diff::{self, ErrorFigures, Tolerance};
 use glint::raster::io;
 
-use super::render::{render_cpu, render_gpu_timed};
+use super::render::{render_cpu_timed, render_gpu_timed};
 use super::{DeviceArgs, Precision, SceneArgs};
 
 #[derive(Args)]
@@ -47,7 +47,9 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         inputs.extend(a.device.shader.as_deref());
         io::refuse_input(path, &inputs)?;
     }
+    let t_load = std::time::Instant::now();
     let scene = a.scene.load()?;
+    let load_s = t_load.elapsed().as_secs_f64();
     // The first render pays for the driver's own compile of the shader (on
     // lavapipe, LLVM at the first dispatch); the timed one is the second.
     let (gpu_image, mut renderer, first) = render_gpu_timed(&scene, &a.device, Precision::F32)?;
@@ -56,8 +58,10 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         warm_image == gpu_image,
         "two GPU renders of the same scene differ"
     );
-    let (reference, _, cpu64_s) = render_cpu(&scene, Precision::F64, a.device.accel.into());
-    let (cpu32_image, _, cpu32_s) = render_cpu(&scene, Precision::F32, a.device.accel.into());
+    let accel = a.device.accel.into();
+    let (reference, _, cpu64) = render_cpu_timed(&scene, Precision::F64, accel);
+    let (cpu32_image, _, cpu32) = render_cpu_timed(&scene, Precision::F32, accel);
+    let (cpu64_s, cpu32_s) = (cpu64.render_s, cpu32.render_s);
     let gpu_err = diff::figures(&gpu_image, &reference)?;
     let cpu32_err = diff::figures(&cpu32_image, &reference)?;
     let tolerance = Tolerance::default();
@@ -78,6 +82,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             "max_depth": scene.max_depth,
             "device": info,
             "shader_variant": variant,
+            "load_s": load_s,
             "cpu_threads": threads,
             "setup": setup,
             "gpu_f32": {
@@ -86,8 +91,8 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
                 "first_render_s": first.total_s(),
                 "error": gpu_err
             },
-            "cpu_f32": { "seconds": cpu32_s, "error": cpu32_err },
-            "cpu_f64": { "seconds": cpu64_s },
+            "cpu_f32": { "seconds": cpu32_s, "setup_s": cpu32.setup_s, "error": cpu32_err },
+            "cpu_f64": { "seconds": cpu64_s, "setup_s": cpu64.setup_s },
             "tolerance": tolerance,
             "pass": violations.is_empty(),
             "violations": violations,
@@ -112,8 +117,8 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             }
         );
         println!(
-            "setup      device {:.3} s, shader compile {:.3} s, pipeline {:.3} s (not in the times below)",
-            setup.device_s, setup.compile_s, setup.pipeline_s
+            "setup      load {load_s:.3} s, device {:.3} s, shader compile {:.3} s, pipeline {:.3} s, BVH {:.3} s (not in the times below)",
+            setup.device_s, setup.compile_s, setup.pipeline_s, gpu_times.bvh_s
         );
         println!(
             "gpu f32    {:.3} s  (upload {:.3}, dispatch {:.3}, readback {:.3}; the first render took {:.3} s)",

@@ -107,21 +107,45 @@ pub fn render_gpu_timed(
 }
 
 pub fn render_cpu(scene: &Scene, precision: Precision, accel: Accel) -> (Image, String, f64) {
+    let (image, label, times) = render_cpu_timed(scene, precision, accel);
+    (image, label, times.render_s)
+}
+
+/// The CPU's setup (the scene in its precision, the BVH) and render times.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct CpuTimes {
+    pub setup_s: f64,
+    pub render_s: f64,
+}
+
+pub fn render_cpu_timed(
+    scene: &Scene,
+    precision: Precision,
+    accel: Accel,
+) -> (Image, String, CpuTimes) {
     let bar = progress::bar(
         u64::from(scene.height),
         &format!("cpu {precision:?}").to_lowercase(),
     );
     let start = Instant::now();
-    let image = match precision {
-        Precision::F32 => cpu::render_rows::<f32>(scene, accel, &|n| bar.inc(n)),
-        Precision::F64 => cpu::render_rows::<f64>(scene, accel, &|n| bar.inc(n)),
+    let (image, setup_s) = match precision {
+        Precision::F32 => {
+            let world = cpu::world::World::<f32>::new(scene, accel);
+            let setup_s = start.elapsed().as_secs_f64();
+            (cpu::render_world(&world, &|n| bar.inc(n)), setup_s)
+        }
+        Precision::F64 => {
+            let world = cpu::world::World::<f64>::new(scene, accel);
+            let setup_s = start.elapsed().as_secs_f64();
+            (cpu::render_world(&world, &|n| bar.inc(n)), setup_s)
+        }
     };
-    let seconds = start.elapsed().as_secs_f64();
+    let render_s = start.elapsed().as_secs_f64() - setup_s;
     bar.finish_and_clear();
     let threads = rayon::current_num_threads();
     (
         image,
         format!("CPU {precision:?} on {threads} threads").replace("F", "f"),
-        seconds,
+        CpuTimes { setup_s, render_s },
     )
 }

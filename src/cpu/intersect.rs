@@ -119,9 +119,10 @@ pub fn intersect_scene<R: Real>(
     match &w.bvh {
         Some(tree) => {
             let walk = BoxWalk::new(ray);
+            let nodes = walk.layout(tree);
             let mut i = 0;
-            while i < tree.nodes.len() {
-                let node = &tree.nodes[i];
+            while i < nodes.len() {
+                let node = &nodes[i];
                 if !walk.enters(node, limit) {
                     i = node.skip as usize;
                     continue;
@@ -171,9 +172,10 @@ pub fn intersect_scene<R: Real>(
 /// shadow rays' any-hit walk of the BVH.
 pub fn bvh_occluded<R: Real>(w: &World<R>, tree: &Bvh, ray: &Ray<R>, from: usize, dist: R) -> bool {
     let walk = BoxWalk::new(ray);
+    let nodes = walk.layout(tree);
     let mut i = 0;
-    while i < tree.nodes.len() {
-        let node = &tree.nodes[i];
+    while i < nodes.len() {
+        let node = &nodes[i];
         if walk.enters(node, dist) {
             if let Some(slots) = node.prims() {
                 for slot in slots {
@@ -199,6 +201,7 @@ pub fn bvh_occluded<R: Real>(w: &World<R>, tree: &Bvh, ray: &Ray<R>, from: usize
 struct BoxWalk<R> {
     origin: Vec3<R>,
     inv: Vec3<R>,
+    octant: usize,
 }
 
 /// Widens a box's far distance against the rounding of the slab test
@@ -218,10 +221,20 @@ impl<R: Real> BoxWalk<R> {
                 R::of(-1e30)
             }
         };
+        let d = ray.dir;
         Self {
             origin: ray.origin,
-            inv: Vec3::new(inv(ray.dir.x), inv(ray.dir.y), inv(ray.dir.z)),
+            inv: Vec3::new(inv(d.x), inv(d.y), inv(d.z)),
+            // As bvh::octant, in R: a negative component sets its bit.
+            octant: usize::from(d.x < R::zero())
+                | usize::from(d.y < R::zero()) << 1
+                | usize::from(d.z < R::zero()) << 2,
         }
+    }
+
+    /// The nodes in the order this ray's octant walks them.
+    fn layout<'t>(&self, tree: &'t Bvh) -> &'t [Node] {
+        tree.layout(self.octant)
     }
 
     /// Whether the ray meets the node's box somewhere in [0, t_max].

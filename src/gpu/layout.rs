@@ -167,6 +167,7 @@ macro_rules! structs {
                     .collect();
                 Uploads {
                     nodes: None,
+                    layout_len: 0,
                     bvh_s: 0.0,
                     globals: bytemuck::bytes_of(&globals).to_vec(),
                     arrays: [
@@ -219,8 +220,10 @@ pub struct Uploads {
     pub globals: Vec<u8>,
     /// Spheres, planes, materials, lights.
     pub arrays: [Array; 4],
-    /// The spheres' BVH nodes, where the scene is traced through one.
+    /// The spheres' BVH nodes, where the scene is traced through one: one
+    /// layout per ray octant, `layout_len` nodes each.
     pub nodes: Option<Array>,
+    pub layout_len: usize,
     /// Seconds spent building the BVH.
     pub bvh_s: f64,
 }
@@ -245,6 +248,7 @@ impl Uploads {
             Precision::F32 => f32_layout::upload(scene, order),
             Precision::F64 => f64_layout::upload(scene, order),
         };
+        up.layout_len = bvh.as_ref().map_or(0, |b| b.layout_len);
         up.nodes = bvh.map(|b| array(b.nodes));
         up.bvh_s = bvh_s;
         up
@@ -253,6 +257,28 @@ impl Uploads {
     /// Bytes of each scene array: spheres, planes, materials, lights.
     pub fn array_bytes(&self) -> [usize; 4] {
         self.arrays.each_ref().map(|a| a.bytes.len())
+    }
+
+    /// Fails, naming the array and the limit, where one array is larger than
+    /// a storage buffer of this device can be (lavapipe: 128 MiB, about four
+    /// million spheres in f32 and two million in f64).
+    pub fn check_storage_range(&self, limit: u32) -> Result<(), String> {
+        let names = ["spheres", "planes", "materials", "lights", "BVH nodes"];
+        let sizes = self
+            .arrays
+            .iter()
+            .map(|a| a.bytes.len())
+            .chain(self.nodes.as_ref().map(|n| n.bytes.len()));
+        for (name, bytes) in names.iter().zip(sizes) {
+            if bytes as u64 > u64::from(limit) {
+                return Err(format!(
+                    "the scene's {name} take {bytes} bytes, more than this device's \
+                     maxStorageBufferRange of {limit} bytes; render fewer objects, in f32 \
+                     rather than f64, or with --backend cpu"
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Elements of each scene array, as uploaded.
@@ -275,5 +301,42 @@ mod tests {
         assert_eq!(size_of::<f64_layout::Light>(), 256);
         assert_eq!(size_of::<f32_layout::Sphere>(), 32);
         assert_eq!(size_of::<f32_layout::Light>(), 128);
+    }
+
+    #[test]
+    fn arrays_over_the_storage_range_are_named() {
+        let mut text = String::from(
+            "[image]\nwidth = 4\nheight = 4\n[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nvfov = 40\n\
+             [materials.m]\n",
+        );
+        for i in 0..64 {
+            text += &format!(
+                "[[spheres]]\ncenter = [{}, 0, 0]\nradius = 1\nmaterial = \"m\"\n",
+                3 * i
+            );
+        }
+        let scene = crate::scene::parse(
+            &text,
+            std::path::Path::new("t.toml"),
+            &crate::scene::Overrides::default(),
+        )
+        .unwrap();
+        for (precision, sphere_bytes) in [(Precision::F32, 32), (Precision::F64, 64)] {
+            let up = Uploads::new(&scene, Intersect::Robust, precision, Accel::Bvh);
+            let nodes = up.nodes.as_ref().unwrap().bytes.len();
+            let spheres = up.arrays[0].bytes.len();
+            assert_eq!(spheres, 64 * sphere_bytes);
+            let biggest = up.array_bytes().into_iter().chain([nodes]).max().unwrap();
+            assert!(up.check_storage_range(biggest as u32).is_ok());
+            let err = up.check_storage_range(spheres as u32 - 1).unwrap_err();
+            assert!(
+                err.contains(&format!("spheres take {spheres} bytes")),
+                "{err}"
+            );
+            if nodes > spheres {
+                let err = up.check_storage_range(nodes as u32 - 1).unwrap_err();
+                assert!(err.contains("BVH nodes"), "{err}");
+            }
+        }
     }
 }

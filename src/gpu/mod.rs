@@ -308,6 +308,8 @@ impl Renderer {
         let mut times = RenderTimes::default();
         let t0 = Instant::now();
         let usage = variant.scene_buffer_usage();
+        up.check_storage_range(self.device.info.max_storage_buffer_range)
+            .map_err(GpuError::Unsupported)?;
         let d = &self.device;
         let (tile_w, tile_h) = self.tile_size(scene);
         let out_bytes = u64::from(tile_w) * u64::from(tile_h) * 16;

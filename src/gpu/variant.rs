@@ -59,7 +59,7 @@ pub struct Features {
     /// planes, materials, lights) where they fit; else storage buffers.
     pub uniform_slots: Option<[usize; 4]>,
     pub unroll: bool,
-    /// BVH nodes; 0 without a BVH.
+    /// BVH nodes per octant layout (of 8); 0 without a BVH.
     pub nodes: usize,
 }
 
@@ -92,7 +92,7 @@ impl Features {
             samples: scene.samples,
             uniform_slots: fits.then(|| uploads.array_lengths()),
             unroll: fits && counts[0] + counts[1] <= UNROLL_OBJECTS && counts[2] <= UNROLL_LIGHTS,
-            nodes: uploads.nodes.as_ref().map_or(0, |n| n.len),
+            nodes: uploads.layout_len,
         }
     }
 
@@ -130,7 +130,8 @@ impl Features {
         if self.nodes > 0 {
             d.push(("NODE_COUNT".to_owned(), Some(format!("{}u", self.nodes))));
             if self.uniform_slots.is_some() {
-                d.push(("NODE_SLOTS".to_owned(), Some(format!("{}u", self.nodes))));
+                let slots = self.nodes * crate::accel::bvh::OCTANTS;
+                d.push(("NODE_SLOTS".to_owned(), Some(format!("{slots}u"))));
             }
         }
     }
