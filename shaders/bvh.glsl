@@ -23,15 +23,24 @@ layout(std430, set = 0, binding = NODES_BINDING) readonly buffer Nodes { Node no
 #define ON_NODE()
 #endif
 
-// Nodes in one layout; there are 8, one per octant of ray directions.
+// The layouts: 8, one per octant of ray directions, or 1 for a tree too
+// large for 8 (src/accel/bvh.rs).
+#ifndef LAYOUTS
+#define LAYOUTS 8u
+#endif
+
+// Nodes in one layout.
 #ifndef NODE_COUNT
-#define NODE_COUNT (uint(nodes.length()) / 8u)
+#define NODE_COUNT (uint(nodes.length()) / LAYOUTS)
 #endif
 
 // The first node of the layout for the ray's octant (src/accel/bvh.rs): in
 // it, the child a ray of that octant meets first along the split axis comes
 // first. Bit k is set where component k is negative.
 uint layout_base(vec3r d) {
+    if (LAYOUTS == 1u) {
+        return 0u;
+    }
     uint octant = (d.x < 0.0 ? 1u : 0u) | (d.y < 0.0 ? 2u : 0u) | (d.z < 0.0 ? 4u : 0u);
     return octant * NODE_COUNT;
 }
@@ -103,22 +112,22 @@ bool bvh_occluded(Ray r, uint from, real dist) {
     uint base = layout_base(r.dir);
     bool blocked = false;
     uint i = 0u;
-    [[dont_unroll]] while (i < NODE_COUNT) {
+    [[dont_unroll]] while (i < NODE_COUNT && !blocked) {
         ON_NODE();
         Node node = nodes[base + i];
         uint skip = floatBitsToUint(node.lo_skip.w);
         uint leaf = floatBitsToUint(node.hi_leaf.w);
-        if (!ANY(!blocked && enters(r, inv, node, dist))) {
+        if (!ANY(enters(r, inv, node, dist))) {
             i = skip;
         } else if (leaf == 0u) {
             i++;
         } else {
             uint first = leaf >> 4;
             uint end = first + (leaf & 15u);
-            [[dont_unroll]] for (uint k = first; k < end; k++) {
+            [[dont_unroll]] for (uint k = first; k < end && !blocked; k++) {
                 vec4r s = spheres[k].center_radius;
                 real t = intersect_sphere(r, s.xyz, s.w, from == k);
-                blocked = blocked || (t > 0.0 && t < dist);
+                blocked = t > 0.0 && t < dist;
             }
             i = skip;
         }

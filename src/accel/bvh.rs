@@ -14,7 +14,9 @@
 //! octant, the child on the side a ray of that octant meets first along the
 //! node's split axis comes first. A nearest-hit walk then finds near hits
 //! early and skips boxes behind them. Ray direction d takes the layout
-//! `octant(d)`; the eight layouts lie one after the other.
+//! `octant(d)`; the eight layouts lie one after the other. Where eight
+//! would take more than `OCTANT_BYTES_MAX`, there is one layout, walked by
+//! every ray (a sphereflake of 597,871 spheres has 1.2 million nodes).
 //!
 //! Boxes are f32 for every precision, rounded outwards and padded so that a
 //! box is never missed by a ray that hits what is inside it (docs/performance.md,
@@ -104,10 +106,11 @@ impl Aabb {
 /// The tree, and which primitive each leaf slot holds.
 #[derive(Debug, Clone)]
 pub struct Bvh {
-    /// `OCTANTS` layouts of `layout_len` nodes each; skip links count from
-    /// the start of their layout.
+    /// `layouts` layouts (`OCTANTS` or 1) of `layout_len` nodes each; skip
+    /// links count from the start of their layout.
     pub nodes: Vec<Node>,
     pub layout_len: usize,
+    pub layouts: usize,
     /// `order[slot]` is the scene index of the primitive in leaf slot `slot`.
     pub order: Vec<u32>,
     pub depth: u32,
@@ -115,6 +118,9 @@ pub struct Bvh {
 
 /// Layouts: one per octant of ray directions.
 pub const OCTANTS: usize = 8;
+/// The most bytes the eight layouts may take together: half of the 128 MiB
+/// storage buffer range that Vulkan guarantees.
+pub const OCTANT_BYTES_MAX: usize = 64 << 20;
 
 /// The layout a ray of direction (x, y, z) walks: bit k set where
 /// component k is negative (-0 counts as positive, as in the shader).
@@ -125,7 +131,8 @@ pub fn octant(x: f64, y: f64, z: f64) -> usize {
 impl Bvh {
     /// The nodes a ray of the given octant walks.
     pub fn layout(&self, octant: usize) -> &[Node] {
-        &self.nodes[octant * self.layout_len..(octant + 1) * self.layout_len]
+        let k = if self.layouts == 1 { 0 } else { octant };
+        &self.nodes[k * self.layout_len..(k + 1) * self.layout_len]
     }
 }
 
@@ -163,14 +170,20 @@ pub fn build(bounds: &[Aabb]) -> Bvh {
         b.depth
     );
     let layout_len = b.built.len();
-    let mut nodes = Vec::with_capacity(OCTANTS * layout_len);
-    for oct in 0..OCTANTS {
+    let layouts = if OCTANTS * layout_len * std::mem::size_of::<Node>() <= OCTANT_BYTES_MAX {
+        OCTANTS
+    } else {
+        1
+    };
+    let mut nodes = Vec::with_capacity(layouts * layout_len);
+    for oct in 0..layouts {
         let start = nodes.len();
         flatten(&b.built, 0, oct, start, &mut nodes);
     }
     Bvh {
         nodes,
         layout_len,
+        layouts,
         order: b.order,
         depth: b.depth,
     }
@@ -400,7 +413,7 @@ mod tests {
     /// In every layout: every primitive is in exactly one leaf, every
     /// node's box holds its subtree, and the skip links close each subtree.
     fn check(b: &[Aabb], bvh: &Bvh) {
-        assert_eq!(bvh.nodes.len(), OCTANTS * bvh.layout_len);
+        assert_eq!(bvh.nodes.len(), bvh.layouts * bvh.layout_len);
         for oct in 0..OCTANTS {
             let nodes = bvh.layout(oct);
             let mut seen = vec![0; b.len()];
@@ -456,6 +469,17 @@ mod tests {
             let b = spheres(n);
             check(&b, &build(&b));
         }
+    }
+
+    #[test]
+    fn a_large_tree_keeps_one_layout() {
+        // About 2 nodes a sphere: 8 layouts of 32-byte nodes pass 64 MiB
+        // somewhere above 100,000 spheres.
+        let b = spheres(300_000);
+        let bvh = build(&b);
+        assert_eq!(bvh.layouts, 1);
+        assert_eq!(bvh.layout(5).as_ptr(), bvh.layout(0).as_ptr());
+        assert_eq!(build(&spheres(1000)).layouts, OCTANTS);
     }
 
     #[test]

@@ -168,6 +168,7 @@ macro_rules! structs {
                 Uploads {
                     nodes: None,
                     layout_len: 0,
+                    layouts: 0,
                     bvh_s: 0.0,
                     globals: bytemuck::bytes_of(&globals).to_vec(),
                     arrays: [
@@ -221,9 +222,10 @@ pub struct Uploads {
     /// Spheres, planes, materials, lights.
     pub arrays: [Array; 4],
     /// The spheres' BVH nodes, where the scene is traced through one: one
-    /// layout per ray octant, `layout_len` nodes each.
+    /// layout per ray octant (or one), `layout_len` nodes each.
     pub nodes: Option<Array>,
     pub layout_len: usize,
+    pub layouts: usize,
     /// Seconds spent building the BVH.
     pub bvh_s: f64,
 }
@@ -249,6 +251,7 @@ impl Uploads {
             Precision::F64 => f64_layout::upload(scene, order),
         };
         up.layout_len = bvh.as_ref().map_or(0, |b| b.layout_len);
+        up.layouts = bvh.as_ref().map_or(0, |b| b.layouts);
         up.nodes = bvh.map(|b| array(b.nodes));
         up.bvh_s = bvh_s;
         up

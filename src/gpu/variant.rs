@@ -34,8 +34,9 @@ pub enum Block {
 pub struct Variant {
     pub intersect: Intersect,
     pub precision: Precision,
-    /// Spheres traced through the BVH (shaders/bvh.glsl), not a linear scan.
-    pub bvh: bool,
+    /// The BVH's layouts (8, one per ray octant, or 1) where spheres are
+    /// traced through it (shaders/bvh.glsl); 0: a linear scan.
+    pub bvh_layouts: usize,
     /// None: the generic shader.
     pub features: Option<Features>,
 }
@@ -59,8 +60,10 @@ pub struct Features {
     /// planes, materials, lights) where they fit; else storage buffers.
     pub uniform_slots: Option<[usize; 4]>,
     pub unroll: bool,
-    /// BVH nodes per octant layout (of 8); 0 without a BVH.
+    /// BVH nodes per layout; 0 without a BVH.
     pub nodes: usize,
+    /// BVH layouts: 8 (one per ray octant) or 1.
+    pub layouts: usize,
 }
 
 impl Features {
@@ -93,6 +96,7 @@ impl Features {
             uniform_slots: fits.then(|| uploads.array_lengths()),
             unroll: fits && counts[0] + counts[1] <= UNROLL_OBJECTS && counts[2] <= UNROLL_LIGHTS,
             nodes: uploads.layout_len,
+            layouts: uploads.layouts,
         }
     }
 
@@ -130,7 +134,7 @@ impl Features {
         if self.nodes > 0 {
             d.push(("NODE_COUNT".to_owned(), Some(format!("{}u", self.nodes))));
             if self.uniform_slots.is_some() {
-                let slots = self.nodes * crate::accel::bvh::OCTANTS;
+                let slots = self.nodes * self.layouts;
                 d.push(("NODE_SLOTS".to_owned(), Some(format!("{slots}u"))));
             }
         }
@@ -149,7 +153,7 @@ impl Variant {
         Self {
             intersect,
             precision,
-            bvh: uploads.nodes.is_some(),
+            bvh_layouts: uploads.layouts,
             features: (!generic).then(|| Features::of(scene, uploads, device)),
         }
     }
@@ -162,8 +166,9 @@ impl Variant {
         if self.precision == Precision::F64 {
             d.push(("GLINT_F64".to_owned(), None));
         }
-        if self.bvh {
+        if self.bvh_layouts > 0 {
             d.push(("USE_BVH".to_owned(), None));
+            d.push(("LAYOUTS".to_owned(), Some(format!("{}u", self.bvh_layouts))));
         }
         if let Some(f) = &self.features {
             f.defines(&mut d);
@@ -201,7 +206,7 @@ impl Variant {
             (Block::Planes, planes, scene_type),
             (Block::Materials, spheres || planes, scene_type),
             (Block::Lights, lights, scene_type),
-            (Block::Nodes, self.bvh, scene_type),
+            (Block::Nodes, self.bvh_layouts > 0, scene_type),
             (Block::Pixels, true, vk::DescriptorType::STORAGE_BUFFER),
         ];
         blocks
@@ -246,8 +251,8 @@ impl Variant {
         if self.precision == Precision::F64 {
             parts.push("f64".to_owned());
         }
-        if self.bvh {
-            parts.push("bvh".to_owned());
+        if self.bvh_layouts > 0 {
+            parts.push(format!("bvh{}", self.bvh_layouts));
         }
         match &self.features {
             None => parts.push("generic".to_owned()),
