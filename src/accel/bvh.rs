@@ -154,6 +154,11 @@ enum Built {
 
 /// Builds the tree over `bounds`, one box per primitive (at least one).
 pub fn build(bounds: &[Aabb]) -> Bvh {
+    build_within(bounds, OCTANT_BYTES_MAX)
+}
+
+/// As `build`, with eight layouts only where they fit `octant_bytes_max`.
+fn build_within(bounds: &[Aabb], octant_bytes_max: usize) -> Bvh {
     assert!(!bounds.is_empty(), "a BVH needs a primitive");
     assert!(
         bounds.len() < 1 << 28,
@@ -173,7 +178,7 @@ pub fn build(bounds: &[Aabb]) -> Bvh {
         b.depth
     );
     let layout_len = b.built.len();
-    let layouts = if OCTANTS * layout_len * std::mem::size_of::<Node>() <= OCTANT_BYTES_MAX {
+    let layouts = if OCTANTS * layout_len * std::mem::size_of::<Node>() <= octant_bytes_max {
         OCTANTS
     } else {
         1
@@ -451,19 +456,22 @@ mod tests {
 
     #[test]
     fn each_octant_walks_the_near_child_first() {
-        // Two spheres apart along x: a ray going +x meets the low one first.
-        let b = vec![
-            Aabb::sphere(DVec3::new(-10.0, 0.0, 0.0), 1.0),
-            Aabb::sphere(DVec3::new(10.0, 0.0, 0.0), 1.0),
-        ];
+        // Two clusters far apart along x: a ray going +x meets the low one
+        // (spheres 0..8) first, a ray going -x the high one.
+        let b: Vec<Aabb> = (0..16)
+            .map(|i| {
+                let x = if i < 8 { -100.0 } else { 100.0 };
+                Aabb::sphere(DVec3::new(x, (i % 8) as f64 * 3.0, 0.0), 1.0)
+            })
+            .collect();
         let bvh = build(&b);
         check(&b, &bvh);
-        let first_leaf = |oct: usize| {
-            let slot = bvh.layout(oct)[1].prims().unwrap().start;
-            bvh.order[slot]
+        let first_prim = |oct: usize| {
+            let leaf = bvh.layout(oct).iter().find_map(Node::prims).unwrap();
+            bvh.order[leaf.start]
         };
-        assert_eq!(first_leaf(octant(1.0, 0.5, -0.5)), 0);
-        assert_eq!(first_leaf(octant(-1.0, 0.5, -0.5)), 1);
+        assert!(first_prim(octant(1.0, 0.5, -0.5)) < 8);
+        assert!(first_prim(octant(-1.0, 0.5, -0.5)) >= 8);
     }
 
     #[test]
@@ -475,14 +483,16 @@ mod tests {
     }
 
     #[test]
-    fn a_large_tree_keeps_one_layout() {
-        // About 2 nodes a sphere: 8 layouts of 32-byte nodes pass 64 MiB
-        // somewhere above 100,000 spheres.
-        let b = spheres(300_000);
-        let bvh = build(&b);
-        assert_eq!(bvh.layouts, 1);
-        assert_eq!(bvh.layout(5).as_ptr(), bvh.layout(0).as_ptr());
-        assert_eq!(build(&spheres(1000)).layouts, OCTANTS);
+    fn a_tree_too_large_for_eight_layouts_keeps_one() {
+        let b = spheres(1000);
+        let eight = build(&b);
+        assert_eq!(eight.layouts, OCTANTS);
+        let bytes = OCTANTS * eight.layout_len * std::mem::size_of::<Node>();
+        assert_eq!(build_within(&b, bytes).layouts, OCTANTS);
+        let one = build_within(&b, bytes - 1);
+        assert_eq!(one.layouts, 1);
+        check(&b, &one);
+        assert_eq!(one.layout(5).as_ptr(), one.layout(0).as_ptr());
     }
 
     #[test]
