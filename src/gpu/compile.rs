@@ -93,17 +93,61 @@ impl Sources {
     }
 }
 
-impl IncludeHandler for Sources {
+/// Nested `#include`s deeper than this are refused: a file that includes
+/// itself, or two that include each other, would otherwise recurse until
+/// memory runs out.
+pub const MAX_INCLUDE_DEPTH: usize = 32;
+
+/// Resolves a compile's `#include`s and remembers one nested too deep.
+struct Includes<'a> {
+    sources: &'a Sources,
+    /// Read after glslang fails, while it still holds the handler.
+    too_deep: &'a std::cell::RefCell<Option<String>>,
+}
+
+impl IncludeHandler for Includes<'_> {
     fn include(
         &mut self,
         _ty: IncludeType,
         name: &str,
-        _from: &str,
-        _depth: usize,
+        from: &str,
+        depth: usize,
     ) -> Option<IncludeResult> {
-        self.find(name)
+        if depth > MAX_INCLUDE_DEPTH {
+            self.too_deep.borrow_mut().get_or_insert_with(|| {
+                format!(
+                    "{from}: #include \"{name}\" nests deeper than {MAX_INCLUDE_DEPTH} files: \
+                     an include cycle?"
+                )
+            });
+            return None;
+        }
+        self.sources
+            .find(name)
             .map(|(path, data)| IncludeResult { name: path, data })
     }
+}
+
+/// Names glint defines for its own variants (src/gpu/variant.rs); a user's
+/// `-D` may not redefine them, since the host's buffers and dispatch follow
+/// glint's values, not the user's.
+pub fn reserved_define(name: &str) -> bool {
+    const NAMES: &[&str] = &[
+        "SHADOWS_ON",
+        "MAX_DEPTH",
+        "SAMPLES",
+        "SCENE_IN_UNIFORMS",
+        "UNROLL_LOOPS",
+        "INTERSECT_NAIVE",
+        "GLINT_F64",
+        "USE_BVH",
+        "LAYOUTS",
+    ];
+    NAMES.contains(&name)
+        || name.starts_with("HAS_")
+        || name.ends_with("_COUNT")
+        || name.ends_with("_SLOTS")
+        || name.ends_with("_BINDING")
 }
 
 /// FNV-1a: a stable hash for cache keys (std's hasher may change between
@@ -163,8 +207,19 @@ pub fn compile(sources: &Sources, defines: &Defines) -> Result<Compiled, GpuErro
         },
         ..CompilerOptions::default()
     };
-    let mut includes = sources.clone();
-    let fail = |e: GlslangError| GpuError::Shader(format_log(&e, &main_path));
+    let too_deep = std::cell::RefCell::new(None);
+    let mut includes = Includes {
+        sources,
+        too_deep: &too_deep,
+    };
+    let fail = |e: GlslangError| {
+        GpuError::Shader(
+            too_deep
+                .borrow()
+                .clone()
+                .unwrap_or_else(|| format_log(&e, &main_path)),
+        )
+    };
     let input = ShaderInput::new(
         &source,
         ShaderStage::Compute,

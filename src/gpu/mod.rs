@@ -155,6 +155,16 @@ fn secs(d: Duration) -> f64 {
 
 impl Renderer {
     pub fn new(opts: &GpuOptions) -> Result<Self, GpuError> {
+        if let Some((name, _)) = opts
+            .defines
+            .iter()
+            .find(|(n, _)| compile::reserved_define(n))
+        {
+            return Err(GpuError::Unsupported(format!(
+                "-D {name}: glint defines {name} itself for each scene (docs/shaders.md, Variants); \
+                 choose another name"
+            )));
+        }
         let t0 = Instant::now();
         let instance = Instance::new(opts.validate)?;
         let device = Device::open(&instance, opts.device.as_deref())?;

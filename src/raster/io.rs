@@ -183,15 +183,19 @@ pub fn read(path: &Path) -> Result<Image, ImageIoError> {
             })
         }
         Format::Png | Format::Exr => {
-            let decoded = image::ImageReader::open(path)
+            let mut reader = image::ImageReader::open(path)
                 .map_err(io_err(path))?
                 .with_guessed_format()
-                .map_err(io_err(path))?
-                .decode()
-                .map_err(|cause| ImageIoError::Codec {
-                    path: path.to_owned(),
-                    cause,
-                })?;
+                .map_err(io_err(path))?;
+            let mut limits = image::Limits::default();
+            limits.max_image_width = Some(MAX_SIDE);
+            limits.max_image_height = Some(MAX_SIDE);
+            limits.max_alloc = Some(MAX_PIXELS * 16);
+            reader.limits(limits);
+            let decoded = reader.decode().map_err(|cause| ImageIoError::Codec {
+                path: path.to_owned(),
+                cause,
+            })?;
             let rgb = decoded.to_rgb32f();
             let (w, h) = rgb.dimensions();
             let pixels = rgb.pixels().map(|p| p.0).collect();
@@ -201,6 +205,23 @@ pub fn read(path: &Path) -> Result<Image, ImageIoError> {
 }
 
 /// Parses PFM bytes (colour "PF" only; either byte order).
+/// The largest image any reader accepts: a side of 65,536 pixels and 2^28
+/// pixels in all (16384², the largest image glint renders), so that a
+/// crafted header can neither overflow the size arithmetic nor ask for
+/// more memory than such an image takes (3 GiB of f32 RGB).
+pub const MAX_SIDE: u32 = 1 << 16;
+pub const MAX_PIXELS: u64 = 1 << 28;
+
+fn check_size(w: u32, h: u32) -> Result<(), String> {
+    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE || u64::from(w) * u64::from(h) > MAX_PIXELS
+    {
+        return Err(format!(
+            "size {w}x{h} is outside 1..={MAX_SIDE} a side and {MAX_PIXELS} pixels in all"
+        ));
+    }
+    Ok(())
+}
+
 pub fn read_pfm(bytes: &[u8]) -> Result<Image, String> {
     // The header is three whitespace-separated tokens after "PF".
     let mut fields = Vec::new();
@@ -228,6 +249,7 @@ pub fn read_pfm(bytes: &[u8]) -> Result<Image, String> {
         .parse()
         .map_err(|_| format!("bad scale \"{}\"", fields[3]))?;
     let little = scale < 0.0;
+    check_size(w, h)?;
     let count = w as usize * h as usize;
     let data = bytes.get(pos..).unwrap_or_default();
     if data.len() != count * 12 {
@@ -289,6 +311,24 @@ mod tests {
             bytes.extend_from_slice(&v.to_be_bytes());
         }
         assert_eq!(read_pfm(&bytes).unwrap().pixels, vec![[0.5, 1.5, 2.5]]);
+    }
+
+    #[test]
+    fn crafted_pfm_sizes_are_errors_not_panics() {
+        for header in [
+            "PF\n2147483648 2147483648\n-1.0\n",
+            "PF\n4294967295 4294967295\n-1.0\n",
+            "PF\n1431655766 1\n-1.0\n",
+            "PF\n65537 1\n-1.0\n",
+            "PF\n65536 65536\n-1.0\n",
+            "PF\n0 5\n-1.0\n",
+        ] {
+            let err = read_pfm(header.as_bytes()).unwrap_err();
+            assert!(
+                err.contains("size") || err.contains("bad"),
+                "{header}: {err}"
+            );
+        }
     }
 
     #[test]

@@ -5,7 +5,26 @@ use std::collections::BTreeMap;
 
 use serde::Deserialize;
 
-pub type Triple = [f64; 3];
+/// Three numbers, exactly: serde's own `[f64; 3]` takes the first three
+/// elements of a longer array and ignores the rest.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Triple(pub [f64; 3]);
+
+impl std::ops::Deref for Triple {
+    type Target = [f64; 3];
+    fn deref(&self) -> &[f64; 3] {
+        &self.0
+    }
+}
+
+impl<'de> Deserialize<'de> for Triple {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Vec::<f64>::deserialize(d)?;
+        <[f64; 3]>::try_from(v.as_slice())
+            .map(Triple)
+            .map_err(|_| serde::de::Error::invalid_length(v.len(), &"exactly three numbers"))
+    }
+}
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -97,7 +97,7 @@ impl Check<'_> {
         for (i, c) in t.iter().enumerate() {
             self.finite(&path.index(i), *c)?;
         }
-        Ok(DVec3::from_array(t))
+        Ok(DVec3::from_array(t.0))
     }
 
     /// A colour or coefficient triple: finite and non-negative.
@@ -137,24 +137,30 @@ impl Check<'_> {
             .iter()
             .map(|(name, m)| self.material(&root().key("materials").key(name), name, m))
             .collect::<Result<Vec<_>>>()?;
+        // The names are sorted (a BTreeMap's keys): a binary search keeps
+        // 200,000 spheres with as many materials linear-logarithmic.
         let material_index = |path: &KeyPath, name: &str| -> Result<u32> {
-            match names.iter().position(|n| n.as_str() == name) {
-                Some(i) => Ok(i as u32),
-                None if names.is_empty() => self.err(
+            match names.binary_search_by(|n| n.as_str().cmp(name)) {
+                Ok(i) => Ok(i as u32),
+                Err(_) if names.is_empty() => self.err(
                     path,
                     format!("unknown material \"{name}\" (the scene defines no [materials])"),
                 ),
-                None => self.err(
-                    path,
-                    format!(
-                        "unknown material \"{name}\" (defined: {})",
-                        names
-                            .iter()
-                            .map(|n| n.as_str())
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ),
-                ),
+                Err(_) => {
+                    const SHOWN: usize = 10;
+                    let mut listed: Vec<&str> =
+                        names.iter().take(SHOWN).map(|n| n.as_str()).collect();
+                    if names.len() > SHOWN {
+                        listed.push("…");
+                    }
+                    self.err(
+                        path,
+                        format!(
+                            "unknown material \"{name}\" (defined: {})",
+                            listed.join(", ")
+                        ),
+                    )
+                }
             }
         };
 
@@ -288,7 +294,7 @@ impl Check<'_> {
         };
         let attenuation = self.colour(
             &path.key("attenuation"),
-            l.attenuation.unwrap_or([1.0, 0.0, 0.0]),
+            l.attenuation.unwrap_or(Triple([1.0, 0.0, 0.0])),
         )?;
         if attenuation.x <= 0.0 {
             return self.err(
@@ -401,7 +407,7 @@ impl Check<'_> {
                 format!("must be in (0, 180) degrees, got {vfov}"),
             );
         }
-        let up = self.direction(&path.key("up"), c.up.unwrap_or([0.0, 1.0, 0.0]))?;
+        let up = self.direction(&path.key("up"), c.up.unwrap_or(Triple([0.0, 1.0, 0.0])))?;
         let fwd = (look_at - eye).normalize_or_zero();
         if fwd == DVec3::ZERO {
             return self.err(&path.key("look_at"), "must differ from eye");

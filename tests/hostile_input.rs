@@ -1,0 +1,145 @@
+//! Defects of issue 10 found by hostile input, each fixed: a crafted image
+//! header, an include cycle, a `-D` that redefines glint's own constants,
+//! and a triple with extra elements. Each is one clear error with exit
+//! status 2, in bounded time, and no panic.
+
+mod common;
+
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use common::glint;
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn assert_user_error(o: &Output, needle: &str) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.starts_with("error: "), "{err}");
+    assert!(err.contains(needle), "wanted {needle:?} in {err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+/// Runs glint and kills it after `limit`: a hang fails the test, not CI.
+fn glint_within(args: &[&str], limit: Duration) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run glint");
+    let start = Instant::now();
+    while child.try_wait().expect("wait").is_none() {
+        if start.elapsed() > limit {
+            child.kill().ok();
+            panic!("glint {args:?} ran over {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    child.wait_with_output().expect("output")
+}
+
+#[test]
+fn a_pfm_header_whose_size_overflows_is_an_error_not_a_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let wrap = dir.path().join("wrap.pfm");
+    std::fs::write(&wrap, "PF\n2147483648 2147483648\n-1.0\n").unwrap();
+    let one = dir.path().join("one.pfm");
+    let mut pfm = b"PF\n1 1\n-1.0\n".to_vec();
+    pfm.extend([0u8; 12]);
+    std::fs::write(&one, pfm).unwrap();
+    let o = glint(&["diff", wrap.to_str().unwrap(), one.to_str().unwrap()]);
+    assert_user_error(&o, "size 2147483648x2147483648");
+    assert_eq!(stderr(&o).trim().lines().count(), 1);
+}
+
+#[test]
+fn an_include_cycle_is_an_error_in_bounded_time() {
+    let dir = tempfile::tempdir().unwrap();
+    // shade.glsl includes itself; a.glsl and b.glsl include each other.
+    std::fs::write(dir.path().join("shade.glsl"), "#include \"shade.glsl\"\n").unwrap();
+    let scene = common::repo().join("scenes/seed-fig3.toml");
+    let out = dir.path().join("x.png");
+    let o = glint_within(
+        &[
+            "render",
+            scene.to_str().unwrap(),
+            "-I",
+            dir.path().to_str().unwrap(),
+            "--no-cache",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        Duration::from_secs(60),
+    );
+    assert_user_error(&o, "an include cycle?");
+    assert!(!out.exists());
+
+    let pair = tempfile::tempdir().unwrap();
+    std::fs::write(pair.path().join("a.glsl"), "#include \"b.glsl\"\n").unwrap();
+    std::fs::write(pair.path().join("b.glsl"), "#include \"a.glsl\"\n").unwrap();
+    let main = pair.path().join("main.comp");
+    std::fs::write(&main, "#version 450\n#extension GL_GOOGLE_include_directive : require\n#include \"a.glsl\"\nvoid main() {}\n").unwrap();
+    let o = glint_within(
+        &[
+            "shader",
+            "check",
+            main.to_str().unwrap(),
+            "-I",
+            pair.path().to_str().unwrap(),
+        ],
+        Duration::from_secs(60),
+    );
+    assert_ne!(o.status.code(), Some(0));
+    assert!(stderr(&o).contains("an include cycle?"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_define_may_not_replace_glints_own() {
+    let scene = common::repo().join("scenes/seed-fig3.toml");
+    for d in [
+        "SPHERE_COUNT=100000u",
+        "SAMPLES=0u",
+        "HAS_SHADOWS=0",
+        "NODE_COUNT=1u",
+    ] {
+        let o = glint(&[
+            "render",
+            scene.to_str().unwrap(),
+            "-D",
+            d,
+            "-o",
+            "/nonexistent/x.png",
+        ]);
+        assert_user_error(&o, "glint defines");
+    }
+}
+
+#[test]
+fn a_triple_must_have_exactly_three_numbers() {
+    let dir = tempfile::tempdir().unwrap();
+    for (eye, needle) in [
+        ("[0, 0, 5, 999]", "camera.eye: invalid length 4"),
+        ("[0, 0]", "camera.eye: invalid length 2"),
+        ("[0, 0, 5, 999, \"junk\", [1, 2]]", "camera.eye[4]"),
+    ] {
+        let path = dir.path().join("t.toml");
+        std::fs::write(
+            &path,
+            format!("[image]\nwidth = 8\nheight = 8\n[camera]\neye = {eye}\nlook_at = [0, 0, 0]\nvfov = 40\n"),
+        )
+        .unwrap();
+        let o = glint(&[
+            "render",
+            path.to_str().unwrap(),
+            "--backend",
+            "cpu",
+            "-o",
+            "/nonexistent/t.png",
+        ]);
+        assert_user_error(&o, needle);
+        assert!(stderr(&o).contains("t.toml:5:"), "{}", stderr(&o));
+    }
+}
