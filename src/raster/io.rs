@@ -5,7 +5,7 @@ use std::fs::File;
 use std::io::{BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 
-use super::{quantize, Image};
+use super::{partial, quantize, Image};
 
 #[derive(Debug, thiserror::Error)]
 pub enum ImageIoError {
@@ -99,12 +99,30 @@ pub fn write(path: &Path, img: &Image, srgb: bool) -> Result<(), ImageIoError> {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
+    partial::remove_stale(dir);
+    let prefix = partial::prefix();
     let mut builder = tempfile::Builder::new();
-    builder.prefix(".glint-").suffix(".tmp");
+    builder.prefix(&prefix).suffix(".tmp");
     // tempfile makes private files; an image is as readable as any new file.
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
     let tmp = builder.tempfile_in(dir).map_err(io_err(path))?;
+    let tmp_path = tmp.path().to_owned();
+    partial::register(&tmp_path);
+    let result = write_into(tmp, path, format, img, srgb);
+    partial::unregister(&tmp_path);
+    result
+}
+
+/// Writes the image into `tmp`, then renames it over `path`; a failure drops
+/// (and so removes) `tmp`.
+fn write_into(
+    tmp: tempfile::NamedTempFile,
+    path: &Path,
+    format: Format,
+    img: &Image,
+    srgb: bool,
+) -> Result<(), ImageIoError> {
     {
         let mut out = BufWriter::new(tmp.as_file());
         match format {

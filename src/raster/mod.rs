@@ -2,6 +2,7 @@
 
 pub mod diff;
 pub mod io;
+pub mod partial;
 
 /// A linear RGB image, rows top to bottom.
 #[derive(Debug, Clone, PartialEq)]
