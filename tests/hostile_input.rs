@@ -143,3 +143,28 @@ fn a_triple_must_have_exactly_three_numbers() {
         assert!(stderr(&o).contains("t.toml:5:"), "{}", stderr(&o));
     }
 }
+
+#[test]
+fn a_main_shader_that_writes_nothing_is_an_error_not_stale_memory() {
+    let dir = tempfile::tempdir().unwrap();
+    let main = dir.path().join("main.comp");
+    std::fs::write(
+        &main,
+        "#version 450\n#extension GL_GOOGLE_include_directive : require\n\
+         layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;\n\
+         #include \"bindings.glsl\"\nvoid main() {}\n",
+    )
+    .unwrap();
+    let scene = common::repo().join("scenes/seed-fig3.toml");
+    let out = dir.path().join("x.pfm");
+    let o = glint(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--shader",
+        main.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_user_error(&o, "the shader wrote nothing at pixel (0, 0)");
+    assert!(!out.exists());
+}

@@ -31,6 +31,8 @@ use vk::pipeline_cache::PipelineCache;
 /// enough to trip a desktop GPU's watchdog, large enough to fill one.
 const RAYS_PER_DISPATCH: u64 = 1 << 22;
 const WORKGROUP: u32 = 8;
+/// The word the output tile is filled with before each dispatch: a NaN.
+const UNWRITTEN: u32 = 0xffff_ffff;
 
 /// Which ray/primitive intersection forms the shader uses.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize)]
@@ -346,7 +348,7 @@ impl Renderer {
                 Block::Pixels => Buffer::new(
                     d,
                     out_bytes,
-                    raw::BufferUsageFlags::STORAGE_BUFFER,
+                    raw::BufferUsageFlags::STORAGE_BUFFER | raw::BufferUsageFlags::TRANSFER_DST,
                     "the output tile",
                 )?,
             });
@@ -362,15 +364,22 @@ impl Renderer {
             for x0 in (0..width).step_by(tile_w as usize) {
                 let (w, h) = (tile_w.min(width - x0), tile_h.min(height - y0));
                 let t1 = Instant::now();
-                self.dispatch(pipeline, TileRect(UVec4::new(x0, y0, w, h)))?;
+                self.dispatch(pipeline, out.raw, TileRect(UVec4::new(x0, y0, w, h)))?;
                 let t2 = Instant::now();
                 let tile: &[[f32; 4]] = out.read(w as usize * h as usize);
-                // Alpha 1: every loop of the invocation ran to its end (shaders/budget.glsl).
+                // Alpha 1: every loop of the invocation ran to its end
+                // (shaders/budget.glsl); 0: they were cut short; NaN, the
+                // fill below: the shader wrote nothing there.
                 if let Some(i) = tile.iter().position(|s| s[3] != 1.0) {
-                    return Err(GpuError::LoopBudget {
-                        x: x0 + i as u32 % w,
-                        y: y0 + i as u32 / w,
-                        device: self.device.info.name.clone(),
+                    let (x, y) = (x0 + i as u32 % w, y0 + i as u32 / w);
+                    return Err(if tile[i][3].is_nan() {
+                        GpuError::Unwritten { x, y }
+                    } else {
+                        GpuError::LoopBudget {
+                            x,
+                            y,
+                            device: self.device.info.name.clone(),
+                        }
                     });
                 }
                 for (row, src) in tile.chunks_exact(w as usize).enumerate() {
@@ -388,9 +397,29 @@ impl Renderer {
         Ok((Image::new(width, height, pixels), times))
     }
 
-    fn dispatch(&self, p: &ComputePipeline, rect: TileRect) -> Result<(), GpuError> {
+    fn dispatch(
+        &self,
+        p: &ComputePipeline,
+        out: raw::Buffer,
+        rect: TileRect,
+    ) -> Result<(), GpuError> {
         let groups = |n: u32| n.div_ceil(WORKGROUP);
         self.commands.run(|dev, cb| unsafe {
+            // Every output word starts as a NaN, so a pixel the shader never
+            // writes is seen, not read as whatever the memory held.
+            dev.cmd_fill_buffer(cb, out, 0, raw::WHOLE_SIZE, UNWRITTEN);
+            let filled = raw::MemoryBarrier::default()
+                .src_access_mask(raw::AccessFlags::TRANSFER_WRITE)
+                .dst_access_mask(raw::AccessFlags::SHADER_WRITE);
+            dev.cmd_pipeline_barrier(
+                cb,
+                raw::PipelineStageFlags::TRANSFER,
+                raw::PipelineStageFlags::COMPUTE_SHADER,
+                raw::DependencyFlags::empty(),
+                &[filled],
+                &[],
+                &[],
+            );
             dev.cmd_bind_pipeline(cb, raw::PipelineBindPoint::COMPUTE, p.pipeline);
             dev.cmd_bind_descriptor_sets(
                 cb,
