@@ -4,6 +4,7 @@ mod cli;
 
 use std::process::ExitCode;
 
+use clap::error::ErrorKind;
 use clap::Parser;
 
 fn main() -> ExitCode {
@@ -15,11 +16,43 @@ fn main() -> ExitCode {
         eprintln!("error: interrupted");
         std::process::exit(130);
     });
-    let args = cli::Cli::parse();
+    let args = match cli::Cli::try_parse() {
+        Ok(args) => args,
+        Err(e) => return usage_error(e),
+    };
     match cli::run(args) {
         Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// clap's own text (usage, tips, or the help where a command is missing),
+/// then one closing line that says what is wrong, exit status 2; `--help`
+/// and `--version` print as clap prints them, exit status 0.
+fn usage_error(e: clap::Error) -> ExitCode {
+    match e.kind() {
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+            let _ = e.print();
+            ExitCode::SUCCESS
+        }
+        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            eprintln!("{}", e.render().to_string().trim_end());
+            eprintln!("error: a command is missing (see the usage above)");
+            ExitCode::from(2)
+        }
+        _ => {
+            let text = e.render().to_string();
+            let mut lines = text.trim().lines();
+            let first = lines.next().unwrap_or("error: bad arguments");
+            let rest: Vec<&str> = lines.collect();
+            let rest = rest.join("\n");
+            if !rest.trim().is_empty() {
+                eprintln!("{}\n", rest.trim());
+            }
+            eprintln!("{}", glint::printable::text(first));
             ExitCode::from(2)
         }
     }

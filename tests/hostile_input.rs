@@ -168,3 +168,48 @@ fn a_main_shader_that_writes_nothing_is_an_error_not_stale_memory() {
     assert_user_error(&o, "the shader wrote nothing at pixel (0, 0)");
     assert!(!out.exists());
 }
+
+#[test]
+fn errors_are_one_line_escaped_and_bounded() {
+    let dir = tempfile::tempdir().unwrap();
+    // clap keeps its usage text, then closes on one `error:` line.
+    let o = glint(&["render", "--bogus"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = stderr(&o);
+    let last = err.trim_end().lines().last().unwrap();
+    assert!(
+        last.starts_with("error: unexpected argument '--bogus'"),
+        "{err}"
+    );
+
+    // A TOML syntax error: one line.
+    let syntax = dir.path().join("syntax.toml");
+    std::fs::write(&syntax, "[image\nwidth = 8\n").unwrap();
+    let o = glint(&["render", syntax.to_str().unwrap()]);
+    assert_user_error(&o, "syntax.toml:1:7:");
+    assert_eq!(stderr(&o).trim().lines().count(), 1, "{}", stderr(&o));
+
+    // A newline and a terminal escape in a path are shown escaped.
+    let o = glint(&["render", "/nonexistent/a\nb\u{1b}[31m.toml"]);
+    assert_user_error(&o, "a\\nb\\u{1b}[31m.toml");
+    assert_eq!(stderr(&o).trim().lines().count(), 1);
+
+    // A megabyte of material name is cut short.
+    let long = "m".repeat(1 << 20);
+    let scene = dir.path().join("long.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            "[image]\nwidth = 8\nheight = 8\n[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nvfov = 40\n\
+             [materials.a]\n[[spheres]]\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"{long}\"\n"
+        ),
+    )
+    .unwrap();
+    let o = glint(&["render", scene.to_str().unwrap(), "--backend", "cpu"]);
+    assert_user_error(&o, "unknown material");
+    assert!(stderr(&o).len() < 2000, "{} bytes", stderr(&o).len());
+
+    // `shader check` on a missing file is a user error like any other.
+    let o = glint(&["shader", "check", "/nonexistent/main.comp"]);
+    assert_user_error(&o, "no such file");
+}

@@ -44,6 +44,11 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
             include,
             define,
         } => {
+            anyhow::ensure!(
+                file.is_file(),
+                "{}: no such file",
+                glint::printable::path(file)
+            );
             let sources = compile::Sources {
                 dirs: include.clone(),
                 main: Some(file.clone()),

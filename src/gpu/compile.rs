@@ -116,8 +116,10 @@ impl IncludeHandler for Includes<'_> {
         if depth > MAX_INCLUDE_DEPTH {
             self.too_deep.borrow_mut().get_or_insert_with(|| {
                 format!(
-                    "{from}: #include \"{name}\" nests deeper than {MAX_INCLUDE_DEPTH} files: \
-                     an include cycle?"
+                    "{}: error: #include \"{}\" nests deeper than {MAX_INCLUDE_DEPTH} files: \
+                     an include cycle?",
+                    crate::printable::text(from),
+                    crate::printable::text(name)
                 )
             });
             return None;

@@ -21,7 +21,8 @@ pub enum GpuError {
     },
     #[error("no memory type for {0} on this device")]
     NoMemoryType(&'static str),
-    #[error("the shader does not compile:\n{0}")]
+    /// glslang's errors, one a line: the first line says what and where.
+    #[error("the shader does not compile: {0}")]
     Shader(String),
     #[error("the Vulkan validation layer reported {} message(s):\n{}", .0.len(), .0.join("\n"))]
     Validation(Vec<String>),

@@ -9,23 +9,27 @@ use super::{partial, quantize, Image};
 
 #[derive(Debug, thiserror::Error)]
 pub enum ImageIoError {
-    #[error("{}: unsupported image type (expected .png, .pfm or .exr)", .0.display())]
+    #[error("{}: unsupported image type (expected .png, .pfm or .exr)", crate::printable::path(.0))]
     Format(PathBuf),
     // Causes are part of the message rather than a `source`, so that a
     // report of the error chain does not print them twice.
-    #[error("{}: {cause}", path.display())]
+    #[error("{}: {cause}", crate::printable::path(path))]
     Io {
         path: PathBuf,
         cause: std::io::Error,
     },
-    #[error("{}: {cause}", path.display())]
+    #[error("{}: {cause}", crate::printable::path(path))]
     Codec {
         path: PathBuf,
         cause: image::ImageError,
     },
-    #[error("{}: not a valid PFM file: {reason}", path.display())]
+    #[error("{}: not a valid PFM file: {reason}", crate::printable::path(path))]
     BadPfm { path: PathBuf, reason: String },
-    #[error("{}: is the input {}; refusing to overwrite an input (name another output)", output.display(), input.display())]
+    #[error(
+        "{}: is the input {}; refusing to overwrite an input (name another output)",
+        crate::printable::path(output),
+        crate::printable::path(input)
+    )]
     OverwritesInput { output: PathBuf, input: PathBuf },
 }
 

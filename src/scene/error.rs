@@ -5,13 +5,18 @@ use std::path::PathBuf;
 pub enum SceneError {
     // The cause is part of the message, not a `source`, so that a report
     // of the error chain does not print it twice.
-    #[error("cannot read scene {}: {cause}", path.display())]
+    #[error("cannot read scene {}: {cause}", crate::printable::path(path))]
     Read {
         path: PathBuf,
         cause: std::io::Error,
     },
     /// A value that breaks docs/scene-format.md: the file, the line and column, the key.
-    #[error("{}:{line}:{column}: {key}: {message}", file.display())]
+    #[error(
+        "{}:{line}:{column}: {}: {}",
+        crate::printable::path(file),
+        crate::printable::text(key),
+        crate::printable::one_line(message)
+    )]
     Invalid {
         file: PathBuf,
         line: usize,
@@ -20,7 +25,11 @@ pub enum SceneError {
         message: String,
     },
     /// The TOML itself does not parse (no key to name yet).
-    #[error("{}:{line}:{column}: {message}", file.display())]
+    #[error(
+        "{}:{line}:{column}: {}",
+        crate::printable::path(file),
+        crate::printable::one_line(message)
+    )]
     Syntax {
         file: PathBuf,
         line: usize,

@@ -144,7 +144,10 @@ impl Check<'_> {
                 Ok(i) => Ok(i as u32),
                 Err(_) if names.is_empty() => self.err(
                     path,
-                    format!("unknown material \"{name}\" (the scene defines no [materials])"),
+                    format!(
+                        "unknown material \"{}\" (the scene defines no [materials])",
+                        crate::printable::text(name)
+                    ),
                 ),
                 Err(_) => {
                     const SHOWN: usize = 10;
@@ -156,7 +159,8 @@ impl Check<'_> {
                     self.err(
                         path,
                         format!(
-                            "unknown material \"{name}\" (defined: {})",
+                            "unknown material \"{}\" (defined: {})",
+                            crate::printable::text(name),
                             listed.join(", ")
                         ),
                     )

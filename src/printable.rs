@@ -1,0 +1,66 @@
+//! User text as an error message shows it: on one line, with control
+//! characters (newlines, terminal escapes) escaped, and cut short with "…".
+//! A name or path comes from the user and may hold anything.
+
+use std::path::Path;
+
+/// Characters of one name or path that a message shows at most.
+pub const MAX_CHARS: usize = 200;
+
+/// Characters of a whole message line at most.
+pub const MAX_MESSAGE_CHARS: usize = 1000;
+
+/// `s` escaped and cut to `MAX_CHARS`.
+pub fn text(s: &str) -> String {
+    cut(s, MAX_CHARS)
+}
+
+fn cut(s: &str, max: usize) -> String {
+    let mut out = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if i == max {
+            out.push('…');
+            break;
+        }
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// A path as `text` shows it.
+pub fn path(p: &Path) -> String {
+    text(&p.to_string_lossy())
+}
+
+/// A message from a library that may span lines, on one line.
+pub fn one_line(s: &str) -> String {
+    text(
+        &s.trim()
+            .lines()
+            .map(str::trim)
+            .collect::<Vec<_>>()
+            .join("; "),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn control_characters_are_escaped_and_long_text_is_cut() {
+        assert_eq!(text("a\nb\u{1b}[31m"), "a\\nb\\u{1b}[31m");
+        let long = "x".repeat(1_000_000);
+        let shown = text(&long);
+        assert_eq!(shown.chars().count(), MAX_CHARS + 1);
+        assert!(shown.ends_with('…'));
+        assert_eq!(
+            one_line("invalid table header\nexpected `.`, `]`\n"),
+            "invalid table header; expected `.`, `]`"
+        );
+    }
+}
