@@ -68,9 +68,9 @@ fn main() -> anyhow::Result<()> {
     );
     for path in &scenes {
         let scene = Scene::load(path, &Overrides::default())?;
-        own.prepare_for(&scene)?;
+        let setup = own.prepare_for(&scene)?;
         generic.prepare_for(&scene)?;
-        let compile = own.setup.compile_s + own.setup.pipeline_s;
+        let compile = setup.compile_s + setup.pipeline_s;
         let t = Instant::now();
         let (gpu_img, _) = own.render(&scene, &|_| {})?;
         let first = t.elapsed().as_secs_f64();

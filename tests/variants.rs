@@ -125,3 +125,32 @@ material = "m"
         "{defines:?}"
     );
 }
+
+/// Setup times belong to the call that asked for them: a variant built
+/// before costs nothing now, rather than showing the last compile's time
+/// (docs/report.md once printed the f64 variant's compile as the generic
+/// shader's).
+#[test]
+fn setup_times_are_those_of_the_call() {
+    let mut generic = renderer(true, Intersect::Robust, Precision::F32);
+    let a = Scene::load(
+        &common::repo().join("scenes/seed-fig3.toml"),
+        &Overrides::default(),
+    )
+    .unwrap();
+    let b = Scene::load(
+        &common::repo().join("scenes/seed-fig4.toml"),
+        &Overrides::default(),
+    )
+    .unwrap();
+    let first = generic.prepare_for(&a).unwrap();
+    assert!(first.compile_s > 0.0 && first.pipeline_s > 0.0, "{first:?}");
+    generic.precision = Precision::F64;
+    let f64_setup = generic.prepare_for(&a).unwrap();
+    assert!(f64_setup.compile_s > 0.0, "{f64_setup:?}");
+    generic.precision = Precision::F32;
+    // The generic f32 shader again, for another scene: already built.
+    let again = generic.prepare_for(&b).unwrap();
+    assert_eq!((again.compile_s, again.pipeline_s), (0.0, 0.0), "{again:?}");
+    assert_eq!(generic.setup.compile_s, 0.0);
+}

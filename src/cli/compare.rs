@@ -4,7 +4,6 @@ use std::process::ExitCode;
 use clap::Args;
 use serde_json::json;
 
-use glint::gpu;
 use glint::raster::diff::{self, ErrorFigures, Tolerance};
 use glint::raster::io;
 
@@ -52,7 +51,8 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     let load_s = t_load.elapsed().as_secs_f64();
     // The first render pays for the driver's own compile of the shader (on
     // lavapipe, LLVM at the first dispatch); the timed one is the second.
-    let (gpu_image, mut renderer, first) = render_gpu_timed(&scene, &a.device, Precision::F32)?;
+    let (gpu_image, mut renderer, first, setup) =
+        render_gpu_timed(&scene, &a.device, Precision::F32)?;
     let (warm_image, gpu_times) = renderer.render(&scene, &|_| {})?;
     anyhow::ensure!(
         warm_image == gpu_image,
@@ -72,7 +72,6 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     let threads = rayon::current_num_threads();
     let info = renderer.device_info();
     let variant = renderer.variant_for(&scene).0.name();
-    let setup: gpu::SetupTimes = renderer.setup;
     if a.json {
         let out = json!({
             "scene": a.scene.scene,

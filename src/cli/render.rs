@@ -67,7 +67,7 @@ pub fn render_gpu(
     device: &DeviceArgs,
     precision: Precision,
 ) -> anyhow::Result<(Image, String, f64)> {
-    let (image, renderer, times) = render_gpu_timed(scene, device, precision)?;
+    let (image, renderer, times, _) = render_gpu_timed(scene, device, precision)?;
     let name = if precision == Precision::F64 {
         "f64"
     } else {
@@ -80,19 +80,20 @@ pub fn render_gpu(
     ))
 }
 
-/// Renders on the GPU, returning the renderer too for its device and setup times.
+/// Renders on the GPU, returning the renderer too (for its device) and
+/// the setup times of the scene's variant.
 pub fn render_gpu_timed(
     scene: &Scene,
     device: &DeviceArgs,
     precision: Precision,
-) -> anyhow::Result<(Image, gpu::Renderer, gpu::RenderTimes)> {
+) -> anyhow::Result<(Image, gpu::Renderer, gpu::RenderTimes, gpu::SetupTimes)> {
     let mut options = device.options()?;
     options.precision = match precision {
         Precision::F32 => gpu::Precision::F32,
         Precision::F64 => gpu::Precision::F64,
     };
     let mut renderer = gpu::Renderer::new(&options)?;
-    renderer.prepare_for(scene)?;
+    let setup = renderer.prepare_for(scene)?;
     let bar = progress::bar(
         scene.pixel_count(),
         if precision == Precision::F64 {
@@ -103,7 +104,7 @@ pub fn render_gpu_timed(
     );
     let (image, times) = renderer.render(scene, &|n| bar.inc(n))?;
     bar.finish_and_clear();
-    Ok((image, renderer, times))
+    Ok((image, renderer, times, setup))
 }
 
 pub fn render_cpu(scene: &Scene, precision: Precision, accel: Accel) -> (Image, String, f64) {

@@ -264,6 +264,11 @@ impl Renderer {
         let fingerprint = self.sources.fingerprint();
         let key = (variant.clone(), fingerprint);
         if self.pipelines.contains_key(&key) {
+            // Built before: this call cost nothing (not the last compile's time).
+            self.setup = SetupTimes {
+                device_s: self.setup.device_s,
+                ..SetupTimes::default()
+            };
             return Ok(key);
         }
         let t0 = Instant::now();
@@ -291,10 +296,12 @@ impl Renderer {
     }
 
     /// Compiles what `scene` needs without rendering it, so that a timed
-    /// render measures the render alone.
-    pub fn prepare_for(&mut self, scene: &Scene) -> Result<(), GpuError> {
+    /// render measures the render alone. Returns what this call cost: zero
+    /// compile and pipeline times where the variant was built before.
+    pub fn prepare_for(&mut self, scene: &Scene) -> Result<SetupTimes, GpuError> {
         let (variant, defines) = self.variant_for(scene);
-        self.prepare(&variant, &defines).map(|_| ())
+        self.prepare(&variant, &defines)?;
+        Ok(self.setup)
     }
 
     /// Renders `scene`, calling `progress(pixels)` as tiles finish.

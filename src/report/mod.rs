@@ -291,8 +291,7 @@ pub fn measure(
                 renderer.intersect = form;
                 renderer.precision = precision;
                 renderer.generic = matches!(backend, Backend::GpuGeneric);
-                renderer.prepare_for(&s)?;
-                let setup = renderer.setup;
+                let setup = renderer.prepare_for(&s)?;
                 let (image, _) = renderer.render(&s, &|_| {})?; // warm-up, untimed
                 let mut runs: Vec<(f64, crate::gpu::RenderTimes)> = Vec::new();
                 for _ in 0..settings.runs {
