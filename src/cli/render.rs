@@ -24,6 +24,9 @@ pub struct RenderArgs {
     /// Arithmetic precision [default: f32 on the GPU, f64 on the CPU]
     #[arg(long, value_enum)]
     precision: Option<Precision>,
+    /// Replace a read-only output file too.
+    #[arg(long)]
+    force: bool,
     #[command(flatten)]
     device: DeviceArgs,
 }
@@ -45,12 +48,14 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     // Refuse a bad output name before spending time on the render.
     io::Format::of(&output)?;
     io::refuse_input(&output, &a.inputs())?;
+    io::check_target(&output, a.force)?;
     let scene = a.scene.load()?;
     let (image, label, seconds) = match (a.backend, a.precision) {
         (Backend::Gpu, p) => render_gpu(&scene, &a.device, p.unwrap_or(Precision::F32))?,
         (Backend::Cpu, p) => render_cpu(&scene, p.unwrap_or(Precision::F64), a.device.accel.into()),
     };
-    io::write(&output, &image, scene.srgb).with_context(|| "cannot write the image")?;
+    io::write_forced(&output, &image, scene.srgb, a.force)
+        .with_context(|| "cannot write the image")?;
     eprintln!(
         "rendered {}x{} ({} spp, depth {}) with {label} in {seconds:.3} s -> {}",
         scene.width,

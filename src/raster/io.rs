@@ -31,6 +31,8 @@ pub enum ImageIoError {
         crate::printable::path(input)
     )]
     OverwritesInput { output: PathBuf, input: PathBuf },
+    #[error("{}: is read-only; refusing to replace it (remove it, or render with --force)", crate::printable::path(.0))]
+    ReadOnly(PathBuf),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -96,9 +98,24 @@ fn same_file(_: &std::fs::Metadata, _: &std::fs::Metadata) -> bool {
     false
 }
 
-/// Writes `img` to `path` in the format its extension names.
+/// Writes `img` to `path` in the format its extension names, refusing a
+/// read-only file (see `write_forced`).
 pub fn write(path: &Path, img: &Image, srgb: bool) -> Result<(), ImageIoError> {
+    write_forced(path, img, srgb, false)
+}
+
+/// Writes `img` to `path` atomically: into a temporary file beside the
+/// target, renamed over it. Where `path` is a symbolic link, the file it
+/// points to is replaced and the link stays. An existing read-only target
+/// is refused unless `force`; the new file keeps the old one's permissions.
+/// Other hard links to the old file keep the old image: a rename replaces a
+/// name, not the file's contents.
+pub fn write_forced(path: &Path, img: &Image, srgb: bool, force: bool) -> Result<(), ImageIoError> {
     let format = Format::of(path)?;
+    check_target(path, force)?;
+    let target = follow_links(path);
+    let path = target.as_path();
+    let old = std::fs::metadata(path).ok();
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
@@ -111,11 +128,46 @@ pub fn write(path: &Path, img: &Image, srgb: bool) -> Result<(), ImageIoError> {
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
     let tmp = builder.tempfile_in(dir).map_err(io_err(path))?;
+    if let Some(meta) = &old {
+        tmp.as_file()
+            .set_permissions(meta.permissions())
+            .map_err(io_err(path))?;
+    }
     let tmp_path = tmp.path().to_owned();
     partial::register(&tmp_path);
     let result = write_into(tmp, path, format, img, srgb);
     partial::unregister(&tmp_path);
     result
+}
+
+/// Fails where `write_forced(path, .., force)` would refuse the target, so
+/// that a command can say so before it renders.
+pub fn check_target(path: &Path, force: bool) -> Result<(), ImageIoError> {
+    let target = follow_links(path);
+    match std::fs::metadata(&target) {
+        Ok(meta) if meta.permissions().readonly() && !force => Err(ImageIoError::ReadOnly(target)),
+        _ => Ok(()),
+    }
+}
+
+/// The file a chain of symbolic links ends at (the path itself where it is
+/// none, or where a link cannot be read). A dangling link ends at the name
+/// it points to, which the write then creates.
+fn follow_links(path: &Path) -> PathBuf {
+    let mut p = path.to_owned();
+    // Forty links, as Linux allows, before a loop is left to the write to report.
+    for _ in 0..40 {
+        match std::fs::read_link(&p) {
+            Ok(next) => {
+                p = match p.parent() {
+                    Some(dir) if next.is_relative() => dir.join(next),
+                    _ => next,
+                }
+            }
+            Err(_) => break,
+        }
+    }
+    p
 }
 
 /// Writes the image into `tmp`, then renames it over `path`; a failure drops
