@@ -162,7 +162,7 @@ proptest! {
         let mut bytes = format!("PF\n{w} {h}\n{scale}\n").into_bytes();
         bytes.extend(data);
         if let Ok(img) = io::read_pfm(&bytes) {
-            prop_assert_eq!(u64::from(img.width) * u64::from(img.height), (w * h));
+            prop_assert_eq!(u64::from(img.width) * u64::from(img.height), w * h);
         }
     }
 
