@@ -213,3 +213,35 @@ fn errors_are_one_line_escaped_and_bounded() {
     let o = glint(&["shader", "check", "/nonexistent/main.comp"]);
     assert_user_error(&o, "no such file");
 }
+
+/// Each error names the key that is wrong (issue 10, defect 7).
+#[test]
+fn errors_name_the_right_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let cam = "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nvfov = 40\n";
+    for (text, needle) in [
+        (
+            "[image]\nwidth = 8\nheight = 8\n".to_owned(),
+            "k.toml:1:1: camera: missing table",
+        ),
+        (
+            "[image]\nwidth = 8\nheight = 8\n[camera]\neye = [1e308, 0, 5]\nlook_at = [0, 0, 0]\nvfov = 40\n"
+                .to_owned(),
+            "camera.eye: is too far from look_at",
+        ),
+        (
+            format!("[image]\nwidth = 9223372036854775808\nheight = 8\n{cam}"),
+            "k.toml:2:9: image.width: number too large",
+        ),
+        (
+            format!("[image]\nwidth = 1979-05-27\nheight = 8\n{cam}"),
+            "image.width: invalid type: date-time",
+        ),
+    ] {
+        let path = dir.path().join("k.toml");
+        std::fs::write(&path, &text).unwrap();
+        let o = glint(&["render", path.to_str().unwrap(), "--backend", "cpu", "-o", "/nonexistent/k.png"]);
+        assert_user_error(&o, needle);
+        assert_eq!(stderr(&o).trim().lines().count(), 1);
+    }
+}

@@ -131,6 +131,41 @@ impl Located {
     pub fn line_col(&self, offset: usize) -> LineCol {
         line_col(&self.text, offset)
     }
+
+    /// Whether a TOML date-time starts at `offset` (four digits and a dash).
+    pub fn is_datetime_at(&self, offset: usize) -> bool {
+        let t = self.text.as_bytes().get(offset..).unwrap_or_default();
+        t.len() >= 5 && t[..4].iter().all(u8::is_ascii_digit) && t[4] == b'-'
+    }
+
+    /// For text that toml_edit cannot parse: the key of the `key = value`
+    /// line holding `offset`, under the last `[table]` header above it.
+    pub fn key_on_line(&self, offset: usize) -> Option<KeyPath> {
+        let before = self.text.get(..offset.min(self.text.len()))?;
+        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+        let line = self.text[line_start..].lines().next()?;
+        let (key, _) = line.split_once('=')?;
+        let key = key.trim();
+        if key.is_empty() || key.starts_with('[') {
+            return None;
+        }
+        let table = before[..line_start].lines().rev().find_map(|l| {
+            let l = l.trim();
+            (l.starts_with('[') && !l.starts_with("[["))
+                .then(|| l.trim_matches(['[', ']']).trim().to_owned())
+                .or_else(|| {
+                    l.starts_with("[[")
+                        .then(|| l.trim_matches(['[', ']']).trim().to_owned())
+                })
+        });
+        let mut path = KeyPath::default();
+        if let Some(t) = table {
+            for seg in t.split('.') {
+                path = path.key(seg.trim());
+            }
+        }
+        Some(path.key(key))
+    }
 }
 
 /// A position in the document: toml_edit keeps tables, arrays of tables and

@@ -38,8 +38,27 @@ pub fn parse(text: &str, file: &Path, overrides: &Overrides) -> Result<Scene> {
 fn toml_error(e: &toml::de::Error, file: &Path, located: &Located) -> SceneError {
     let span = e.span().unwrap_or(0..0);
     let at = located.line_col(span.start);
-    let message = e.message().trim().to_owned();
-    match located.path_at(&span) {
+    let mut message = e.message().trim().to_owned();
+    // toml hands a date-time to serde as a map.
+    if message.contains("invalid type: map") && located.is_datetime_at(span.start) {
+        message = message.replace("invalid type: map", "invalid type: date-time");
+    }
+    // A missing top-level table: toml gives it no span at all.
+    if let Some(field) = message.strip_prefix("missing field ") {
+        if e.span().is_none_or(|s| s == (0..0)) {
+            return SceneError::Invalid {
+                file: file.to_owned(),
+                line: 1,
+                column: 1,
+                key: field.trim_matches('`').to_owned(),
+                message: "missing table (required)".to_owned(),
+            };
+        }
+    }
+    let key = located
+        .path_at(&span)
+        .or_else(|| located.key_on_line(span.start));
+    match key {
         Some(key) => SceneError::Invalid {
             file: file.to_owned(),
             line: at.line,
@@ -412,6 +431,15 @@ impl Check<'_> {
             );
         }
         let up = self.direction(&path.key("up"), c.up.unwrap_or(Triple([0.0, 1.0, 0.0])))?;
+        if !(look_at - eye).length().is_finite() {
+            return self.err(
+                &path.key("eye"),
+                format!(
+                    "is too far from look_at: their distance, {:e}, overflows",
+                    (look_at - eye).abs().max_element()
+                ),
+            );
+        }
         let fwd = (look_at - eye).normalize_or_zero();
         if fwd == DVec3::ZERO {
             return self.err(&path.key("look_at"), "must differ from eye");
