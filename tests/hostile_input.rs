@@ -245,3 +245,15 @@ fn errors_name_the_right_key() {
         assert_eq!(stderr(&o).trim().lines().count(), 1);
     }
 }
+
+/// A define's value that would break its preprocessor line is refused by
+/// name, not blamed on line -1 or line 1 of the shader.
+#[test]
+fn a_define_that_breaks_the_preprocessor_is_named() {
+    let main = common::repo().join("shaders/main.comp");
+    for d in ["X=\"", "X=#", "X=\\"] {
+        let o = glint(&["shader", "check", main.to_str().unwrap(), "-D", d]);
+        assert_user_error(&o, "a define's value may not hold");
+        assert!(!stderr(&o).contains("-1:"), "{}", stderr(&o));
+    }
+}

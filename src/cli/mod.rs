@@ -209,8 +209,21 @@ pub fn parse_define(d: &str) -> anyhow::Result<(String, Option<String>)> {
         && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
     anyhow::ensure!(
         ok,
-        "-D {d}: a define is NAME or NAME=VALUE, NAME made of letters, digits and _"
+        "-D {}: a define is NAME or NAME=VALUE, NAME made of letters, digits and _",
+        glint::printable::text(d)
     );
+    // These end or break the preprocessor line the define becomes, and
+    // glslang would blame a line of the shader for them.
+    if let Some(bad) = value.as_deref().and_then(|v| {
+        v.chars()
+            .find(|c| matches!(c, '"' | '\\' | '#') || c.is_control())
+    }) {
+        anyhow::bail!(
+            "-D {}: a define's value may not hold {}",
+            glint::printable::text(d),
+            bad.escape_default()
+        );
+    }
     Ok((name.to_owned(), value))
 }
 

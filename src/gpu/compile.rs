@@ -301,7 +301,12 @@ fn format_log(e: &GlslangError, main_path: &str) -> String {
         });
         match parsed {
             Some((file, n, message)) => {
-                let file = if file == "0" { main_path } else { file };
+                // "0" is the main file, "-1" the preamble of -D defines.
+                let file = match file {
+                    "0" => main_path,
+                    "-1" => "-D",
+                    f => f,
+                };
                 out.push(format!("{file}:{n}: {kind}: {message}"));
             }
             // "ERROR: 1 compilation errors.  No code generated." and the like.
