@@ -227,7 +227,7 @@ fn errors_name_the_right_key() {
         (
             "[image]\nwidth = 8\nheight = 8\n[camera]\neye = [1e308, 0, 5]\nlook_at = [0, 0, 0]\nvfov = 40\n"
                 .to_owned(),
-            "camera.eye: is too far from look_at",
+            "k.toml:5:8: camera.eye[0]: must be within ±1e18",
         ),
         (
             format!("[image]\nwidth = 9223372036854775808\nheight = 8\n{cam}"),
@@ -255,5 +255,41 @@ fn a_define_that_breaks_the_preprocessor_is_named() {
         let o = glint(&["shader", "check", main.to_str().unwrap(), "-D", d]);
         assert_user_error(&o, "a define's value may not hold");
         assert!(!stderr(&o).contains("-1:"), "{}", stderr(&o));
+    }
+}
+
+/// Inputs whose products could overflow f32 are refused with the bound
+/// (issue 10, defect 6): a colour of 1e308 made inf and NaN pixels on both
+/// backends, a camera at 2^63 NaN pixels on the GPU.
+#[test]
+fn values_that_could_overflow_f32_are_refused_with_the_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let lit = "[[spheres]]\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"m\"\n\
+               [[lights]]\ntype = \"point\"\nposition = [3, 3, 3]\ndiffuse = [1, 1, 1]\n";
+    let cam = "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nvfov = 40\n";
+    for (text, needle) in [
+        (
+            format!("[image]\nwidth = 8\nheight = 8\n{cam}[materials.m]\ndiffuse = [1e308, 0, 0]\n{lit}"),
+            "lights[0]: the brightest pixel this scene can make",
+        ),
+        (
+            "[image]\nwidth = 8\nheight = 8\n[camera]\neye = [0, 0, 9223372036854775808.0]\n\
+             screen_center = [0, 0, 0]\nscreen_right = [1, 0, 0]\nscreen_up = [0, 1, 0]\n"
+                .to_owned(),
+            "camera.eye[2]: must be within ±1e18",
+        ),
+        (
+            format!("[image]\nwidth = 8\nheight = 8\n{cam}[materials.m]\n[[spheres]]\ncenter = [0, 0, 0]\nradius = 1e30\nmaterial = \"m\"\n"),
+            "spheres[0].radius: must be at most 1e18",
+        ),
+        (
+            format!("[image]\nwidth = 8\nheight = 8\n{cam}[materials.m]\ndiffuse = [1, 1, 1]\n{lit}").replace("position = [3, 3, 3]", "position = [1e308, 3, 3]"),
+            "lights[0].position[0]: must be within ±1e18",
+        ),
+    ] {
+        let path = dir.path().join("o.toml");
+        std::fs::write(&path, &text).unwrap();
+        let o = glint(&["render", path.to_str().unwrap(), "--backend", "cpu", "-o", "/nonexistent/o.png"]);
+        assert_user_error(&o, needle);
     }
 }

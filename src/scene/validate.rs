@@ -32,8 +32,17 @@ pub fn parse(text: &str, file: &Path, overrides: &Overrides) -> Result<Scene> {
     };
     let mut scene = check.scene(raw, overrides)?;
     apply_overrides(&mut scene, overrides)?;
+    check.brightness(&scene)?;
     Ok(scene)
 }
+
+/// Coordinates and lengths at most this far from 0: squared distances
+/// (about 1e36 each, three to a length) stay inside f32's 3.4e38.
+pub const MAX_COORDINATE: f64 = 1e18;
+
+/// The brightest pixel value a scene may be able to make: a pixel sums up
+/// to 256 samples before it divides, and every sum stays inside f32.
+pub const MAX_BRIGHTNESS: f64 = 1e36;
 
 fn toml_error(e: &toml::de::Error, file: &Path, located: &Located) -> SceneError {
     let span = e.span().unwrap_or(0..0);
@@ -87,6 +96,60 @@ struct Check<'a> {
 type Result<T> = std::result::Result<T, SceneError>;
 
 impl Check<'_> {
+    /// Refuses a scene whose brightest possible pixel passes
+    /// `MAX_BRIGHTNESS`. A bounce adds at most the background, or, for
+    /// each light, (Ia·Ka + Id·Kd + Is·Ks) / c (every other factor is at
+    /// most 1, and the reflection weights multiply to at most 1).
+    fn brightness(&self, scene: &Scene) -> Result<()> {
+        let max = |v: DVec3| v.max_element();
+        let (ka, kd, ks) = scene
+            .materials
+            .iter()
+            .fold((0.0f64, 0.0f64, 0.0f64), |m, mat| {
+                (
+                    m.0.max(max(mat.ambient)),
+                    m.1.max(max(mat.diffuse)),
+                    m.2.max(max(mat.specular)),
+                )
+            });
+        let per_light: Vec<f64> = scene
+            .lights
+            .iter()
+            .map(|l| {
+                let c = if l.kind == LightKind::Directional {
+                    1.0
+                } else {
+                    l.attenuation.x
+                };
+                (max(l.ambient) * ka + max(l.diffuse) * kd + max(l.specular) * ks) / c
+            })
+            .collect();
+        let bounce = per_light.iter().sum::<f64>().max(max(scene.background));
+        let bound = bounce * f64::from(scene.max_depth);
+        if bound.is_finite() && bound <= MAX_BRIGHTNESS {
+            return Ok(());
+        }
+        let (worst, _) = per_light
+            .iter()
+            .enumerate()
+            .fold(
+                (None, 0.0f64),
+                |(w, m), (i, b)| if *b > m { (Some(i), *b) } else { (w, m) },
+            );
+        let path = match worst {
+            Some(i) => root().key("lights").index(i),
+            None => root().key("render").key("background"),
+        };
+        self.err(
+            &path,
+            format!(
+                "the brightest pixel this scene can make, up to {bound:e}, passes {MAX_BRIGHTNESS:e} \
+                 and could overflow f32: lower the light and material colours, or raise the \
+                 attenuation's constant term"
+            ),
+        )
+    }
+
     fn err<T>(&self, path: &KeyPath, message: impl Into<String>) -> Result<T> {
         let at = self.located.find(path);
         Err(SceneError::Invalid {
@@ -117,6 +180,21 @@ impl Check<'_> {
             self.finite(&path.index(i), *c)?;
         }
         Ok(DVec3::from_array(t.0))
+    }
+
+    /// A point or a length vector: finite and within ±`MAX_COORDINATE`.
+    fn position(&self, path: &KeyPath, t: Triple) -> Result<DVec3> {
+        let v = self.vector(path, t)?;
+        if let Some(i) = t.iter().position(|c| c.abs() > MAX_COORDINATE) {
+            return self.err(
+                &path.index(i),
+                format!(
+                    "must be within ±{MAX_COORDINATE:e}, so that squared distances stay finite in f32; got {:e}",
+                    t[i]
+                ),
+            );
+        }
+        Ok(v)
     }
 
     /// A colour or coefficient triple: finite and non-negative.
@@ -194,8 +272,14 @@ impl Check<'_> {
             if radius <= 0.0 {
                 return self.err(&path.key("radius"), format!("must be > 0, got {radius}"));
             }
+            if radius > MAX_COORDINATE {
+                return self.err(
+                    &path.key("radius"),
+                    format!("must be at most {MAX_COORDINATE:e}, got {radius:e}"),
+                );
+            }
             spheres.push(Sphere {
-                center: self.vector(&path.key("center"), s.center)?,
+                center: self.position(&path.key("center"), s.center)?,
                 radius,
                 material: material_index(&path.key("material"), &s.material)?,
             });
@@ -205,7 +289,7 @@ impl Check<'_> {
         for (i, p) in raw.planes.iter().enumerate() {
             let path = root().key("planes").index(i);
             planes.push(Plane {
-                point: self.vector(&path.key("point"), p.point)?,
+                point: self.position(&path.key("point"), p.point)?,
                 normal: self.direction(&path.key("normal"), p.normal)?,
                 material: material_index(&path.key("material"), &p.material)?,
             });
@@ -306,7 +390,7 @@ impl Check<'_> {
         };
 
         let position = if positioned {
-            self.vector(&path.key("position"), required("position", l.position)?)?
+            self.position(&path.key("position"), required("position", l.position)?)?
         } else {
             DVec3::ZERO
         };
@@ -361,7 +445,7 @@ impl Check<'_> {
     }
 
     fn camera(&self, path: &KeyPath, c: &CameraFile, aspect: f64) -> Result<Camera> {
-        let eye = self.vector(&path.key("eye"), c.eye)?;
+        let eye = self.position(&path.key("eye"), c.eye)?;
         let screen_form = [
             ("screen_center", c.screen_center),
             ("screen_right", c.screen_right),
@@ -390,15 +474,15 @@ impl Check<'_> {
                     return self.err(path, format!("missing key `{key}` (the screen camera needs screen_center, screen_right and screen_up)"));
                 }
             }
-            let center = self.vector(
+            let center = self.position(
                 &path.key("screen_center"),
                 c.screen_center.unwrap_or_default(),
             )?;
-            let right = self.vector(
+            let right = self.position(
                 &path.key("screen_right"),
                 c.screen_right.unwrap_or_default(),
             )?;
-            let up = self.vector(&path.key("screen_up"), c.screen_up.unwrap_or_default())?;
+            let up = self.position(&path.key("screen_up"), c.screen_up.unwrap_or_default())?;
             let normal = right.cross(up);
             if normal.length() == 0.0 || !normal.is_finite() {
                 return self.err(
@@ -419,7 +503,7 @@ impl Check<'_> {
         let Some(look_at) = c.look_at else {
             return self.err(path, "missing key `screen_center` or `look_at` (a camera needs either screen_center/screen_right/screen_up or look_at/vfov)");
         };
-        let look_at = self.vector(&path.key("look_at"), look_at)?;
+        let look_at = self.position(&path.key("look_at"), look_at)?;
         let Some(vfov) = c.vfov else {
             return self.err(path, "missing key `vfov` (required with look_at)");
         };
@@ -431,15 +515,6 @@ impl Check<'_> {
             );
         }
         let up = self.direction(&path.key("up"), c.up.unwrap_or(Triple([0.0, 1.0, 0.0])))?;
-        if !(look_at - eye).length().is_finite() {
-            return self.err(
-                &path.key("eye"),
-                format!(
-                    "is too far from look_at: their distance, {:e}, overflows",
-                    (look_at - eye).abs().max_element()
-                ),
-            );
-        }
         let fwd = (look_at - eye).normalize_or_zero();
         if fwd == DVec3::ZERO {
             return self.err(&path.key("look_at"), "must differ from eye");
