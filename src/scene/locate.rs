@@ -61,24 +61,32 @@ pub fn line_col(text: &str, offset: usize) -> LineCol {
     }
 }
 
-/// The parsed text of a scene, kept to locate errors.
+/// The text of a scene, kept to locate errors. Its document (with the span
+/// of every key) is parsed only when an error asks where: it takes about
+/// 20 times the text's size, which a scene that loads never needs.
 pub struct Located {
-    doc: Option<ImDocument<String>>,
+    doc: std::cell::OnceCell<Option<ImDocument<String>>>,
     text: String,
 }
 
 impl Located {
     pub fn new(text: &str) -> Self {
         Self {
-            doc: ImDocument::parse(text.to_owned()).ok(),
+            doc: std::cell::OnceCell::new(),
             text: text.to_owned(),
         }
+    }
+
+    fn doc(&self) -> Option<&ImDocument<String>> {
+        self.doc
+            .get_or_init(|| ImDocument::parse(self.text.clone()).ok())
+            .as_ref()
     }
 
     /// Where the value at `path` starts; where the path runs out (a missing
     /// key), the deepest table that exists.
     pub fn find(&self, path: &KeyPath) -> Option<LineCol> {
-        let doc = self.doc.as_ref()?;
+        let doc = self.doc()?;
         let mut best = None;
         let mut walk = Walk::Table(doc.as_table());
         for seg in &path.0 {
@@ -117,7 +125,7 @@ impl Located {
                 path.0.pop();
             }
         }
-        let doc = self.doc.as_ref()?;
+        let doc = self.doc()?;
         let mut best = None;
         search(
             Walk::Table(doc.as_table()),
