@@ -74,7 +74,7 @@ def svg(points, path):
     y0, y1 = math.floor(math.log10(min(ys))), math.ceil(math.log10(max(ys)))
     px = lambda c: m + (math.log10(c) - x0) / (x1 - x0) * (w - 2 * m)
     py = lambda t: h - m - (math.log10(t) - y0) / (y1 - y0) * (h - 2 * m)
-    colours = ["#c0392b", "#2471a3", "#7d3c98", "#999999", "#1e8449"]
+    colours = ["#c0392b", "#2471a3", "#999999", "#e67e22", "#5dade2", "#1e8449"]
     out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-family="sans-serif" font-size="12">']
     out.append(f'<rect width="{w}" height="{h}" fill="white"/>')
     for e in range(x0, x1 + 1):
@@ -93,7 +93,7 @@ def svg(points, path):
         out.append(f'<polyline points="{d}" fill="none" stroke="{col}" stroke-width="2"/>')
         for c, t in pts:
             out.append(f'<circle cx="{px(c):.1f}" cy="{py(t):.1f}" r="3" fill="{col}"/>')
-        out.append(f'<text x="{m + 10}" y="{m - 30 + 14 * i}" fill="{col}">{name}</text>')
+        out.append(f'<text x="{m + 10 + 190 * (i // 3)}" y="{14 + 14 * (i % 3)}" fill="{col}">{name}</text>')
     out.append("</svg>")
     with open(path, "w") as f:
         f.write("\n".join(out) + "\n")
@@ -111,7 +111,9 @@ def main():
     scenes = [(f"flake-{l}", ["--levels", str(l), "--fields"]) for l in a.levels]
     scenes += [(f"field-{n}", ["--levels", "--fields", str(n)]) for n in a.fields]
     table = []
-    points = {"GPU f32, BVH": [], "CPU f32, BVH": [], "CPU f64, BVH": [], "GPU f32, none": []}
+    # One line per renderer and family: a sphereflake and a random field of
+    # the same count cost differently.
+    points = {}
     for name, make in scenes:
         path = scene_path(tmp, f"{name}.toml", make)
         n = count_spheres(path)
@@ -120,15 +122,15 @@ def main():
         if r is None:
             table.append(f"| {name} | {n} | {err} |")
             continue
-        points["GPU f32, BVH"].append((n, r["gpu"]))
-        points["CPU f32, BVH"].append((n, r["cpu32"]))
-        points["CPU f64, BVH"].append((n, r["cpu64"]))
+        family = "flakes" if name.startswith("flake") else "fields"
+        points.setdefault(f"GPU f32, {family}", []).append((n, r["gpu"]))
+        points.setdefault(f"CPU f32, {family}", []).append((n, r["cpu32"]))
         none = "-"
         if n <= 100:
             rn, err = measure(binary, path, a.runs, ["--accel", "none"])
             if rn:
                 none = f"{rn['gpu']:.3f} s"
-                points["GPU f32, none"].append((n, rn["gpu"]))
+                points.setdefault(f"GPU f32 none, {family}", []).append((n, rn["gpu"]))
         table.append(
             f"| {name} | {n} | {r['load']:.2f} s | {r['bvh']:.3f} s | {r['gpu']:.3f} s | {none} "
             f"| {r['cpu32']:.3f} s | {r['cpu64']:.3f} s | {r['cpu32'] / r['gpu']:.2f} "
