@@ -53,7 +53,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     // lavapipe, LLVM at the first dispatch); the timed one is the second.
     let (gpu_image, mut renderer, first, setup) =
         render_gpu_timed(&scene, &a.device, Precision::F32)?;
-    let (warm_image, gpu_times) = renderer.render(&scene, &|_| {})?;
+    let (warm_image, gpu_times) = super::exit_on_timeout(renderer.render(&scene, &|_| {}))?;
     anyhow::ensure!(
         warm_image == gpu_image,
         "two GPU renders of the same scene differ"

@@ -121,6 +121,9 @@ pub struct DeviceArgs {
     /// Compile the shader afresh and keep no SPIR-V or pipeline cache.
     #[arg(long)]
     no_cache: bool,
+    /// Wait at most SECONDS for the GPU to finish one tile [default: from the tile's work, at least 10 s].
+    #[arg(long, value_name = "SECONDS")]
+    timeout: Option<f64>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -168,6 +171,13 @@ impl DeviceArgs {
             .collect::<anyhow::Result<_>>()?;
         options.generic = self.generic;
         options.accel = self.accel.into();
+        if let Some(t) = self.timeout {
+            anyhow::ensure!(
+                t.is_finite() && t > 0.0 && t <= 1e6,
+                "--timeout {t}: must be in (0, 1e6] seconds"
+            );
+            options.timeout = Some(std::time::Duration::from_secs_f64(t));
+        }
         options.cache_dir = if self.no_cache {
             None
         } else {
@@ -179,6 +189,17 @@ impl DeviceArgs {
         };
         Ok(options)
     }
+}
+
+/// A GPU timeout ends the process at once: dropping the renderer would
+/// wait for the work that timed out (shaders/budget.glsl's kin, a runaway
+/// loop, may never end on a real GPU). No output has been written yet.
+pub fn exit_on_timeout<T>(r: Result<T, glint::gpu::GpuError>) -> Result<T, glint::gpu::GpuError> {
+    if let Err(e @ glint::gpu::GpuError::Timeout { .. }) = &r {
+        eprintln!("error: {e}");
+        std::process::exit(2);
+    }
+    r
 }
 
 /// The scene files in `dir`, sorted; for commands that default to a

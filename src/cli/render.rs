@@ -107,7 +107,7 @@ pub fn render_gpu_timed(
             "gpu f32"
         },
     );
-    let (image, times) = renderer.render(scene, &|n| bar.inc(n))?;
+    let (image, times) = super::exit_on_timeout(renderer.render(scene, &|n| bar.inc(n)))?;
     bar.finish_and_clear();
     Ok((image, renderer, times, setup))
 }

@@ -69,7 +69,7 @@ pub fn run(a: &WatchArgs) -> anyhow::Result<ExitCode> {
 
 fn render_once(a: &WatchArgs, renderer: &mut Renderer) -> anyhow::Result<f64> {
     let scene = a.scene.load()?;
-    let (image, times) = renderer.render(&scene, &|_| {})?;
+    let (image, times) = super::exit_on_timeout(renderer.render(&scene, &|_| {}))?;
     io::write(&a.output, &image, scene.srgb)?;
     Ok(times.total_s())
 }

@@ -30,6 +30,16 @@ pub enum GpuError {
     Unsupported(String),
     #[error("the shader's loops were cut short at pixel ({x}, {y}) of {device}: the scene needs more loop iterations per pixel than the driver allows (llvmpipe: about 65,535), so the image would be wrong; render with --accel bvh, fewer samples or a smaller max_depth, or with --backend cpu")]
     LoopBudget { x: u32, y: u32, device: String },
+    #[error("the GPU did not finish the tile at ({x}, {y}), {w}x{h} pixels, within {seconds:.3} s; stopped (set another limit with --timeout SECONDS)")]
+    Timeout {
+        x: u32,
+        y: u32,
+        w: u32,
+        h: u32,
+        seconds: f64,
+    },
+    #[error("an earlier render on this renderer timed out; open a new one")]
+    Lost,
     #[error("the shader wrote nothing at pixel ({x}, {y}): a main shader must write every pixel of its tile, with alpha 1 (docs/shaders.md, The loop budget)")]
     Unwritten { x: u32, y: u32 },
 }

@@ -78,6 +78,9 @@ pub struct GpuOptions {
     /// Where compiled SPIR-V and the Vulkan pipeline cache are kept between
     /// runs; None: compile every time.
     pub cache_dir: Option<PathBuf>,
+    /// The longest wait for one tile; None: derived from the tile's work
+    /// (`tile_timeout`).
+    pub timeout: Option<Duration>,
 }
 
 impl GpuOptions {
@@ -149,6 +152,48 @@ pub struct Renderer {
     /// Whether the next renders use the generic shader.
     pub generic: bool,
     pub setup: SetupTimes,
+    timeout: Option<Duration>,
+    /// A wait timed out: the device may still run that work.
+    lost: bool,
+}
+
+/// The slowest rate glint expects of any device, in ray–primitive tests
+/// (or BVH node visits) per second: a tenth of what lavapipe reached on 2
+/// cores before the BVH. A tile's wait is its work at this rate, and at
+/// least `MIN_TIMEOUT`.
+const SLOWEST_TESTS_PER_S: f64 = 2e7;
+const MIN_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// The longest wait for a tile of `pixels` of `scene`: its rays (samples,
+/// bounces, a shadow ray a light) times the tests a ray makes (every object,
+/// or about 64 node visits and 8 a doubling of the spheres through a BVH).
+pub fn tile_timeout(scene: &Scene, pixels: u64, bvh: bool) -> Duration {
+    let rays = pixels as f64
+        * f64::from(scene.samples * scene.samples)
+        * f64::from(scene.max_depth)
+        * (1.0 + scene.lights.len() as f64);
+    let objects = (scene.spheres.len() + scene.planes.len()).max(1) as f64;
+    let per_ray = if bvh {
+        // A walk visits at most every node (2 a sphere) and tests every sphere.
+        (64.0 + 8.0 * objects.log2()).min(3.0 * objects) + scene.planes.len() as f64
+    } else {
+        objects
+    };
+    Duration::from_secs_f64(rays * per_ray / SLOWEST_TESTS_PER_S).max(MIN_TIMEOUT)
+}
+
+impl Drop for Renderer {
+    fn drop(&mut self) {
+        if self.lost {
+            // A timed-out dispatch may still be running: let it end before
+            // its pipeline, command buffer and device are destroyed (its
+            // buffers were leaked when it timed out).
+            // SAFETY: the device is alive until the fields drop, after this.
+            unsafe {
+                let _ = self.device.raw.device_wait_idle();
+            }
+        }
+    }
 }
 
 fn secs(d: Duration) -> f64 {
@@ -192,6 +237,8 @@ impl Renderer {
             precision: opts.precision,
             accel: opts.accel,
             generic: opts.generic,
+            timeout: opts.timeout,
+            lost: false,
             setup: SetupTimes {
                 device_s: secs(t0.elapsed()),
                 ..SetupTimes::default()
@@ -310,6 +357,9 @@ impl Renderer {
         scene: &Scene,
         progress: &dyn Fn(u64),
     ) -> Result<(Image, RenderTimes), GpuError> {
+        if self.lost {
+            return Err(GpuError::Lost);
+        }
         if self.precision == Precision::F64 && !self.device.info.shader_float64 {
             return Err(GpuError::Unsupported(format!(
                 "{} has no shaderFloat64: render in f32, or on the CPU in f64",
@@ -371,7 +421,28 @@ impl Renderer {
             for x0 in (0..width).step_by(tile_w as usize) {
                 let (w, h) = (tile_w.min(width - x0), tile_h.min(height - y0));
                 let t1 = Instant::now();
-                self.dispatch(pipeline, out.raw, TileRect(UVec4::new(x0, y0, w, h)))?;
+                let timeout = self.timeout.unwrap_or_else(|| {
+                    tile_timeout(scene, u64::from(w) * u64::from(h), variant.bvh_layouts > 0)
+                });
+                let rect = TileRect(UVec4::new(x0, y0, w, h));
+                match self.dispatch(pipeline, out.raw, rect, timeout) {
+                    Err(GpuError::Vk {
+                        result: raw::Result::TIMEOUT,
+                        ..
+                    }) => {
+                        // The GPU may still read and write these: never free them.
+                        std::mem::forget(buffers);
+                        self.lost = true;
+                        return Err(GpuError::Timeout {
+                            x: x0,
+                            y: y0,
+                            w,
+                            h,
+                            seconds: timeout.as_secs_f64(),
+                        });
+                    }
+                    other => other?,
+                }
                 let t2 = Instant::now();
                 let tile: &[[f32; 4]] = out.read(w as usize * h as usize);
                 // Alpha 1: every loop of the invocation ran to its end
@@ -409,9 +480,10 @@ impl Renderer {
         p: &ComputePipeline,
         out: raw::Buffer,
         rect: TileRect,
+        timeout: Duration,
     ) -> Result<(), GpuError> {
         let groups = |n: u32| n.div_ceil(WORKGROUP);
-        self.commands.run(|dev, cb| unsafe {
+        self.commands.run(timeout, |dev, cb| unsafe {
             // Every output word starts as a NaN, so a pixel the shader never
             // writes is seen, not read as whatever the memory held.
             dev.cmd_fill_buffer(cb, out, 0, raw::WHOLE_SIZE, UNWRITTEN);

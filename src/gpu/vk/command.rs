@@ -40,9 +40,13 @@ impl OneShot {
         Ok(s)
     }
 
-    /// Records with `record`, submits, and waits for the GPU to finish.
+    /// Records with `record`, submits, and waits for the GPU to finish, at
+    /// most `timeout`. On `Err(vk::Result::TIMEOUT)` (as `GpuError::Vk`)
+    /// the work may still be running: the caller must neither free what it
+    /// uses nor submit again before the device is idle.
     pub fn run(
         &self,
+        timeout: std::time::Duration,
         record: impl FnOnce(&ash::Device, vk::CommandBuffer),
     ) -> Result<(), GpuError> {
         let d = &self.device;
@@ -60,7 +64,8 @@ impl OneShot {
             let submit = vk::SubmitInfo::default().command_buffers(&buffers);
             d.queue_submit(self.queue, &[submit], self.fence)
                 .doing("vkQueueSubmit")?;
-            d.wait_for_fences(&[self.fence], true, u64::MAX)
+            let nanos = u64::try_from(timeout.as_nanos()).unwrap_or(u64::MAX);
+            d.wait_for_fences(&[self.fence], true, nanos)
                 .doing("vkWaitForFences")?;
             d.reset_fences(&[self.fence]).doing("vkResetFences")?;
         }

@@ -1,0 +1,82 @@
+//! Every wait on the GPU is bounded (issue 10, defect 9): a tile that runs
+//! past its limit stops the render with the tile named, the renderer
+//! refuses further work, and the binary exits at once without an output.
+//! On lavapipe a runaway loop ends at the loop budget, so these tests use a
+//! limit shorter than an ordinary render instead.
+
+mod common;
+
+use std::time::{Duration, Instant};
+
+use glint::gpu::{tile_timeout, GpuError, GpuOptions, Renderer};
+use glint::scene::{Overrides, Scene};
+
+fn seed_fig5() -> Scene {
+    Scene::load(
+        &common::repo().join("scenes/seed-fig5.toml"),
+        &Overrides::default(),
+    )
+    .unwrap()
+}
+
+#[test]
+fn a_tile_past_its_limit_is_an_error_and_the_renderer_is_retired() {
+    let mut r = Renderer::new(&GpuOptions {
+        validate: true,
+        timeout: Some(Duration::from_micros(100)),
+        ..GpuOptions::default()
+    })
+    .expect("device");
+    let scene = seed_fig5();
+    r.prepare_for(&scene).unwrap();
+    match r.render(&scene, &|_| {}) {
+        Err(GpuError::Timeout { x, y, w, h, .. }) => {
+            assert_eq!((x, y), (0, 0));
+            assert!(w > 0 && h > 0);
+        }
+        other => panic!("expected a timeout, got {:?}", other.map(|_| ())),
+    }
+    assert!(matches!(r.render(&scene, &|_| {}), Err(GpuError::Lost)));
+    // Dropping it waits for the dispatch that timed out, then frees.
+    drop(r);
+}
+
+#[test]
+fn the_derived_limit_grows_with_the_work_and_is_never_short() {
+    let scene = seed_fig5();
+    let px = u64::from(scene.width) * u64::from(scene.height);
+    assert!(tile_timeout(&scene, 64, true) >= Duration::from_secs(10));
+    assert!(tile_timeout(&scene, 4 * px, false) > tile_timeout(&scene, px, false));
+    // Through a BVH, 7,381 spheres cost a ray far less than a linear scan.
+    let flake = Scene::load(
+        &common::repo().join("scenes/scale/flake-4.toml"),
+        &Overrides::default(),
+    )
+    .unwrap();
+    let fpx = 1 << 20;
+    assert!(tile_timeout(&flake, fpx, false) > 10 * tile_timeout(&flake, fpx, true));
+}
+
+#[test]
+fn the_binary_stops_at_once_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let scene = common::repo().join("scenes/seed-fig5.toml");
+    let start = Instant::now();
+    let o = common::glint(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--timeout",
+        "0.0001",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("did not finish the tile at (0, 0)"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(!out.exists());
+    assert!(start.elapsed() < Duration::from_secs(60));
+    let o = common::glint(&["render", scene.to_str().unwrap(), "--timeout", "-1"]);
+    assert_eq!(o.status.code(), Some(2));
+}
