@@ -54,6 +54,25 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
         (Backend::Gpu, p) => render_gpu(&scene, &a.device, p.unwrap_or(Precision::F32))?,
         (Backend::Cpu, p) => render_cpu(&scene, p.unwrap_or(Precision::F64), a.device.accel.into()),
     };
+    // glint's own shading stays finite for every scene it accepts; a shader
+    // of the user's may not, and such an image is not written.
+    let nonfinite = image
+        .pixels
+        .iter()
+        .flatten()
+        .filter(|c| !c.is_finite())
+        .count();
+    if let Some(i) = image
+        .pixels
+        .iter()
+        .position(|p| p.iter().any(|c| !c.is_finite()))
+    {
+        anyhow::bail!(
+            "the render has {nonfinite} non-finite values, the first at pixel ({}, {}); the image is not written",
+            i % image.width as usize,
+            i / image.width as usize
+        );
+    }
     io::write_forced(&output, &image, scene.srgb, a.force)
         .with_context(|| "cannot write the image")?;
     eprintln!(

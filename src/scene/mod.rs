@@ -6,6 +6,7 @@ mod error;
 mod file;
 mod locate;
 mod rebase;
+mod split;
 mod validate;
 
 use std::path::Path;

@@ -25,7 +25,8 @@ pub struct Overrides {
 /// Parses and validates scene text; `file` is only used in messages.
 pub fn parse(text: &str, file: &Path, overrides: &Overrides) -> Result<Scene> {
     let located = Located::new(text);
-    let raw: SceneFile = toml::from_str(text).map_err(|e| toml_error(&e, file, &located))?;
+    let raw: SceneFile =
+        super::split::parse(text).map_err(|b| toml_error(&b.error, b.offset, file, &located))?;
     let check = Check {
         file,
         located: &located,
@@ -44,8 +45,9 @@ pub const MAX_COORDINATE: f64 = 1e18;
 /// to 256 samples before it divides, and every sum stays inside f32.
 pub const MAX_BRIGHTNESS: f64 = 1e36;
 
-fn toml_error(e: &toml::de::Error, file: &Path, located: &Located) -> SceneError {
-    let span = e.span().unwrap_or(0..0);
+/// `offset`: where the text that `e` came from starts in the file.
+fn toml_error(e: &toml::de::Error, offset: usize, file: &Path, located: &Located) -> SceneError {
+    let span = e.span().map_or(0..0, |s| s.start + offset..s.end + offset);
     let at = located.line_col(span.start);
     let mut message = e.message().trim().to_owned();
     // toml hands a date-time to serde as a map.
