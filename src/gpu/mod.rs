@@ -155,6 +155,16 @@ pub struct Renderer {
     timeout: Option<Duration>,
     /// A wait timed out: the device may still run that work.
     lost: bool,
+    /// The last scene laid out, so that `variant_for`, `prepare_for` and
+    /// `render` of one scene build its uploads (and its BVH) once.
+    laid_out: std::cell::RefCell<Option<LaidOut>>,
+}
+
+/// A scene's uploads and what they were built from.
+struct LaidOut {
+    scene: Scene,
+    settings: (Intersect, Precision, Accel),
+    uploads: std::rc::Rc<Uploads>,
 }
 
 /// The slowest rate glint expects of any device, in ray–primitive tests
@@ -239,6 +249,7 @@ impl Renderer {
             generic: opts.generic,
             timeout: opts.timeout,
             lost: false,
+            laid_out: std::cell::RefCell::new(None),
             setup: SetupTimes {
                 device_s: secs(t0.elapsed()),
                 ..SetupTimes::default()
@@ -276,10 +287,29 @@ impl Renderer {
 
     /// The variant `scene` renders with, and its defines (the user's last).
     pub fn variant_for(&self, scene: &Scene) -> (Variant, Vec<(String, Option<String>)>) {
-        self.variant_of(
-            scene,
-            &Uploads::new(scene, self.intersect, self.precision, self.accel),
-        )
+        self.variant_of(scene, &self.uploads(scene).0)
+    }
+
+    /// `scene`'s uploads under the current settings, built or reused from
+    /// the last call, and the seconds this call spent laying them out,
+    /// apart from the BVH's build (`Uploads::bvh_s`).
+    fn uploads(&self, scene: &Scene) -> (std::rc::Rc<Uploads>, f64) {
+        let settings = (self.intersect, self.precision, self.accel);
+        let mut cache = self.laid_out.borrow_mut();
+        if let Some(l) = cache.as_ref() {
+            if l.settings == settings && l.scene == *scene {
+                return (l.uploads.clone(), 0.0);
+            }
+        }
+        let t0 = Instant::now();
+        let uploads = std::rc::Rc::new(Uploads::new(scene, settings.0, settings.1, settings.2));
+        let layout_s = secs(t0.elapsed()) - uploads.bvh_s;
+        *cache = Some(LaidOut {
+            scene: scene.clone(),
+            settings,
+            uploads: uploads.clone(),
+        });
+        (uploads, layout_s)
     }
 
     /// As `variant_for`, with the scene's uploads already built.
@@ -366,10 +396,9 @@ impl Renderer {
                 self.device.info.name
             )));
         }
-        // Laying the scene out counts as upload, but not the compile between.
-        let t_layout = Instant::now();
-        let up = Uploads::new(scene, self.intersect, self.precision, self.accel);
-        let layout_s = secs(t_layout.elapsed());
+        // Laying the scene out counts as upload (where this call did it), but
+        // not the compile between; the BVH build is reported apart.
+        let (up, layout_s) = self.uploads(scene);
         let (variant, defines) = self.variant_of(scene, &up);
         let key = self.prepare(&variant, &defines)?;
         let pipeline = &self.pipelines[&key];
@@ -412,7 +441,7 @@ impl Renderer {
         }
         pipeline.bind(&buffers.iter().collect::<Vec<_>>());
         let out = buffers.last().expect("the output binding is last");
-        times.upload_s = layout_s - up.bvh_s + secs(t0.elapsed());
+        times.upload_s = layout_s + secs(t0.elapsed());
         times.bvh_s = up.bvh_s;
 
         let (width, height) = (scene.width, scene.height);
