@@ -118,32 +118,17 @@ pub fn intersect_scene<R: Real>(
     let mut limit = t_max;
     match &w.bvh {
         Some(tree) => {
-            let walk = BoxWalk::new(ray);
-            let nodes = walk.layout(tree);
-            let mut i = 0;
-            while i < nodes.len() {
-                let node = &nodes[i];
-                if !walk.enters(node, limit) {
-                    i = node.skip as usize;
-                    continue;
-                }
-                let Some(slots) = node.prims() else {
-                    i += 1;
-                    continue;
-                };
-                for slot in slots {
-                    let id = tree.order[slot] as usize;
-                    let s = &w.spheres[id];
-                    if let Some(t) = intersect_sphere(ray, s.center, s.radius, from == id) {
-                        let tie = t == limit && best.is_some_and(|b| id < b.prim);
-                        if t < limit || tie {
-                            limit = t;
-                            best = Some(Hit { t, prim: id });
-                        }
+            limit = walk(tree, ray, limit, |id, limit| {
+                let s = &w.spheres[id];
+                if let Some(t) = intersect_sphere(ray, s.center, s.radius, from == id) {
+                    let tie = t == *limit && best.is_some_and(|b| id < b.prim);
+                    if t < *limit || tie {
+                        *limit = t;
+                        best = Some(Hit { t, prim: id });
                     }
                 }
-                i = node.skip as usize;
-            }
+                true
+            })
         }
         None => {
             for (i, s) in w.spheres.iter().enumerate() {
@@ -171,30 +156,43 @@ pub fn intersect_scene<R: Real>(
 /// Whether any sphere lies on the ray strictly between 0 and `dist`: the
 /// shadow rays' any-hit walk of the BVH.
 pub fn bvh_occluded<R: Real>(w: &World<R>, tree: &Bvh, ray: &Ray<R>, from: usize, dist: R) -> bool {
-    let walk = BoxWalk::new(ray);
-    let nodes = walk.layout(tree);
+    let mut blocked = false;
+    walk(tree, ray, dist, |id, _| {
+        let s = &w.spheres[id];
+        blocked = intersect_sphere(ray, s.center, s.radius, from == id).is_some_and(|t| t < dist);
+        !blocked
+    });
+    blocked
+}
+
+/// Walks the tree in `ray`'s order: for each sphere of every leaf whose box
+/// the ray meets within `limit`, calls `visit(id, &mut limit)`, which may
+/// lower the limit, and returns false to end the walk. Returns the limit.
+fn walk<R: Real>(
+    tree: &Bvh,
+    ray: &Ray<R>,
+    mut limit: R,
+    mut visit: impl FnMut(usize, &mut R) -> bool,
+) -> R {
+    let boxes = BoxWalk::new(ray);
+    let nodes = boxes.layout(tree);
     let mut i = 0;
     while i < nodes.len() {
         let node = &nodes[i];
-        if walk.enters(node, dist) {
-            if let Some(slots) = node.prims() {
-                for slot in slots {
-                    let id = tree.order[slot] as usize;
-                    let s = &w.spheres[id];
-                    if intersect_sphere(ray, s.center, s.radius, from == id)
-                        .is_some_and(|t| t < dist)
-                    {
-                        return true;
-                    }
-                }
-            } else {
+        if boxes.enters(node, limit) {
+            let Some(slots) = node.prims() else {
                 i += 1;
                 continue;
+            };
+            for slot in slots {
+                if !visit(tree.order[slot] as usize, &mut limit) {
+                    return limit;
+                }
             }
         }
         i = node.skip as usize;
     }
-    false
+    limit
 }
 
 /// A ray's slab test against node boxes; mirrors shaders/bvh.glsl.
