@@ -43,7 +43,10 @@ fn main() -> anyhow::Result<()> {
         .extend(std::env::var_os("GLINT_SHADER_DIR").map(PathBuf::from));
     let mut own = Renderer::new(&options)?;
     let mut generic = Renderer::new(&GpuOptions {
-        generic: true,
+        settings: glint::gpu::RenderSettings {
+            generic: true,
+            ..options.settings
+        },
         ..options
     })?;
     let info = own.device_info();

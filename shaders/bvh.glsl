@@ -1,21 +1,11 @@
-// The spheres' BVH (src/accel/bvh.rs): pre-order nodes with skip links,
-// walked without a stack, in one of eight layouts chosen by the ray's
-// direction; mirrors the BVH walks of src/cpu/intersect.rs.
-// The spheres are uploaded in leaf order, so a leaf names a range of them;
-// each sphere's meta.y is its index in the scene file, which breaks ties in t
-// the way the linear scan does (the first in the file wins).
-
-struct Node {
-    vec4 lo_skip;            // xyz box corner (f32, rounded outwards), w: skip link (uint bits)
-    vec4 hi_leaf;            // xyz box corner, w: 0 inner, else first << 4 | count (uint bits)
-};
-
-// A uniform block where the scene is in uniforms (see bindings.glsl).
-#ifdef NODE_SLOTS
-SCENE_BLOCK(NODES_BINDING) Nodes { Node nodes[NODE_SLOTS]; };
-#else
-layout(std430, set = 0, binding = NODES_BINDING) readonly buffer Nodes { Node nodes[]; };
-#endif
+// The BVH over the bounded kinds (src/accel/bvh.rs): pre-order nodes with
+// skip links, walked without a stack, in one of eight layouts chosen by the
+// ray's direction; mirrors the BVH walks of src/cpu/intersect.rs. The Node
+// struct and block are in interface.glsl.
+// Each kind in the tree is uploaded in leaf order, so a leaf names a range
+// of one kind's array (leaf_nearest and leaf_occluded in kinds.glsl test
+// it); each primitive's meta.y is its index in the scene file, which breaks
+// ties in t the way the linear scan does (the first in the file wins).
 
 // A hook called once per node visited; empty unless a user's shader defines
 // it (shaders/experiments/cost counts the visits with it).
@@ -31,8 +21,16 @@ layout(std430, set = 0, binding = NODES_BINDING) readonly buffer Nodes { Node no
 
 // Nodes in one layout.
 #ifndef NODE_COUNT
-#define NODE_COUNT (uint(nodes.length()) / LAYOUTS)
+#define NODE_COUNT (uint(node_words.length()) / (2u * LAYOUTS))
 #endif
+
+// Node i from its two vec4s (interface.glsl): xyz the box corner, w the
+// skip link and the leaf word as uint bits.
+Node load_node(uint i) {
+    vec4 lo = node_words[2u * i];
+    vec4 hi = node_words[2u * i + 1u];
+    return Node(lo.xyz, floatBitsToUint(lo.w), hi.xyz, floatBitsToUint(hi.w));
+}
 
 // The first node of the layout for the ray's octant (src/accel/bvh.rs): in
 // it, the child a ray of that octant meets first along the split axis comes
@@ -64,8 +62,8 @@ vec3r inverse_dir(vec3r d) {
 
 // Whether the ray meets the node's box somewhere in [0, t_max].
 bool enters(Ray r, vec3r inv, Node node, real t_max) {
-    vec3r t0 = (vec3r(node.lo_skip.xyz) - r.origin) * inv;
-    vec3r t1 = (vec3r(node.hi_leaf.xyz) - r.origin) * inv;
+    vec3r t0 = (vec3r(node.lo) - r.origin) * inv;
+    vec3r t1 = (vec3r(node.hi) - r.origin) * inv;
     vec3r tn = min(t0, t1);
     vec3r tf = max(t0, t1);
     real near = max(max(tn.x, tn.y), tn.z);
@@ -73,7 +71,8 @@ bool enters(Ray r, vec3r inv, Node node, real t_max) {
     return near <= far && far >= 0.0 && near <= t_max * BOX_SLACK;
 }
 
-// The nearest sphere hit closer than hit.t, into hit.
+
+// The nearest hit in the tree closer than hit.t, into hit.
 void bvh_nearest(Ray r, uint from, inout Hit hit) {
     vec3r inv = inverse_dir(r.dir);
     uint base = layout_base(r.dir);
@@ -81,32 +80,21 @@ void bvh_nearest(Ray r, uint from, inout Hit hit) {
     uint i = 0u;
     [[dont_unroll]] while (i < NODE_COUNT) {
         ON_NODE();
-        Node node = nodes[base + i];
-        uint skip = floatBitsToUint(node.lo_skip.w);
-        uint leaf = floatBitsToUint(node.hi_leaf.w);
+        Node node = load_node(base + i);
         if (!ANY(enters(r, inv, node, hit.t))) {
-            i = skip;
-        } else if (leaf == 0u) {
+            i = node.skip;
+        } else if (node.leaf == 0u) {
             i++;
         } else {
-            uint first = leaf >> 4;
-            uint end = first + (leaf & 15u);
-            [[dont_unroll]] for (uint k = first; k < end; k++) {
-                vec4r s = spheres[k].center_radius;
-                uvec4 meta = spheres[k].meta;
-                real t = intersect_sphere(r, s.xyz, s.w, from == k);
-                if (t > 0.0 && (t < hit.t || (t == hit.t && hit.prim != NONE && meta.y < key))) {
-                    hit = Hit(t, k, meta.x, s);
-                    key = meta.y;
-                }
-            }
-            i = skip;
+            leaf_nearest(r, from, node.leaf, hit, key);
+            i = node.skip;
         }
     }
 }
 
 #if HAS_SHADOWS
-// Whether a sphere lies on the ray strictly between 0 and dist: any hit ends the walk.
+// Whether a primitive in the tree lies on the ray strictly between 0 and
+// dist: any hit ends the walk.
 bool bvh_occluded(Ray r, uint from, real dist) {
     vec3r inv = inverse_dir(r.dir);
     uint base = layout_base(r.dir);
@@ -114,22 +102,14 @@ bool bvh_occluded(Ray r, uint from, real dist) {
     uint i = 0u;
     [[dont_unroll]] while (i < NODE_COUNT && !blocked) {
         ON_NODE();
-        Node node = nodes[base + i];
-        uint skip = floatBitsToUint(node.lo_skip.w);
-        uint leaf = floatBitsToUint(node.hi_leaf.w);
+        Node node = load_node(base + i);
         if (!ANY(enters(r, inv, node, dist))) {
-            i = skip;
-        } else if (leaf == 0u) {
+            i = node.skip;
+        } else if (node.leaf == 0u) {
             i++;
         } else {
-            uint first = leaf >> 4;
-            uint end = first + (leaf & 15u);
-            [[dont_unroll]] for (uint k = first; k < end && !blocked; k++) {
-                vec4r s = spheres[k].center_radius;
-                real t = intersect_sphere(r, s.xyz, s.w, from == k);
-                blocked = t > 0.0 && t < dist;
-            }
-            i = skip;
+            blocked = leaf_occluded(r, from, node.leaf, dist);
+            i = node.skip;
         }
     }
     return blocked;

@@ -5,8 +5,6 @@
 // One invocation per pixel of the current tile: the mean of the pixel's
 // samples*samples eye rays, each traced to the fixed depth.
 
-layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
-
 #include "bindings.glsl"
 #include "ray.glsl"
 #include "intersect.glsl"

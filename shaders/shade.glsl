@@ -20,34 +20,6 @@ real spec_pow(real x, real n) {
 
 #include "specular.glsl"
 
-#if HAS_SHADOWS
-// Whether anything lies on the shadow ray strictly between 0 and dist.
-bool occluded(Ray r, uint from, real dist) {
-#if HAS_SPHERES && defined(USE_BVH)
-    if (bvh_occluded(r, from, dist)) {
-        return true;
-    }
-#elif HAS_SPHERES
-    SCENE_LOOP for (uint i = 0u; i < SPHERE_COUNT; i++) {
-        vec4r s = spheres[i].center_radius;
-        real t = intersect_sphere(r, s.xyz, s.w, from == i);
-        if (t > 0.0 && t < dist) {
-            return true;
-        }
-    }
-#endif
-#if HAS_PLANES
-    SCENE_LOOP for (uint i = 0u; i < PLANE_COUNT; i++) {
-        real t = intersect_plane(r, planes[i].point.xyz, planes[i].normal.xyz, from == SPHERE_COUNT + i);
-        if (t > 0.0 && t < dist) {
-            return true;
-        }
-    }
-#endif
-    return false;
-}
-#endif
-
 // The sum of every light's contribution at p, where n faces the viewer.
 vec3r shade(vec3r p, vec3r n, vec3r v, Material m, uint from) {
     vec3r local = vec3r(0.0);

@@ -4,6 +4,7 @@
 pub mod accel;
 pub mod cpu;
 pub mod gpu;
+pub mod prim;
 pub mod printable;
 pub mod raster;
 pub mod report;

@@ -5,7 +5,7 @@
 use serde::Serialize;
 
 use crate::cpu;
-use crate::gpu::{GpuError, Intersect, Renderer};
+use crate::gpu::{GpuError, Intersect, RenderSettings, Renderer};
 use crate::raster::diff::{figures, ErrorFigures, Tolerance};
 use crate::raster::Image;
 use crate::scene::Scene;
@@ -55,16 +55,16 @@ pub fn evaluate(renderer: &mut Renderer, scene: &Scene) -> Result<SceneRows, Gpu
     let reference = cpu::render::<f64>(scene);
     let peak = peak(&reference);
     let reference = scaled(&reference, peak);
-    let keep = renderer.intersect;
     let mut images = Vec::new();
     for (variant, form) in [
         ("gpu f32 robust", Intersect::Robust),
         ("gpu f32 naive", Intersect::Naive),
     ] {
-        renderer.intersect = form;
-        let result = renderer.render(scene, &|_| {});
-        renderer.intersect = keep;
-        images.push((variant, result?.0));
+        let how = RenderSettings {
+            intersect: form,
+            ..renderer.settings()
+        };
+        images.push((variant, renderer.render_with(scene, &how, &|_| {})?.0));
     }
     images.push(("cpu f32", cpu::render::<f32>(scene)));
     let tolerance = Tolerance::default();

@@ -7,16 +7,19 @@ mod common;
 
 use glint::accel::Accel;
 use glint::cpu::{self, world::World};
-use glint::gpu::{GpuOptions, Intersect, Precision, Renderer};
+use glint::gpu::{GpuOptions, Intersect, Precision, RenderSettings, Renderer};
 use glint::raster::Image;
 use glint::scene::{Overrides, Scene};
 
 fn gpu(accel: Accel, intersect: Intersect, precision: Precision) -> Renderer {
     let options = GpuOptions {
         validate: true,
-        accel,
-        intersect,
-        precision,
+        settings: RenderSettings {
+            accel,
+            intersect,
+            precision,
+            generic: false,
+        },
         ..GpuOptions::default()
     };
     Renderer::new(&options).expect("device")
@@ -94,7 +97,7 @@ fn gpu_images_do_not_depend_on_the_bvh() {
             let b = none
                 .render(&scene, &|_| {})
                 .unwrap_or_else(|e| panic!("{name}: {e}"));
-            if !scene.spheres.is_empty() {
+            if scene.prims.bounded_count() > 0 {
                 assert!(bvh.variant_for(&scene).0.bvh_layouts > 0, "{name}");
             }
             assert!(
@@ -143,11 +146,11 @@ fn leaf_order_does_not_matter() {
     // Every layout holds the same leaves; take them once.
     let leaves: Vec<_> = tree.layout(0).iter().filter_map(|n| n.prims()).collect();
     assert!(
-        leaves.iter().any(|r| r.len() >= 2),
+        leaves.iter().any(|(_, r)| r.len() >= 2),
         "leaves of several spheres"
     );
-    for r in leaves {
-        tree.order[r].reverse();
+    for (kind, r) in leaves {
+        tree.orders[kind][r].reverse();
     }
     assert!(cpu::render_world(&world, &|_| {}) == reference);
 }

@@ -7,7 +7,7 @@ mod common;
 use std::path::Path;
 
 use glint::cpu;
-use glint::gpu::{GpuOptions, Intersect, Renderer};
+use glint::gpu::{GpuOptions, Intersect, RenderSettings, Renderer};
 use glint::raster::diff::{figures, ErrorFigures, Tolerance};
 use glint::raster::{io, Image};
 use glint::scene::{Overrides, Scene};
@@ -23,7 +23,10 @@ fn load(name: &str) -> Scene {
 fn gpu(scene: &Scene, intersect: Intersect) -> Image {
     let options = GpuOptions {
         validate: true,
-        intersect,
+        settings: RenderSettings {
+            intersect,
+            ..RenderSettings::default()
+        },
         ..GpuOptions::default()
     };
     let mut r = Renderer::new(&options).expect("device");

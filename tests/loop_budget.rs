@@ -7,7 +7,7 @@ mod common;
 
 use glint::accel::Accel;
 use glint::cpu;
-use glint::gpu::{GpuError, GpuOptions, Renderer};
+use glint::gpu::{GpuError, GpuOptions, RenderSettings, Renderer};
 use glint::raster::diff::{figures, Tolerance};
 use glint::scene::Scene;
 
@@ -39,7 +39,10 @@ fn scene() -> Scene {
 fn renderer(accel: Accel) -> Renderer {
     Renderer::new(&GpuOptions {
         validate: true,
-        accel,
+        settings: RenderSettings {
+            accel,
+            ..RenderSettings::default()
+        },
         ..GpuOptions::default()
     })
     .expect("device")

@@ -7,7 +7,7 @@ mod common;
 use std::process::Command;
 
 use glint::cpu;
-use glint::gpu::{GpuOptions, Precision, Renderer};
+use glint::gpu::{GpuOptions, Precision, RenderSettings, Renderer};
 use glint::raster::diff::figures;
 
 #[test]
@@ -113,7 +113,10 @@ fn gpu_f64_is_far_closer_to_the_reference_than_f32() {
     .unwrap();
     let mut f64r = Renderer::new(&GpuOptions {
         validate: true,
-        precision: Precision::F64,
+        settings: RenderSettings {
+            precision: Precision::F64,
+            ..RenderSettings::default()
+        },
         ..GpuOptions::default()
     })
     .unwrap();

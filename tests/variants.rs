@@ -4,15 +4,18 @@
 mod common;
 
 use glint::gpu::variant::Block;
-use glint::gpu::{GpuOptions, Intersect, Precision, Renderer};
+use glint::gpu::{GpuOptions, Intersect, Precision, RenderSettings, Renderer};
 use glint::scene::{Overrides, Scene};
 
 fn renderer(generic: bool, intersect: Intersect, precision: Precision) -> Renderer {
     let options = GpuOptions {
         validate: true,
-        generic,
-        intersect,
-        precision,
+        settings: RenderSettings {
+            generic,
+            intersect,
+            precision,
+            ..RenderSettings::default()
+        },
         ..GpuOptions::default()
     };
     Renderer::new(&options).expect("device")
@@ -108,7 +111,7 @@ material = "m"
         blocks,
         [
             Block::Globals,
-            Block::Spheres,
+            Block::Kind(0),
             Block::Materials,
             Block::Pixels
         ]
@@ -145,12 +148,20 @@ fn setup_times_are_those_of_the_call() {
     .unwrap();
     let first = generic.prepare_for(&a).unwrap();
     assert!(first.compile_s > 0.0 && first.pipeline_s > 0.0, "{first:?}");
-    generic.precision = Precision::F64;
-    let f64_setup = generic.prepare_for(&a).unwrap();
+    let in_f64 = RenderSettings {
+        precision: Precision::F64,
+        ..generic.settings()
+    };
+    let f64_setup = generic.prepare_with(&a, &in_f64).unwrap();
     assert!(f64_setup.compile_s > 0.0, "{f64_setup:?}");
-    generic.precision = Precision::F32;
     // The generic f32 shader again, for another scene: already built.
     let again = generic.prepare_for(&b).unwrap();
     assert_eq!((again.compile_s, again.pipeline_s), (0.0, 0.0), "{again:?}");
-    assert_eq!(generic.setup.compile_s, 0.0);
+    let (_, times) = generic.render(&b, &|_| {}).unwrap();
+    assert_eq!(times.setup.compile_s, 0.0);
+    let (_, times) = generic.render_with(&a, &in_f64, &|_| {}).unwrap();
+    assert_eq!(
+        times.setup.compile_s, 0.0,
+        "built by prepare_with: {times:?}"
+    );
 }

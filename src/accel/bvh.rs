@@ -22,7 +22,6 @@
 //! box is never missed by a ray that hits what is inside it (docs/performance.md,
 //! The BVH): the image does not depend on the tree.
 
-use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 
 /// Primitives in a leaf at most (the leaf word keeps the count in 4 bits).
@@ -41,24 +40,32 @@ const BINS: usize = 16;
 const COST_NODE: f64 = 3.0;
 const COST_PRIM: f64 = 1.5;
 
-/// One node as both renderers read it (std430: two vec4s).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct Node {
-    pub lo: [f32; 3],
-    /// The node after this one's subtree; the node count for the last.
-    pub skip: u32,
-    pub hi: [f32; 3],
-    /// 0 for an inner node; for a leaf, first primitive << 4 | count.
-    pub leaf: u32,
-}
+crate::gpu_struct!(
+    /// One node as both renderers read it: 32 bytes, f32 in both precisions.
+    pub mod node: "Node" {
+        lo: float3,
+        /// The node after this one's subtree; the node count for the last.
+        skip: uint,
+        hi: float3,
+        /// 0 for an inner node; for a leaf, first << 8 | kind << 4 | count:
+        /// `count` primitives of one kind, from `first` in that kind's leaf order.
+        leaf: uint,
+    }
+);
+
+pub use node::Values as Node;
+
+/// The most primitives of one kind a leaf word can address.
+pub const MAX_PRIMS: usize = 1 << 24;
 
 impl Node {
-    /// The leaf's primitive slots, or None for an inner node.
-    pub fn prims(&self) -> Option<std::ops::Range<usize>> {
+    /// The leaf's kind and its primitives' range in that kind's leaf order
+    /// (`Bvh::orders`), or None for an inner node.
+    pub fn prims(&self) -> Option<(usize, std::ops::Range<usize>)> {
         (self.leaf != 0).then(|| {
-            let first = (self.leaf >> 4) as usize;
-            first..first + (self.leaf & 15) as usize
+            let first = (self.leaf >> 8) as usize;
+            let kind = (self.leaf >> 4 & 15) as usize;
+            (kind, first..first + (self.leaf & 15) as usize)
         })
     }
 }
@@ -114,8 +121,9 @@ pub struct Bvh {
     pub nodes: Vec<Node>,
     pub layout_len: usize,
     pub layouts: usize,
-    /// `order[slot]` is the scene index of the primitive in leaf slot `slot`.
-    pub order: Vec<u32>,
+    /// For each kind, the indices of its primitives (in the list given to
+    /// `build`) in the order of the leaves that hold them.
+    pub orders: Vec<Vec<u32>>,
     pub depth: u32,
 }
 
@@ -152,20 +160,19 @@ enum Built {
     },
 }
 
-/// Builds the tree over `bounds`, one box per primitive (at least one).
-pub fn build(bounds: &[Aabb]) -> Bvh {
-    build_within(bounds, OCTANT_BYTES_MAX)
+/// Builds the tree over `bounds`, one box per primitive (at least one), of
+/// the kinds `kinds` (one each; each leaf holds one kind).
+pub fn build(bounds: &[Aabb], kinds: &[u32]) -> Bvh {
+    build_within(bounds, kinds, OCTANT_BYTES_MAX)
 }
 
 /// As `build`, with eight layouts only where they fit `octant_bytes_max`.
-fn build_within(bounds: &[Aabb], octant_bytes_max: usize) -> Bvh {
+fn build_within(bounds: &[Aabb], kinds: &[u32], octant_bytes_max: usize) -> Bvh {
     assert!(!bounds.is_empty(), "a BVH needs a primitive");
-    assert!(
-        bounds.len() < 1 << 28,
-        "a leaf word addresses 2^28 primitives"
-    );
+    assert_eq!(bounds.len(), kinds.len());
     let mut b = Builder {
         bounds,
+        kinds,
         centers: bounds.iter().map(Aabb::center).collect(),
         order: (0..bounds.len() as u32).collect(),
         built: Vec::with_capacity(2 * bounds.len() / LEAF_MAX + 1),
@@ -183,6 +190,26 @@ fn build_within(bounds: &[Aabb], octant_bytes_max: usize) -> Bvh {
     } else {
         1
     };
+    // Each leaf's slots, counted within its kind.
+    let kind_count = kinds.iter().max().map_or(0, |k| *k as usize + 1);
+    let mut orders = vec![Vec::new(); kind_count];
+    let mut at_in_kind = Vec::with_capacity(b.order.len());
+    for &i in &b.order {
+        let order = &mut orders[kinds[i as usize] as usize];
+        at_in_kind.push(order.len() as u32);
+        order.push(i);
+    }
+    assert!(
+        orders.iter().all(|o| o.len() <= MAX_PRIMS) && kind_count <= 16,
+        "a leaf word addresses 2^24 primitives of each of 16 kinds"
+    );
+    for (built, node) in &mut b.built {
+        if let Built::Leaf = built {
+            let (start, count) = ((node.leaf >> 4) as usize, node.leaf & 15);
+            let kind = kinds[b.order[start] as usize];
+            node.leaf = at_in_kind[start] << 8 | kind << 4 | count;
+        }
+    }
     let mut nodes = Vec::with_capacity(layouts * layout_len);
     for oct in 0..layouts {
         let start = nodes.len();
@@ -192,7 +219,7 @@ fn build_within(bounds: &[Aabb], octant_bytes_max: usize) -> Bvh {
         nodes,
         layout_len,
         layouts,
-        order: b.order,
+        orders,
         depth: b.depth,
     }
 }
@@ -218,6 +245,7 @@ fn flatten(built: &[(Built, Node)], i: usize, oct: usize, base: usize, out: &mut
 
 struct Builder<'a> {
     bounds: &'a [Aabb],
+    kinds: &'a [u32],
     centers: Vec<DVec3>,
     order: Vec<u32>,
     /// The tree with each node's box (skip links not yet set).
@@ -243,6 +271,7 @@ impl Builder<'_> {
         let (lo, hi) = padded(bounds);
         let count = end - start;
         let index = self.built.len();
+        // The slot range, until the kinds are numbered apart (`build_within`).
         let leaf = Node {
             lo,
             skip: 0,
@@ -256,13 +285,31 @@ impl Builder<'_> {
             Some(self.median(start, end, centers))
         } else {
             self.sah(start, end, bounds, centers)
-        };
+        }
+        .or_else(|| self.by_kind(start, end));
         if let Some((mid, axis)) = split {
             let low = self.node(start, mid, depth + 1);
             let high = self.node(mid, end, depth + 1);
             self.built[index] = (Built::Inner { axis, low, high }, Node { leaf: 0, ..leaf });
         }
         index
+    }
+
+    /// A leaf holds one kind: where start..end mixes kinds, splits off the
+    /// first slot's kind (a stable partition).
+    fn by_kind(&mut self, start: usize, end: usize) -> Option<(usize, usize)> {
+        let kinds = self.kinds;
+        let first = kinds[self.order[start] as usize];
+        let slots = &mut self.order[start..end];
+        if slots.iter().all(|&i| kinds[i as usize] == first) {
+            return None;
+        }
+        let (mut same, other): (Vec<u32>, Vec<u32>) =
+            slots.iter().partition(|&&i| kinds[i as usize] == first);
+        let mid = same.len();
+        same.extend(other);
+        slots.copy_from_slice(&same);
+        Some((start + mid, 0))
     }
 
     /// Splits at the median centre along the widest axis of the centres.
@@ -422,6 +469,7 @@ mod tests {
     /// node's box holds its subtree, and the skip links close each subtree.
     fn check(b: &[Aabb], bvh: &Bvh) {
         assert_eq!(bvh.nodes.len(), bvh.layouts * bvh.layout_len);
+        assert_eq!(bvh.orders.iter().map(Vec::len).sum::<usize>(), b.len());
         for oct in 0..OCTANTS {
             let nodes = bvh.layout(oct);
             let mut seen = vec![0; b.len()];
@@ -436,10 +484,10 @@ mod tests {
             (0..3).all(|k| f64::from(node.lo[k]) <= a.lo[k] && a.hi[k] <= f64::from(node.hi[k]))
         };
         let next = match node.prims() {
-            Some(r) => {
+            Some((kind, r)) => {
                 assert!(!r.is_empty() && r.len() <= LEAF_MAX);
-                for slot in r {
-                    let p = bvh.order[slot] as usize;
+                for at in r {
+                    let p = bvh.orders[kind][at] as usize;
                     seen[p] += 1;
                     assert!(inside(b[p]));
                 }
@@ -464,11 +512,11 @@ mod tests {
                 Aabb::sphere(DVec3::new(x, (i % 8) as f64 * 3.0, 0.0), 1.0)
             })
             .collect();
-        let bvh = build(&b);
+        let bvh = build(&b, &vec![0; b.len()]);
         check(&b, &bvh);
         let first_prim = |oct: usize| {
-            let leaf = bvh.layout(oct).iter().find_map(Node::prims).unwrap();
-            bvh.order[leaf.start]
+            let (kind, leaf) = bvh.layout(oct).iter().find_map(Node::prims).unwrap();
+            bvh.orders[kind][leaf.start]
         };
         assert!(first_prim(octant(1.0, 0.5, -0.5)) < 8);
         assert!(first_prim(octant(-1.0, 0.5, -0.5)) >= 8);
@@ -478,18 +526,18 @@ mod tests {
     fn every_primitive_is_in_one_leaf_inside_every_box_above_it() {
         for n in [1, 2, 3, 5, 17, 100, 1000] {
             let b = spheres(n);
-            check(&b, &build(&b));
+            check(&b, &build(&b, &vec![0; b.len()]));
         }
     }
 
     #[test]
     fn a_tree_too_large_for_eight_layouts_keeps_one() {
         let b = spheres(1000);
-        let eight = build(&b);
+        let eight = build(&b, &vec![0; b.len()]);
         assert_eq!(eight.layouts, OCTANTS);
         let bytes = OCTANTS * eight.layout_len * std::mem::size_of::<Node>();
-        assert_eq!(build_within(&b, bytes).layouts, OCTANTS);
-        let one = build_within(&b, bytes - 1);
+        assert_eq!(build_within(&b, &vec![0; b.len()], bytes).layouts, OCTANTS);
+        let one = build_within(&b, &vec![0; b.len()], bytes - 1);
         assert_eq!(one.layouts, 1);
         check(&b, &one);
         assert_eq!(one.layout(5).as_ptr(), one.layout(0).as_ptr());
@@ -498,9 +546,25 @@ mod tests {
     #[test]
     fn identical_primitives_still_make_a_shallow_tree() {
         let b = vec![Aabb::sphere(DVec3::ONE, 1.0); 10_000];
-        let bvh = build(&b);
+        let bvh = build(&b, &vec![0; b.len()]);
         check(&b, &bvh);
         assert!(bvh.depth <= 16, "depth {}", bvh.depth);
+    }
+
+    #[test]
+    fn each_leaf_holds_one_kind() {
+        let b = spheres(300);
+        let kinds: Vec<u32> = (0..b.len()).map(|i| (i % 3 == 0) as u32 * 2).collect();
+        let bvh = build(&b, &kinds);
+        check(&b, &bvh);
+        for node in &bvh.nodes {
+            if let Some((kind, r)) = node.prims() {
+                for at in r {
+                    assert_eq!(kinds[bvh.orders[kind][at] as usize], kind as u32);
+                }
+            }
+        }
+        assert!(bvh.orders[1].is_empty());
     }
 
     #[test]

@@ -169,8 +169,8 @@ impl DeviceArgs {
             .iter()
             .map(|d| parse_define(d))
             .collect::<anyhow::Result<_>>()?;
-        options.generic = self.generic;
-        options.accel = self.accel.into();
+        options.settings.generic = self.generic;
+        options.settings.accel = self.accel.into();
         if let Some(t) = self.timeout {
             anyhow::ensure!(
                 t.is_finite() && t > 0.0 && t <= 1e6,
@@ -183,7 +183,7 @@ impl DeviceArgs {
         } else {
             GpuOptions::default_cache_dir()
         };
-        options.intersect = match self.intersect {
+        options.settings.intersect = match self.intersect {
             IntersectArg::Robust => Intersect::Robust,
             IntersectArg::Naive => Intersect::Naive,
         };

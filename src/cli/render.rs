@@ -112,7 +112,7 @@ pub fn render_gpu_timed(
     precision: Precision,
 ) -> anyhow::Result<(Image, gpu::Renderer, gpu::RenderTimes, gpu::SetupTimes)> {
     let mut options = device.options()?;
-    options.precision = match precision {
+    options.settings.precision = match precision {
         Precision::F32 => gpu::Precision::F32,
         Precision::F64 => gpu::Precision::F64,
     };

@@ -52,7 +52,7 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
         sweeps: !a.quick,
     };
     let mut renderer = Renderer::new(&a.device.options()?)?;
-    let device_s = renderer.setup.device_s;
+    let device_s = renderer.device_s();
     let total: u64 = scenes
         .iter()
         .map(|s| {

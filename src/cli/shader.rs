@@ -4,6 +4,7 @@ use std::process::ExitCode;
 use anyhow::Context;
 use clap::{Args, Subcommand};
 
+use glint::gpu::variant::Variant;
 use glint::gpu::{compile, GpuError, Renderer};
 
 use super::{DeviceArgs, SceneArgs};
@@ -52,6 +53,7 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
             let sources = compile::Sources {
                 dirs: include.clone(),
                 main: Some(file.clone()),
+                generated: Variant::generic().generated(),
             };
             let defines = define
                 .iter()
@@ -85,6 +87,7 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
             let sources = compile::Sources {
                 dirs: options.include_dirs.clone(),
                 main: options.main_shader.clone(),
+                generated: variant.generated(),
             };
             let compiled = compile::compile(&sources, &defines)?;
             std::fs::create_dir_all(output)

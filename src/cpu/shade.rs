@@ -3,10 +3,11 @@
 
 use crate::scene::LightKind;
 
-use super::intersect::{bvh_occluded, intersect_plane, intersect_sphere};
+use super::intersect::occluded;
 use super::ray::Ray;
 use super::real::{Real, Vec3};
 use super::world::{MaterialR, World};
+use crate::prim::PrimId;
 
 /// x^n with the scene format's conventions: x^0 = 1 (also for x = 0), and 0 for x <= 0
 /// otherwise; GLSL's pow leaves both undefined.
@@ -27,21 +28,6 @@ pub fn specular<R: Real>(n: Vec3<R>, l: Vec3<R>, v: Vec3<R>, shininess: R) -> R 
     spec_pow(n.dot(h).max(R::zero()), shininess)
 }
 
-/// Whether anything lies on the shadow ray strictly between 0 and `dist`.
-pub fn occluded<R: Real>(w: &World<R>, ray: &Ray<R>, from: usize, dist: R) -> bool {
-    let base = w.spheres.len();
-    let spheres = match &w.bvh {
-        Some(tree) => bvh_occluded(w, tree, ray, from, dist),
-        None => w.spheres.iter().enumerate().any(|(i, s)| {
-            intersect_sphere(ray, s.center, s.radius, from == i).is_some_and(|t| t < dist)
-        }),
-    };
-    spheres
-        || w.planes.iter().enumerate().any(|(i, p)| {
-            intersect_plane(ray, p.point, p.normal, from == base + i).is_some_and(|t| t < dist)
-        })
-}
-
 /// The sum of every light's contribution at `p`, where `n` faces the viewer.
 pub fn shade<R: Real>(
     w: &World<R>,
@@ -49,7 +35,7 @@ pub fn shade<R: Real>(
     n: Vec3<R>,
     v: Vec3<R>,
     m: &MaterialR<R>,
-    from: usize,
+    from: PrimId,
 ) -> Vec3<R> {
     let mut local = Vec3::zero();
     for light in &w.lights {

@@ -1,16 +1,17 @@
 //! The fixed-depth reflection loop (docs/scene-format.md, Shading); mirrors shaders/trace.glsl.
 
-use super::intersect::{intersect_scene, surface, NONE};
+use super::intersect::{intersect_scene, surface};
 use super::ray::Ray;
 use super::real::{Real, Vec3};
 use super::shade::shade;
 use super::world::World;
+use crate::prim::PrimId;
 
 pub fn trace<R: Real>(w: &World<R>, primary: Ray<R>) -> Vec3<R> {
     let mut color = Vec3::zero();
     let mut weight = R::one();
     let mut ray = primary;
-    let mut from = NONE;
+    let mut from = PrimId::NONE;
     for depth in 1..=w.max_depth {
         let Some(hit) = intersect_scene(w, &ray, from, R::infinity()) else {
             color += w.background * weight;

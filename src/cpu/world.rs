@@ -1,21 +1,21 @@
 //! The scene in the reference's scalar type: what the shader's buffers hold.
 
 use crate::accel::{self, bvh::Bvh, Accel};
+use crate::prim::CpuPrims;
 use crate::scene::{LightKind, Scene};
 
 use super::real::{Real, Vec3};
 
-pub struct World<R> {
+pub struct World<R: Real> {
     pub eye: Vec3<R>,
     /// screen_center - eye, taken in f64 before rounding, as the GPU gets it:
     /// far from the origin the eye and the screen share most of their digits.
     pub to_screen: Vec3<R>,
     pub screen_right: Vec3<R>,
     pub screen_up: Vec3<R>,
-    pub spheres: Vec<SphereR<R>>,
-    /// The spheres' BVH, where the scene is traced through one.
+    pub prims: CpuPrims<R>,
+    /// The BVH over the bounded kinds, where the scene is traced through one.
     pub bvh: Option<Bvh>,
-    pub planes: Vec<PlaneR<R>>,
     pub materials: Vec<MaterialR<R>>,
     pub lights: Vec<LightR<R>>,
     pub background: Vec3<R>,
@@ -24,18 +24,6 @@ pub struct World<R> {
     pub width: u32,
     pub height: u32,
     pub samples: u32,
-}
-
-pub struct SphereR<R> {
-    pub center: Vec3<R>,
-    pub radius: R,
-    pub material: usize,
-}
-
-pub struct PlaneR<R> {
-    pub point: Vec3<R>,
-    pub normal: Vec3<R>,
-    pub material: usize,
 }
 
 pub struct MaterialR<R> {
@@ -65,32 +53,15 @@ impl<R: Real> World<R> {
     /// rounded to `R`.
     pub fn new(scene: &Scene, accel: Accel) -> Self {
         let scene = &scene.camera_relative();
-        let bvh = accel.uses_bvh(scene).then(|| accel::sphere_bvh(scene));
+        let bvh = accel.uses_bvh(scene).then(|| accel::scene_bvh(scene));
         let cam = &scene.camera;
         Self {
             eye: Vec3::of(cam.eye),
             to_screen: Vec3::of(cam.screen_center - cam.eye),
             screen_right: Vec3::of(cam.screen_right),
             screen_up: Vec3::of(cam.screen_up),
-            spheres: scene
-                .spheres
-                .iter()
-                .map(|s| SphereR {
-                    center: Vec3::of(s.center),
-                    radius: R::of(s.radius),
-                    material: s.material as usize,
-                })
-                .collect(),
+            prims: scene.prims.cpu(),
             bvh,
-            planes: scene
-                .planes
-                .iter()
-                .map(|p| PlaneR {
-                    point: Vec3::of(p.point),
-                    normal: Vec3::of(p.normal),
-                    material: p.material as usize,
-                })
-                .collect(),
             materials: scene
                 .materials
                 .iter()

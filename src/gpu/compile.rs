@@ -30,15 +30,26 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("budget.glsl", include_str!("../../shaders/budget.glsl")),
 ];
 
+/// The built-in files with each kind's include (`prim/sphere.glsl`).
+pub fn builtin() -> impl Iterator<Item = (String, &'static str)> {
+    BUILTIN
+        .iter()
+        .map(|(n, t)| ((*n).to_owned(), *t))
+        .chain(crate::prim::KINDS.iter().map(|k| (k.include(), k.glsl)))
+}
+
 pub type Defines = [(String, Option<String>)];
 
 /// Finds shader files: the user's main file, then the user's directories in
-/// order, then the built-in files.
+/// order, then the files generated for the variant, then the built-in files
+/// (shaders/ and each kind's include, shaders/prim/).
 #[derive(Debug, Clone, Default)]
 pub struct Sources {
     pub dirs: Vec<PathBuf>,
     /// Replaces main.comp.
     pub main: Option<PathBuf>,
+    /// The variant's generated files (`Variant::generated`), by name.
+    pub generated: Vec<(String, String)>,
 }
 
 impl Sources {
@@ -50,10 +61,20 @@ impl Sources {
                 return Some((path.display().to_string(), text));
             }
         }
-        BUILTIN
-            .iter()
-            .find(|(n, _)| *n == name)
-            .map(|(n, text)| (format!("shaders/{n}"), (*text).to_owned()))
+        if let Some((n, text)) = self.generated.iter().find(|(n, _)| n == name) {
+            return Some((format!("(generated) {n}"), text.clone()));
+        }
+        builtin()
+            .find(|(n, _)| n == name)
+            .map(|(n, text)| (format!("shaders/{n}"), text.to_owned()))
+    }
+
+    /// These sources with the files generated for `variant`.
+    pub fn for_variant(&self, variant: &super::variant::Variant) -> Sources {
+        Sources {
+            generated: variant.generated(),
+            ..self.clone()
+        }
     }
 
     fn main_source(&self) -> Result<(String, String), GpuError> {
@@ -73,7 +94,11 @@ impl Sources {
     pub fn fingerprint(&self) -> u64 {
         let mut h = Fnv::default();
         h.write(env!("CARGO_PKG_VERSION").as_bytes());
-        for (name, text) in BUILTIN {
+        for (name, text) in builtin() {
+            h.write(name.as_bytes());
+            h.write(text.as_bytes());
+        }
+        for (name, text) in &self.generated {
             h.write(name.as_bytes());
             h.write(text.as_bytes());
         }

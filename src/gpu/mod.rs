@@ -3,6 +3,8 @@
 
 pub mod compile;
 pub mod error;
+pub mod generated;
+pub mod interface;
 pub mod layout;
 pub mod variant;
 pub mod vk;
@@ -30,7 +32,8 @@ use vk::pipeline_cache::PipelineCache;
 /// Rays per dispatch at most: small enough that no single dispatch runs long
 /// enough to trip a desktop GPU's watchdog, large enough to fill one.
 const RAYS_PER_DISPATCH: u64 = 1 << 22;
-const WORKGROUP: u32 = 8;
+/// The workgroup's width and height (interface.glsl declares it from this).
+pub const WORKGROUP: u32 = 8;
 /// The word the output tile is filled with before each dispatch: a NaN.
 const UNWRITTEN: u32 = 0xffff_ffff;
 
@@ -69,12 +72,8 @@ pub struct GpuOptions {
     pub main_shader: Option<PathBuf>,
     /// Defines added after the variant's own (-D NAME=VALUE).
     pub defines: Vec<(String, Option<String>)>,
-    pub intersect: Intersect,
-    pub precision: Precision,
-    /// Which primitives each ray tests: every one, or through a BVH.
-    pub accel: Accel,
-    /// Render with the one shader that handles every feature.
-    pub generic: bool,
+    /// The settings of `Renderer::render`; `render_with` takes others.
+    pub settings: RenderSettings,
     /// Where compiled SPIR-V and the Vulkan pipeline cache are kept between
     /// runs; None: compile every time.
     pub cache_dir: Option<PathBuf>,
@@ -103,6 +102,18 @@ impl GpuOptions {
     }
 }
 
+/// How one render is done. A value per call: `Renderer::render_with`
+/// takes one, `Renderer::render` the renderer's own (`GpuOptions::settings`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
+pub struct RenderSettings {
+    pub intersect: Intersect,
+    pub precision: Precision,
+    /// Which primitives each ray tests: every one, or through a BVH.
+    pub accel: Accel,
+    /// Render with the one shader that handles every feature.
+    pub generic: bool,
+}
+
 /// One-time costs, apart from any render: opening the device, and compiling
 /// the scene's shader variant (or reading it from the SPIR-V cache) and
 /// creating its pipeline; zero when the variant was already built.
@@ -117,6 +128,10 @@ pub struct SetupTimes {
 /// The cost of one render.
 #[derive(Debug, Clone, Copy, Default, serde::Serialize)]
 pub struct RenderTimes {
+    /// What this call spent compiling its variant and creating its
+    /// pipeline (zero where an earlier call did); `device_s` is the
+    /// renderer's, spent once when it was made.
+    pub setup: SetupTimes,
     /// Building the BVH: a setup cost, apart from the render's total.
     pub bvh_s: f64,
     pub upload_s: f64,
@@ -143,15 +158,10 @@ pub struct Renderer {
     sources: compile::Sources,
     defines: Vec<(String, Option<String>)>,
     cache_dir: Option<PathBuf>,
-    /// The intersection forms of the next renders.
-    pub intersect: Intersect,
-    /// The arithmetic of the next renders.
-    pub precision: Precision,
-    /// The scene management of the next renders.
-    pub accel: Accel,
-    /// Whether the next renders use the generic shader.
-    pub generic: bool,
-    pub setup: SetupTimes,
+    /// The settings of `render`.
+    settings: RenderSettings,
+    /// Seconds spent opening the device.
+    device_s: f64,
     timeout: Option<Duration>,
     /// A wait timed out: the device may still run that work.
     lost: bool,
@@ -182,10 +192,11 @@ pub fn tile_timeout(scene: &Scene, pixels: u64, bvh: bool) -> Duration {
         * f64::from(scene.samples * scene.samples)
         * f64::from(scene.max_depth)
         * (1.0 + scene.lights.len() as f64);
-    let objects = (scene.spheres.len() + scene.planes.len()).max(1) as f64;
+    let objects = scene.prims.len().max(1) as f64;
+    let unbounded = (scene.prims.len() - scene.prims.bounded_count()) as f64;
     let per_ray = if bvh {
-        // A walk visits at most every node (2 a sphere) and tests every sphere.
-        (64.0 + 8.0 * objects.log2()).min(3.0 * objects) + scene.planes.len() as f64
+        // A walk visits at most every node (2 a primitive) and tests every one.
+        (64.0 + 8.0 * objects.log2()).min(3.0 * objects) + unbounded
     } else {
         objects
     };
@@ -240,20 +251,15 @@ impl Renderer {
             sources: compile::Sources {
                 dirs: opts.include_dirs.clone(),
                 main: opts.main_shader.clone(),
+                generated: Vec::new(),
             },
             defines: opts.defines.clone(),
             cache_dir: opts.cache_dir.as_ref().map(|d| d.join("spirv")),
-            intersect: opts.intersect,
-            precision: opts.precision,
-            accel: opts.accel,
-            generic: opts.generic,
+            settings: opts.settings,
+            device_s: secs(t0.elapsed()),
             timeout: opts.timeout,
             lost: false,
             laid_out: std::cell::RefCell::new(None),
-            setup: SetupTimes {
-                device_s: secs(t0.elapsed()),
-                ..SetupTimes::default()
-            },
         };
         renderer.check_validation()?;
         Ok(renderer)
@@ -261,6 +267,16 @@ impl Renderer {
 
     pub fn device_info(&self) -> &DeviceInfo {
         &self.device.info
+    }
+
+    /// The settings `render` uses.
+    pub fn settings(&self) -> RenderSettings {
+        self.settings
+    }
+
+    /// Seconds spent opening the device, once.
+    pub fn device_s(&self) -> f64 {
+        self.device_s
     }
 
     fn check_validation(&self) -> Result<(), GpuError> {
@@ -287,44 +303,54 @@ impl Renderer {
 
     /// The variant `scene` renders with, and its defines (the user's last).
     pub fn variant_for(&self, scene: &Scene) -> (Variant, Vec<(String, Option<String>)>) {
-        self.variant_of(scene, &self.uploads(scene).0)
+        self.variant_with(scene, &self.settings)
     }
 
-    /// `scene`'s uploads under the current settings, built or reused from
-    /// the last call, and the seconds this call spent laying them out,
-    /// apart from the BVH's build (`Uploads::bvh_s`).
-    fn uploads(&self, scene: &Scene) -> (std::rc::Rc<Uploads>, f64) {
-        let settings = (self.intersect, self.precision, self.accel);
+    /// As `variant_for`, with the given settings.
+    pub fn variant_with(
+        &self,
+        scene: &Scene,
+        settings: &RenderSettings,
+    ) -> (Variant, Vec<(String, Option<String>)>) {
+        self.variant_of(scene, settings, &self.uploads(scene, settings).0)
+    }
+
+    /// `scene`'s uploads under `settings`, built or reused from the last
+    /// call, and the seconds this call spent laying them out, apart from
+    /// the BVH's build (`Uploads::bvh_s`).
+    fn uploads(&self, scene: &Scene, settings: &RenderSettings) -> (std::rc::Rc<Uploads>, f64) {
+        let key = (settings.intersect, settings.precision, settings.accel);
         let mut cache = self.laid_out.borrow_mut();
         if let Some(l) = cache.as_ref() {
-            if l.settings == settings && l.scene == *scene {
+            if l.settings == key && l.scene == *scene {
                 return (l.uploads.clone(), 0.0);
             }
         }
         let t0 = Instant::now();
-        let uploads = std::rc::Rc::new(Uploads::new(scene, settings.0, settings.1, settings.2));
+        let uploads = std::rc::Rc::new(Uploads::new(scene, key.0, key.1, key.2));
         let layout_s = secs(t0.elapsed()) - uploads.bvh_s;
         *cache = Some(LaidOut {
             scene: scene.clone(),
-            settings,
+            settings: key,
             uploads: uploads.clone(),
         });
         (uploads, layout_s)
     }
 
-    /// As `variant_for`, with the scene's uploads already built.
+    /// As `variant_with`, with the scene's uploads already built.
     fn variant_of(
         &self,
         scene: &Scene,
+        settings: &RenderSettings,
         uploads: &Uploads,
     ) -> (Variant, Vec<(String, Option<String>)>) {
         let variant = Variant::for_scene(
             scene,
             uploads,
-            self.intersect,
-            self.precision,
+            settings.intersect,
+            settings.precision,
             &self.device.info,
-            self.generic,
+            settings.generic,
         );
         let mut defines = variant.defines();
         defines.extend(self.defines.iter().cloned());
@@ -332,29 +358,26 @@ impl Renderer {
     }
 
     /// Compiles the variant's shader and creates its pipeline, once per
-    /// variant and version of the sources; records the time it took.
+    /// variant and version of the sources. Returns the pipeline's key and
+    /// what this call cost (nothing where the variant was built before).
     fn prepare(
         &mut self,
         variant: &Variant,
         defines: &[(String, Option<String>)],
-    ) -> Result<(Variant, u64), GpuError> {
-        let fingerprint = self.sources.fingerprint();
+    ) -> Result<((Variant, u64), SetupTimes), GpuError> {
+        let sources = self.sources.for_variant(variant);
+        let fingerprint = sources.fingerprint();
         let key = (variant.clone(), fingerprint);
+        let mut setup = SetupTimes {
+            device_s: self.device_s,
+            ..SetupTimes::default()
+        };
         if self.pipelines.contains_key(&key) {
-            // Built before: this call cost nothing (not the last compile's time).
-            self.setup = SetupTimes {
-                device_s: self.setup.device_s,
-                ..SetupTimes::default()
-            };
-            return Ok(key);
+            return Ok((key, setup));
         }
         let t0 = Instant::now();
-        let (spirv, cached) = compile::compile_cached(
-            &self.sources,
-            fingerprint,
-            defines,
-            self.cache_dir.as_deref(),
-        )?;
+        let (spirv, cached) =
+            compile::compile_cached(&sources, fingerprint, defines, self.cache_dir.as_deref())?;
         let t1 = Instant::now();
         let push_bytes = std::mem::size_of::<TileRect>() as u32;
         let pipeline = ComputePipeline::new(
@@ -364,33 +387,52 @@ impl Renderer {
             push_bytes,
             self.pipeline_cache.raw,
         )?;
-        self.setup.compile_s = secs(t1 - t0);
-        self.setup.pipeline_s = secs(t1.elapsed());
-        self.setup.spirv_cached = cached;
+        setup.compile_s = secs(t1 - t0);
+        setup.pipeline_s = secs(t1.elapsed());
+        setup.spirv_cached = cached;
         self.pipelines.insert(key.clone(), pipeline);
         self.check_validation()?;
-        Ok(key)
+        Ok((key, setup))
     }
 
     /// Compiles what `scene` needs without rendering it, so that a timed
     /// render measures the render alone. Returns what this call cost: zero
     /// compile and pipeline times where the variant was built before.
     pub fn prepare_for(&mut self, scene: &Scene) -> Result<SetupTimes, GpuError> {
-        let (variant, defines) = self.variant_for(scene);
-        self.prepare(&variant, &defines)?;
-        Ok(self.setup)
+        self.prepare_with(scene, &self.settings.clone())
     }
 
-    /// Renders `scene`, calling `progress(pixels)` as tiles finish.
+    /// As `prepare_for`, with the given settings.
+    pub fn prepare_with(
+        &mut self,
+        scene: &Scene,
+        settings: &RenderSettings,
+    ) -> Result<SetupTimes, GpuError> {
+        let (variant, defines) = self.variant_with(scene, settings);
+        Ok(self.prepare(&variant, &defines)?.1)
+    }
+
+    /// Renders `scene` with the renderer's settings, calling
+    /// `progress(pixels)` as tiles finish.
     pub fn render(
         &mut self,
         scene: &Scene,
         progress: &dyn Fn(u64),
     ) -> Result<(Image, RenderTimes), GpuError> {
+        self.render_with(scene, &self.settings.clone(), progress)
+    }
+
+    /// Renders `scene` with `settings`, calling `progress(pixels)` as tiles finish.
+    pub fn render_with(
+        &mut self,
+        scene: &Scene,
+        settings: &RenderSettings,
+        progress: &dyn Fn(u64),
+    ) -> Result<(Image, RenderTimes), GpuError> {
         if self.lost {
             return Err(GpuError::Lost);
         }
-        if self.precision == Precision::F64 && !self.device.info.shader_float64 {
+        if settings.precision == Precision::F64 && !self.device.info.shader_float64 {
             return Err(GpuError::Unsupported(format!(
                 "{} has no shaderFloat64: render in f32, or on the CPU in f64",
                 self.device.info.name
@@ -398,12 +440,15 @@ impl Renderer {
         }
         // Laying the scene out counts as upload (where this call did it), but
         // not the compile between; the BVH build is reported apart.
-        let (up, layout_s) = self.uploads(scene);
-        let (variant, defines) = self.variant_of(scene, &up);
-        let key = self.prepare(&variant, &defines)?;
+        let (up, layout_s) = self.uploads(scene, settings);
+        let (variant, defines) = self.variant_of(scene, settings, &up);
+        let (key, setup) = self.prepare(&variant, &defines)?;
         let pipeline = &self.pipelines[&key];
 
-        let mut times = RenderTimes::default();
+        let mut times = RenderTimes {
+            setup,
+            ..RenderTimes::default()
+        };
         let t0 = Instant::now();
         let usage = variant.scene_buffer_usage();
         up.check_storage_range(self.device.info.max_storage_buffer_range)
@@ -421,10 +466,9 @@ impl Renderer {
                     raw::BufferUsageFlags::UNIFORM_BUFFER,
                     "the uniform block",
                 )?,
-                Block::Spheres => Buffer::with_data(d, &up.arrays[0].bytes, usage, "spheres")?,
-                Block::Planes => Buffer::with_data(d, &up.arrays[1].bytes, usage, "planes")?,
-                Block::Materials => Buffer::with_data(d, &up.arrays[2].bytes, usage, "materials")?,
-                Block::Lights => Buffer::with_data(d, &up.arrays[3].bytes, usage, "lights")?,
+                Block::Kind(k) => Buffer::with_data(d, &up.kinds[k].bytes, usage, block.name())?,
+                Block::Materials => Buffer::with_data(d, &up.materials.bytes, usage, "materials")?,
+                Block::Lights => Buffer::with_data(d, &up.lights.bytes, usage, "lights")?,
                 Block::Nodes => Buffer::with_data(
                     d,
                     &up.nodes.as_ref().expect("a BVH variant has nodes").bytes,

@@ -8,26 +8,41 @@ use ash::vk;
 use super::layout::Uploads;
 use super::vk::device::DeviceInfo;
 use super::{Intersect, Precision};
+use crate::prim::KINDS;
 use crate::scene::{LightKind, Scene};
 
 /// Unrolling the scene loops is worth its compile time up to this many
-/// spheres and planes (each loop body is copied once per object, at every
+/// primitives (each loop body is copied once per object, at every
 /// place the shader walks the scene). Also, lavapipe (Mesa 22.3) was seen to
 /// miscompile the unrolled shadow loop of a scene with 103 objects; 60 were
 /// right; `glint compare` and the tests catch such a thing.
 const UNROLL_OBJECTS: usize = 64;
 const UNROLL_LIGHTS: usize = 16;
 
-/// The blocks of shaders/bindings.glsl, in binding order.
+/// The shader's blocks, in binding order (src/gpu/generated.rs declares them).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Block {
     Globals,
-    Spheres,
-    Planes,
+    /// One kind of primitive's array, by its place in `prim::KINDS`.
+    Kind(usize),
     Materials,
     Lights,
     Nodes,
     Pixels,
+}
+
+impl Block {
+    /// Its name in GLSL and in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Block::Globals => "Globals",
+            Block::Kind(k) => KINDS[k].key,
+            Block::Materials => "materials",
+            Block::Lights => "lights",
+            Block::Nodes => "BVH nodes",
+            Block::Pixels => "the output tile",
+        }
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -44,8 +59,9 @@ pub struct Variant {
 /// What one scene needs of the shader.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Features {
-    /// Spheres, planes, lights.
-    pub counts: [usize; 3],
+    /// Primitives of each kind (`prim::KINDS`).
+    pub kinds: Vec<usize>,
+    pub lights: usize,
     pub point: bool,
     pub directional: bool,
     pub spot: bool,
@@ -56,9 +72,9 @@ pub struct Features {
     /// Ray segments traced: 1 where no material reflects.
     pub max_depth: u32,
     pub samples: u32,
-    /// The scene's arrays as uniform buffers of these lengths (spheres,
-    /// planes, materials, lights) where they fit; else storage buffers.
-    pub uniform_slots: Option<[usize; 4]>,
+    /// The scene's arrays as uniform buffers of these lengths (each kind's,
+    /// then materials, lights) where they fit; else storage buffers.
+    pub uniform_slots: Option<Vec<usize>>,
     pub unroll: bool,
     /// BVH nodes per layout; 0 without a BVH.
     pub nodes: usize,
@@ -69,32 +85,34 @@ pub struct Features {
 impl Features {
     pub fn of(scene: &Scene, uploads: &Uploads, device: &DeviceInfo) -> Self {
         let has = |k: LightKind| scene.lights.iter().any(|l| l.kind == k);
-        let counts = [scene.spheres.len(), scene.planes.len(), scene.lights.len()];
-        let objects = counts[0] + counts[1] > 0;
+        let kinds = scene.prims.counts();
+        let objects = !scene.prims.is_empty();
+        let lights = scene.lights.len();
         let reflects = scene.materials.iter().any(|m| m.reflectivity > 0.0);
         // Lavapipe (Mesa 22.3) crashed in a worker thread rendering the
         // uniform-buffer variant of scenes without spheres (planes and lights
         // only); those take storage buffers.
         let range = device.max_uniform_buffer_range as usize;
-        let fits = counts[0] > 0
+        let fits = kinds[0] > 0
             && uploads.array_bytes().iter().all(|b| *b <= range)
             && uploads
                 .nodes
                 .as_ref()
                 .is_none_or(|n| n.bytes.len() <= range);
         Self {
-            counts,
+            unroll: fits && scene.prims.len() <= UNROLL_OBJECTS && lights <= UNROLL_LIGHTS,
+            kinds,
+            lights,
             point: has(LightKind::Point),
             directional: has(LightKind::Directional),
             spot: has(LightKind::Spot),
             attenuation: scene.lights.iter().any(|l| {
                 l.kind != LightKind::Directional && l.attenuation != glam::DVec3::new(1.0, 0.0, 0.0)
             }),
-            shadows: scene.shadows && objects && counts[2] > 0,
+            shadows: scene.shadows && objects && lights > 0,
             max_depth: if reflects { scene.max_depth } else { 1 },
             samples: scene.samples,
             uniform_slots: fits.then(|| uploads.array_lengths()),
-            unroll: fits && counts[0] + counts[1] <= UNROLL_OBJECTS && counts[2] <= UNROLL_LIGHTS,
             nodes: uploads.layout_len,
             layouts: uploads.layouts,
         }
@@ -103,9 +121,10 @@ impl Features {
     fn defines(&self, d: &mut Vec<(String, Option<String>)>) {
         let mut def = |name: &str, value: String| d.push((name.to_owned(), Some(value)));
         let flag = |b: bool| u8::from(b).to_string();
-        let [ns, np, nl] = self.counts;
-        def("HAS_SPHERES", flag(ns > 0));
-        def("HAS_PLANES", flag(np > 0));
+        for (kind, n) in KINDS.iter().zip(&self.kinds) {
+            def(&format!("HAS_{}", kind.upper()), flag(*n > 0));
+            def(&format!("{}_COUNT", kind.upper()), format!("{n}u"));
+        }
         def("HAS_POINT", flag(self.point));
         def("HAS_DIRECTIONAL", flag(self.directional));
         def("HAS_SPOT", flag(self.spot));
@@ -114,18 +133,15 @@ impl Features {
         def("SHADOWS_ON", "true".to_owned());
         def("MAX_DEPTH", format!("{}u", self.max_depth));
         def("SAMPLES", format!("{}u", self.samples));
-        def("SPHERE_COUNT", format!("{ns}u"));
-        def("PLANE_COUNT", format!("{np}u"));
-        def("LIGHT_COUNT", format!("{nl}u"));
-        if let Some([s, p, m, l]) = self.uniform_slots {
+        def("LIGHT_COUNT", format!("{}u", self.lights));
+        if let Some(slots) = &self.uniform_slots {
             d.push(("SCENE_IN_UNIFORMS".to_owned(), None));
-            for (name, n) in [
-                ("SPHERE_SLOTS", s),
-                ("PLANE_SLOTS", p),
-                ("MATERIAL_SLOTS", m),
-                ("LIGHT_SLOTS", l),
-            ] {
-                d.push((name.to_owned(), Some(format!("{n}u"))));
+            let names = KINDS
+                .iter()
+                .map(|k| k.upper())
+                .chain(["MATERIALS".to_owned(), "LIGHTS".to_owned()]);
+            for (name, n) in names.zip(slots) {
+                d.push((format!("{name}_SLOTS"), Some(format!("{n}u"))));
             }
         }
         if self.unroll {
@@ -158,6 +174,17 @@ impl Variant {
         }
     }
 
+    /// The generic shader in f32 with the robust forms and no BVH (`glint
+    /// shader check` compiles a user's file against its interface).
+    pub fn generic() -> Self {
+        Self {
+            intersect: Intersect::Robust,
+            precision: Precision::F32,
+            bvh_layouts: 0,
+            features: None,
+        }
+    }
+
     pub fn defines(&self) -> Vec<(String, Option<String>)> {
         let mut d = Vec::new();
         if self.intersect == Intersect::Naive {
@@ -173,18 +200,6 @@ impl Variant {
         if let Some(f) = &self.features {
             f.defines(&mut d);
         }
-        for (block, binding, _) in self.bindings() {
-            let name = match block {
-                Block::Globals => continue,
-                Block::Spheres => "SPHERES_BINDING",
-                Block::Planes => "PLANES_BINDING",
-                Block::Materials => "MATERIALS_BINDING",
-                Block::Lights => "LIGHTS_BINDING",
-                Block::Nodes => "NODES_BINDING",
-                Block::Pixels => "PIXELS_BINDING",
-            };
-            d.push((name.to_owned(), Some(binding.to_string())));
-        }
         d
     }
 
@@ -196,19 +211,24 @@ impl Variant {
         } else {
             vk::DescriptorType::STORAGE_BUFFER
         };
-        let [spheres, planes, lights] = match &self.features {
-            Some(f) => f.counts.map(|n| n > 0),
-            None => [true; 3],
+        let (kinds, lights) = match &self.features {
+            Some(f) => (f.kinds.iter().map(|n| *n > 0).collect(), f.lights > 0),
+            None => (vec![true; KINDS.len()], true),
         };
-        let blocks = [
-            (Block::Globals, true, vk::DescriptorType::UNIFORM_BUFFER),
-            (Block::Spheres, spheres, scene_type),
-            (Block::Planes, planes, scene_type),
-            (Block::Materials, spheres || planes, scene_type),
+        let objects = kinds.iter().any(|k| *k);
+        let mut blocks = vec![(Block::Globals, true, vk::DescriptorType::UNIFORM_BUFFER)];
+        blocks.extend(
+            kinds
+                .iter()
+                .enumerate()
+                .map(|(k, used)| (Block::Kind(k), *used, scene_type)),
+        );
+        blocks.extend([
+            (Block::Materials, objects, scene_type),
             (Block::Lights, lights, scene_type),
             (Block::Nodes, self.bvh_layouts > 0, scene_type),
             (Block::Pixels, true, vk::DescriptorType::STORAGE_BUFFER),
-        ];
+        ]);
         blocks
             .into_iter()
             .filter(|(_, used, _)| *used)
@@ -226,7 +246,7 @@ impl Variant {
     }
 
     /// Whether the scene's arrays are uniform buffers (else storage buffers).
-    fn in_uniforms(&self) -> bool {
+    pub fn in_uniforms(&self) -> bool {
         self.features
             .as_ref()
             .is_some_and(|f| f.uniform_slots.is_some())
@@ -257,8 +277,12 @@ impl Variant {
         match &self.features {
             None => parts.push("generic".to_owned()),
             Some(f) => {
-                let [s, p, l] = f.counts;
-                parts.push(format!("s{s}-p{p}-l{l}"));
+                let counts: Vec<String> = KINDS
+                    .iter()
+                    .zip(&f.kinds)
+                    .map(|(k, n)| format!("{}{n}", k.key))
+                    .collect();
+                parts.push(format!("{}-l{}", counts.join("-"), f.lights));
                 for (on, name) in [
                     (f.point, "point"),
                     (f.directional, "dir"),

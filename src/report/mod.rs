@@ -11,7 +11,7 @@ use serde::Serialize;
 
 use crate::cpu;
 use crate::gpu::vk::device::DeviceInfo;
-use crate::gpu::{GpuError, Intersect, Precision, Renderer, SetupTimes};
+use crate::gpu::{GpuError, Intersect, Precision, RenderSettings, Renderer, SetupTimes};
 use crate::raster::diff::{figures, ErrorFigures};
 use crate::raster::{quantize, Image};
 use crate::scene::Scene;
@@ -288,19 +288,19 @@ pub fn measure(
                     Backend::Gpu64 => (Intersect::Robust, Precision::F64),
                     _ => (Intersect::Robust, Precision::F32),
                 };
-                renderer.intersect = form;
-                renderer.precision = precision;
-                renderer.generic = matches!(backend, Backend::GpuGeneric);
-                let setup = renderer.prepare_for(&s)?;
-                let (image, _) = renderer.render(&s, &|_| {})?; // warm-up, untimed
+                let how = RenderSettings {
+                    intersect: form,
+                    precision,
+                    generic: matches!(backend, Backend::GpuGeneric),
+                    ..renderer.settings()
+                };
+                let setup = renderer.prepare_with(&s, &how)?;
+                let (image, _) = renderer.render_with(&s, &how, &|_| {})?; // warm-up, untimed
                 let mut runs: Vec<(f64, crate::gpu::RenderTimes)> = Vec::new();
                 for _ in 0..settings.runs {
-                    let t = renderer.render(&s, &|_| {})?.1;
+                    let t = renderer.render_with(&s, &how, &|_| {})?.1;
                     runs.push((t.total_s(), t));
                 }
-                renderer.intersect = Intersect::Robust;
-                renderer.precision = Precision::F32;
-                renderer.generic = false;
                 runs.sort_by(|a, b| a.0.total_cmp(&b.0));
                 let (m, parts) = runs[runs.len() / 2];
                 let time = Timing {

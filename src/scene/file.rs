@@ -26,22 +26,40 @@ impl<'de> Deserialize<'de> for Triple {
     }
 }
 
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SceneFile {
-    pub image: ImageFile,
-    #[serde(default)]
-    pub render: RenderFile,
-    pub camera: CameraFile,
-    #[serde(default)]
-    pub materials: BTreeMap<String, MaterialFile>,
-    #[serde(default)]
-    pub spheres: Vec<SphereFile>,
-    #[serde(default)]
-    pub planes: Vec<PlaneFile>,
-    #[serde(default)]
-    pub lights: Vec<LightFile>,
+/// The scene file's tables, with an array for each kind of primitive
+/// (`crate::prim`'s table; serde's `flatten` would not work with
+/// `deny_unknown_fields`).
+macro_rules! scene_file {
+    ($($key:ident : $kind:ty),* $(,)?) => {
+        #[derive(Debug, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub struct SceneFile {
+            pub image: ImageFile,
+            #[serde(default)]
+            pub render: RenderFile,
+            pub camera: CameraFile,
+            #[serde(default)]
+            pub materials: BTreeMap<String, MaterialFile>,
+            $(
+                #[serde(default)]
+                pub $key: Vec<<$kind as crate::prim::Kind>::File>,
+            )*
+            #[serde(default)]
+            pub lights: Vec<LightFile>,
+        }
+
+        impl SceneFile {
+            /// The primitives' tables, moved out.
+            pub fn take_prims(&mut self) -> crate::prim::PrimFiles {
+                crate::prim::PrimFiles {
+                    $($key: std::mem::take(&mut self.$key),)*
+                }
+            }
+        }
+    };
 }
+
+crate::with_kinds!(scene_file);
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -101,22 +119,6 @@ pub struct MaterialFile {
     pub shininess: f64,
     #[serde(default)]
     pub reflectivity: f64,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SphereFile {
-    pub center: Triple,
-    pub radius: f64,
-    pub material: String,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PlaneFile {
-    pub point: Triple,
-    pub normal: Triple,
-    pub material: String,
 }
 
 /// One flat table for every light type: `validate` checks that each key

@@ -14,7 +14,10 @@ use std::path::Path;
 use glam::DVec3;
 
 pub use error::SceneError;
-pub use validate::{parse, Overrides};
+pub use file::Triple;
+pub use validate::{parse, At, Overrides};
+
+use crate::prim::Prims;
 
 pub const MAX_SIZE: u32 = 16384;
 pub const MAX_SAMPLES: u32 = 16;
@@ -31,8 +34,8 @@ pub struct Scene {
     pub background: DVec3,
     pub camera: Camera,
     pub materials: Vec<Material>,
-    pub spheres: Vec<Sphere>,
-    pub planes: Vec<Plane>,
+    /// Every primitive, a list for each kind (`crate::prim`).
+    pub prims: Prims,
     pub lights: Vec<Light>,
 }
 
@@ -55,21 +58,6 @@ pub struct Material {
     pub specular: DVec3,
     pub shininess: f64,
     pub reflectivity: f64,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sphere {
-    pub center: DVec3,
-    pub radius: f64,
-    pub material: u32,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Plane {
-    pub point: DVec3,
-    /// Unit length.
-    pub normal: DVec3,
-    pub material: u32,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

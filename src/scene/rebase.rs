@@ -12,14 +12,7 @@ impl Scene {
         let mut s = self.clone();
         s.camera.eye -= origin;
         s.camera.screen_center -= origin;
-        for sphere in &mut s.spheres {
-            sphere.center -= origin;
-        }
-        for plane in &mut s.planes {
-            // The plane's point nearest the eye: as small as a point of the
-            // plane can be, whatever point the file gave.
-            plane.point = plane.normal * (plane.point - origin).dot(plane.normal);
-        }
+        s.prims = s.prims.relative_to(origin);
         for light in &mut s.lights {
             light.position -= origin;
         }
@@ -59,8 +52,8 @@ position = [1000000.0, 5.0, 0.0]
         let s = parse(text, Path::new("t.toml"), &Overrides::default()).unwrap();
         let r = s.camera_relative();
         assert_eq!(r.camera.eye, glam::DVec3::ZERO);
-        assert_eq!(r.spheres[0].center, glam::DVec3::new(0.5, -2.0, -3.0));
-        assert_eq!(r.planes[0].point, glam::DVec3::new(0.0, -3.0, 0.0));
+        assert_eq!(r.prims.spheres[0].center, glam::DVec3::new(0.5, -2.0, -3.0));
+        assert_eq!(r.prims.planes[0].point, glam::DVec3::new(0.0, -3.0, 0.0));
         assert_eq!(r.lights[0].position, glam::DVec3::new(-0.5, 3.0, -3.0));
         assert_eq!(r.camera.screen_right, s.camera.screen_right);
     }

@@ -5,7 +5,8 @@
 //! Where the text could fool a line scan (multi-line strings, a `spheres`
 //! key written another way), the whole file is parsed as before.
 
-use super::file::{SceneFile, SphereFile};
+use super::file::SceneFile;
+use crate::prim::sphere::SphereFile;
 
 const HEADER: &str = "[[spheres]]";
 
@@ -92,13 +93,17 @@ fn sphere_blocks(text: &str) -> Option<Vec<(usize, usize)>> {
 }
 
 fn is_header(t: &str) -> bool {
-    matches!(
-        t,
-        "[[spheres]]" | "[[planes]]" | "[[lights]]" | "[image]" | "[render]" | "[camera]"
-    ) || (t.starts_with("[materials.")
-        && t.ends_with(']')
-        && !t.ends_with("]]")
-        && !t[1..t.len() - 1].contains(['[', ']', '#']))
+    matches!(t, "[[lights]]" | "[image]" | "[render]" | "[camera]")
+        || crate::prim::KINDS.iter().any(|k| {
+            t.len() == k.key.len() + 4
+                && t[2..t.len() - 2] == *k.key
+                && t.starts_with("[[")
+                && t.ends_with("]]")
+        })
+        || (t.starts_with("[materials.")
+            && t.ends_with(']')
+            && !t.ends_with("]]")
+            && !t[1..t.len() - 1].contains(['[', ']', '#']))
 }
 
 #[cfg(test)]

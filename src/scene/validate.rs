@@ -9,9 +9,9 @@ use glam::DVec3;
 use super::file::{CameraFile, LightFile, MaterialFile, SceneFile, Triple};
 use super::locate::{KeyPath, Located};
 use super::{
-    Camera, Light, LightKind, Material, Plane, Scene, SceneError, Sphere, MAX_DEPTH, MAX_SAMPLES,
-    MAX_SIZE,
+    Camera, Light, LightKind, Material, Scene, SceneError, MAX_DEPTH, MAX_SAMPLES, MAX_SIZE,
 };
+use crate::prim::Prims;
 
 /// Command-line values that replace the scene's own.
 #[derive(Debug, Clone, Copy, Default)]
@@ -35,6 +35,76 @@ pub fn parse(text: &str, file: &Path, overrides: &Overrides) -> Result<Scene> {
     apply_overrides(&mut scene, overrides)?;
     check.brightness(&scene)?;
     Ok(scene)
+}
+
+/// Where one table of the file is, for a primitive kind's checks
+/// (`crate::prim::Kind::check`): its fields are checked and named from here.
+pub struct At<'a> {
+    check: &'a Check<'a>,
+    /// The materials' names, sorted.
+    names: &'a [&'a String],
+    path: KeyPath,
+}
+
+impl At<'_> {
+    /// A point: finite and within ±`MAX_COORDINATE`.
+    pub fn position(&self, key: &str, t: Triple) -> Result<DVec3> {
+        self.check.position(&self.path.key(key), t)
+    }
+
+    /// A direction, returned at unit length.
+    pub fn direction(&self, key: &str, t: Triple) -> Result<DVec3> {
+        self.check.direction(&self.path.key(key), t)
+    }
+
+    /// A length: finite, > 0 and at most `MAX_COORDINATE`.
+    pub fn length(&self, key: &str, v: f64) -> Result<f64> {
+        let path = self.path.key(key);
+        let v = self.check.finite(&path, v)?;
+        if v <= 0.0 {
+            return self.check.err(&path, format!("must be > 0, got {v}"));
+        }
+        if v > MAX_COORDINATE {
+            return self.check.err(
+                &path,
+                format!("must be at most {MAX_COORDINATE:e}, got {v:e}"),
+            );
+        }
+        Ok(v)
+    }
+
+    /// A material's index, by its name.
+    pub fn material(&self, key: &str, name: &str) -> Result<u32> {
+        let path = self.path.key(key);
+        // The names are sorted (a BTreeMap's keys): a binary search keeps
+        // 200,000 spheres with as many materials linear-logarithmic.
+        match self.names.binary_search_by(|n| n.as_str().cmp(name)) {
+            Ok(i) => Ok(i as u32),
+            Err(_) if self.names.is_empty() => self.check.err(
+                &path,
+                format!(
+                    "unknown material \"{}\" (the scene defines no [materials])",
+                    crate::printable::text(name)
+                ),
+            ),
+            Err(_) => {
+                const SHOWN: usize = 10;
+                let mut listed: Vec<&str> =
+                    self.names.iter().take(SHOWN).map(|n| n.as_str()).collect();
+                if self.names.len() > SHOWN {
+                    listed.push("…");
+                }
+                self.check.err(
+                    &path,
+                    format!(
+                        "unknown material \"{}\" (defined: {})",
+                        crate::printable::text(name),
+                        listed.join(", ")
+                    ),
+                )
+            }
+        }
+    }
 }
 
 /// Coordinates and lengths at most this far from 0: squared distances
@@ -220,7 +290,7 @@ impl Check<'_> {
         Ok(unit)
     }
 
-    fn scene(&self, raw: SceneFile, overrides: &Overrides) -> Result<Scene> {
+    fn scene(&self, mut raw: SceneFile, overrides: &Overrides) -> Result<Scene> {
         let image = root().key("image");
         let render = root().key("render");
         let width = self.int_in(&image.key("width"), raw.image.width, 1, MAX_SIZE)?;
@@ -230,72 +300,18 @@ impl Check<'_> {
             self.int_in(&render.key("max_depth"), raw.render.max_depth, 1, MAX_DEPTH)?;
         let background = self.colour(&render.key("background"), raw.render.background)?;
 
+        let prim_files = raw.take_prims();
         let names: Vec<&String> = raw.materials.keys().collect();
         let materials = raw
             .materials
             .iter()
             .map(|(name, m)| self.material(&root().key("materials").key(name), name, m))
             .collect::<Result<Vec<_>>>()?;
-        // The names are sorted (a BTreeMap's keys): a binary search keeps
-        // 200,000 spheres with as many materials linear-logarithmic.
-        let material_index = |path: &KeyPath, name: &str| -> Result<u32> {
-            match names.binary_search_by(|n| n.as_str().cmp(name)) {
-                Ok(i) => Ok(i as u32),
-                Err(_) if names.is_empty() => self.err(
-                    path,
-                    format!(
-                        "unknown material \"{}\" (the scene defines no [materials])",
-                        crate::printable::text(name)
-                    ),
-                ),
-                Err(_) => {
-                    const SHOWN: usize = 10;
-                    let mut listed: Vec<&str> =
-                        names.iter().take(SHOWN).map(|n| n.as_str()).collect();
-                    if names.len() > SHOWN {
-                        listed.push("…");
-                    }
-                    self.err(
-                        path,
-                        format!(
-                            "unknown material \"{}\" (defined: {})",
-                            crate::printable::text(name),
-                            listed.join(", ")
-                        ),
-                    )
-                }
-            }
-        };
-
-        let mut spheres = Vec::with_capacity(raw.spheres.len());
-        for (i, s) in raw.spheres.iter().enumerate() {
-            let path = root().key("spheres").index(i);
-            let radius = self.finite(&path.key("radius"), s.radius)?;
-            if radius <= 0.0 {
-                return self.err(&path.key("radius"), format!("must be > 0, got {radius}"));
-            }
-            if radius > MAX_COORDINATE {
-                return self.err(
-                    &path.key("radius"),
-                    format!("must be at most {MAX_COORDINATE:e}, got {radius:e}"),
-                );
-            }
-            spheres.push(Sphere {
-                center: self.position(&path.key("center"), s.center)?,
-                radius,
-                material: material_index(&path.key("material"), &s.material)?,
-            });
-        }
-
-        let mut planes = Vec::with_capacity(raw.planes.len());
-        for (i, p) in raw.planes.iter().enumerate() {
-            let path = root().key("planes").index(i);
-            planes.push(Plane {
-                point: self.position(&path.key("point"), p.point)?,
-                normal: self.direction(&path.key("normal"), p.normal)?,
-                material: material_index(&path.key("material"), &p.material)?,
-            });
-        }
+        let prims = Prims::check(&prim_files, |key, i| At {
+            check: self,
+            names: &names,
+            path: root().key(key).index(i),
+        })?;
 
         let lights = raw
             .lights
@@ -319,8 +335,7 @@ impl Check<'_> {
             background,
             camera,
             materials,
-            spheres,
-            planes,
+            prims,
             lights,
         })
     }

@@ -9,8 +9,6 @@
 //
 //   glint render scenes/seed-fig5.toml -I shaders/experiments/cost -o cost.png
 
-layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
-
 uint cost = 0u;
 #define ON_TEST() cost++
 

@@ -1,0 +1,173 @@
+//! The host↔shader interface, declared once: each struct the shader reads is
+//! declared here (or in its primitive's module) with `gpu_struct!`, which
+//! makes the Rust `Pod` structs of both precisions and the GLSL declaration
+//! from the same field list. The shader's block declarations, binding
+//! numbers, workgroup size and primitive scans are generated from those and
+//! from the table of primitive kinds (`crate::prim`), per variant; nothing
+//! is kept in a hand-written second copy (docs/shaders.md, Interface).
+
+use bytemuck::Pod;
+
+use super::Precision;
+
+/// One struct of the interface: its values on the host (f64 reals) and its
+/// layouts in f32 and f64 (std140 and std430 agree on them: every member is
+/// 16 bytes, or a vec3 and a uint that share 16, and f64 structs are padded
+/// to dvec4's 32-byte alignment).
+pub trait GpuStruct: Copy {
+    type F32: Pod;
+    type F64: Pod;
+    /// The struct's name in GLSL.
+    const NAME: &'static str;
+    /// Its members in GLSL, one declaration a line.
+    const MEMBERS: &'static str;
+    fn f32(&self) -> Self::F32;
+    fn f64(&self) -> Self::F64;
+}
+
+/// `struct Name { members };` in GLSL.
+pub fn declaration<S: GpuStruct>() -> String {
+    format!("struct {} {{\n{}}};\n", S::NAME, S::MEMBERS)
+}
+
+/// One array of the scene as bytes of `precision`, with its element count
+/// (at least 1: Vulkan has no empty buffers, GLSL no empty arrays; the
+/// counts never reach the zeroed slot of an absent kind).
+pub fn array<S: GpuStruct>(items: impl Iterator<Item = S>, precision: Precision) -> Array {
+    fn cast<T: Pod>(mut v: Vec<T>) -> Array {
+        if v.is_empty() {
+            v.push(T::zeroed());
+        }
+        Array {
+            bytes: bytemuck::cast_slice(&v).to_vec(),
+            len: v.len(),
+        }
+    }
+    match precision {
+        Precision::F32 => cast(items.map(|s| s.f32()).collect()),
+        Precision::F64 => cast(items.map(|s| s.f64()).collect()),
+    }
+}
+
+/// One scene array as bytes, with its element count (at least 1).
+#[derive(Debug, Clone)]
+pub struct Array {
+    pub bytes: Vec<u8>,
+    pub len: usize,
+}
+
+/// Declares one interface struct: `gpu_struct!(pub mod m: "Name" { field:
+/// type, .. })` makes `m::Values` (the host's values, f64 reals), `m::F32`
+/// and `m::F64` (the layouts) and implements [`GpuStruct`] for `Values`.
+/// Field types: `real4` (vec4r: vec4 or dvec4), `uvec4`, and `float3`
+/// followed by `uint` (a vec3 and a uint in one 16-byte slot, f32 in both
+/// precisions). `real4` fields come first, so that each sits at a multiple
+/// of 32 bytes in f64.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! gpu_struct {
+    (@host real4) => { [f64; 4] };
+    (@host uvec4) => { [u32; 4] };
+    (@host float3) => { [f32; 3] };
+    (@host uint) => { u32 };
+    (@f32 real4) => { [f32; 4] };
+    (@f32 uvec4) => { [u32; 4] };
+    (@f32 float3) => { [f32; 3] };
+    (@f32 uint) => { u32 };
+    (@f64 real4) => { [f64; 4] };
+    (@f64 uvec4) => { [u32; 4] };
+    (@f64 float3) => { [f32; 3] };
+    (@f64 uint) => { u32 };
+    (@to32 real4, $v:expr) => { $v.map(|x| x as f32) };
+    (@to32 $t:ident, $v:expr) => { $v };
+    (@glsl real4) => { "vec4r" };
+    (@glsl uvec4) => { "uvec4" };
+    (@glsl float3) => { "vec3" };
+    (@glsl uint) => { "uint" };
+    (@bytes64 real4) => { 32 };
+    (@bytes64 uvec4) => { 16 };
+    (@bytes64 float3) => { 12 };
+    (@bytes64 uint) => { 4 };
+    (
+        $(#[$doc:meta])*
+        pub mod $m:ident : $name:literal {
+            $( $(#[$fdoc:meta])* $field:ident : $ty:ident ),* $(,)?
+        }
+    ) => {
+        $(#[$doc])*
+        pub mod $m {
+            use bytemuck::{Pod, Zeroable};
+
+            /// The values as the host computes them.
+            #[derive(Debug, Clone, Copy, PartialEq, Default)]
+            pub struct Values {
+                $( $(#[$fdoc])* pub $field: $crate::gpu_struct!(@host $ty), )*
+            }
+
+            const BYTES_64: usize = 0 $( + $crate::gpu_struct!(@bytes64 $ty) )*;
+
+            /// The f32 layout.
+            #[repr(C)]
+            #[derive(Debug, Clone, Copy, Pod, Zeroable)]
+            pub struct F32 {
+                $( pub $field: $crate::gpu_struct!(@f32 $ty), )*
+            }
+
+            /// The f64 layout, padded to a multiple of 32 bytes.
+            #[repr(C)]
+            #[derive(Debug, Clone, Copy, Pod, Zeroable)]
+            pub struct F64 {
+                $( pub $field: $crate::gpu_struct!(@f64 $ty), )*
+                pub pad: [u32; (32 - BYTES_64 % 32) % 32 / 4],
+            }
+
+            impl $crate::gpu::interface::GpuStruct for Values {
+                type F32 = F32;
+                type F64 = F64;
+                const NAME: &'static str = $name;
+                const MEMBERS: &'static str = concat!(
+                    $( "    ", $crate::gpu_struct!(@glsl $ty), " ", stringify!($field), ";\n", )*
+                );
+                fn f32(&self) -> F32 {
+                    F32 { $( $field: $crate::gpu_struct!(@to32 $ty, self.$field), )* }
+                }
+                fn f64(&self) -> F64 {
+                    F64 { $( $field: self.$field, )* pad: Zeroable::zeroed() }
+                }
+            }
+        }
+    };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    crate::gpu_struct!(
+        pub mod probe: "Probe" {
+            a: real4,
+            b: uvec4,
+        }
+    );
+
+    #[test]
+    fn one_field_list_gives_both_layouts_and_the_glsl() {
+        use std::mem::size_of;
+        assert_eq!(size_of::<probe::F32>(), 32);
+        assert_eq!(size_of::<probe::F64>(), 64);
+        assert_eq!(
+            declaration::<probe::Values>(),
+            "struct Probe {\n    vec4r a;\n    uvec4 b;\n};\n"
+        );
+        let v = probe::Values {
+            a: [1.0, 2.0, 3.0, 0.1],
+            b: [7, 0, 0, 0],
+        };
+        let bytes = array([v].into_iter(), Precision::F32).bytes;
+        assert_eq!(&bytes[..16], bytemuck::bytes_of(&[1.0f32, 2.0, 3.0, 0.1]));
+        assert_eq!(
+            array(std::iter::empty::<probe::Values>(), Precision::F64).len,
+            1
+        );
+    }
+}

@@ -1,0 +1,322 @@
+//! The kinds of primitive, as units. Each kind is one Rust module here (its
+//! scene-file table, its checks, its GPU struct, its bounds, and the CPU
+//! reference's intersect and normal) and one GLSL include under
+//! shaders/prim/ (the shader's intersect and normal), listed in the table
+//! below. Everything that treats every kind alike is generated from that
+//! table: the scene file's arrays, the scene's lists, the uploads and their
+//! bindings, the shader's scans and dispatch, and the CPU reference's.
+//!
+//! Adding a kind: its module, its include, and one line of the table.
+
+pub mod plane;
+pub mod sphere;
+
+use glam::DVec3;
+use serde::de::DeserializeOwned;
+
+use crate::accel::bvh::Aabb;
+use crate::cpu::ray::Ray;
+use crate::cpu::real::{Real, Vec3};
+use crate::gpu::interface::{self, Array, GpuStruct};
+use crate::gpu::Precision;
+use crate::scene::{At, SceneError};
+
+/// The table of kinds: the scene file's key of each kind's array, and the
+/// kind. Kinds with bounds come before the unbounded ones (tested): a tie in
+/// t goes to the earlier kind, then to the earlier primitive in the file,
+/// and the BVH's bounded kinds are searched before the unbounded kinds' scans.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! with_kinds {
+    ($then:path) => {
+        $then! {
+            spheres: $crate::prim::sphere::Sphere,
+            planes: $crate::prim::plane::Plane,
+        }
+    };
+}
+
+/// What one kind provides.
+pub trait Kind: Clone + PartialEq + std::fmt::Debug + Send + Sync + 'static {
+    /// Its table in the scene file.
+    type File: DeserializeOwned + std::fmt::Debug;
+    /// Its struct in the shader's buffers.
+    type Gpu: GpuStruct;
+    /// Its form in the CPU reference's arithmetic.
+    type Cpu<R: Real>: Shape<R>;
+    /// The stem of its GLSL names: `sphere_intersect`, `sphere_shape` and
+    /// `sphere_normal` in shaders/prim/sphere.glsl.
+    const NAME: &'static str;
+    /// Its GLSL include.
+    const GLSL: &'static str;
+    /// Whether it has bounds (and so goes into the BVH).
+    const BOUNDED: bool;
+
+    /// Checks the file's table (`at` names where it is) and resolves it.
+    fn check(file: &Self::File, at: &At) -> Result<Self, SceneError>;
+    fn material(&self) -> u32;
+    /// The same primitive with `origin` moved to 0 (camera-relative
+    /// coordinates, `Scene::camera_relative`).
+    fn relative_to(&self, origin: DVec3) -> Self;
+    /// Its box; None where it is unbounded.
+    fn bounds(&self) -> Option<Aabb>;
+    /// Its struct in the shader's buffers; `file_index`: its place among
+    /// its kind in the scene file (ties in t go to the lower).
+    fn gpu(&self, file_index: u32) -> Self::Gpu;
+    fn cpu<R: Real>(&self) -> Self::Cpu<R>;
+}
+
+/// A primitive as the CPU reference traces it; mirrors its GLSL include.
+pub trait Shape<R: Real>: Send + Sync {
+    /// The distance along a unit-direction ray to the primitive, or None.
+    /// `from_self`: the ray leaves this primitive's surface.
+    fn intersect(&self, ray: &Ray<R>, from_self: bool) -> Option<R>;
+    /// The outward unit normal at `p` on the surface.
+    fn normal(&self, p: Vec3<R>) -> Vec3<R>;
+    fn material(&self) -> usize;
+}
+
+/// What the generated code knows of a kind.
+#[derive(Debug, Clone, Copy)]
+pub struct KindInfo {
+    /// The scene file's key of its array, also its array's name in GLSL.
+    pub key: &'static str,
+    pub name: &'static str,
+    pub struct_name: &'static str,
+    pub struct_members: &'static str,
+    pub glsl: &'static str,
+    pub bounded: bool,
+}
+
+impl KindInfo {
+    const fn of<K: Kind>(key: &'static str) -> Self {
+        Self {
+            key,
+            name: K::NAME,
+            struct_name: <K::Gpu as GpuStruct>::NAME,
+            struct_members: <K::Gpu as GpuStruct>::MEMBERS,
+            glsl: K::GLSL,
+            bounded: K::BOUNDED,
+        }
+    }
+
+    /// Its include's name: `prim/sphere.glsl`.
+    pub fn include(&self) -> String {
+        format!("prim/{}.glsl", self.name)
+    }
+
+    /// The uppercase stem of its defines: `SPHERES` in `HAS_SPHERES`,
+    /// `SPHERES_COUNT` and `SPHERES_BINDING`.
+    pub fn upper(&self) -> String {
+        self.key.to_uppercase()
+    }
+}
+
+/// A primitive: its kind (its place in the table) and its index among its kind.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct PrimId {
+    pub kind: u32,
+    pub index: u32,
+}
+
+impl PrimId {
+    /// No primitive: what an eye ray leaves.
+    pub const NONE: PrimId = PrimId {
+        kind: u32::MAX,
+        index: u32::MAX,
+    };
+}
+
+/// A kind's GPU struct, as the shader's array holds it.
+fn gpu_array<K: Kind>(items: &[K], order: Option<&[u32]>, precision: Precision) -> Array {
+    match order {
+        Some(order) => interface::array(order.iter().map(|&i| items[i as usize].gpu(i)), precision),
+        None => interface::array(
+            items.iter().enumerate().map(|(i, p)| p.gpu(i as u32)),
+            precision,
+        ),
+    }
+}
+
+/// Generates from the table: `KINDS`, the scene's `Prims` and the CPU
+/// reference's `CpuPrims`.
+macro_rules! generate {
+    ($($key:ident : $kind:ty),* $(,)?) => {
+        /// Every kind, in the table's order.
+        pub const KINDS: &[KindInfo] = &[$(KindInfo::of::<$kind>(stringify!($key)),)*];
+
+        /// The scene's primitives, a list for each kind.
+        #[derive(Debug, Clone, PartialEq, Default)]
+        pub struct Prims {
+            $(pub $key: Vec<$kind>,)*
+        }
+
+        /// The scene file's arrays, a list of tables for each kind.
+        #[derive(Debug, Default)]
+        pub struct PrimFiles {
+            $(pub $key: Vec<<$kind as Kind>::File>,)*
+        }
+
+        impl Prims {
+            /// Checks every table of `files`; `at(key, i)` names the i-th
+            /// table of the array `key`.
+            pub fn check<'a>(
+                files: &PrimFiles,
+                at: impl Fn(&'static str, usize) -> At<'a>,
+            ) -> Result<Self, SceneError> {
+                Ok(Self {
+                    $($key: files
+                        .$key
+                        .iter()
+                        .enumerate()
+                        .map(|(i, f)| <$kind>::check(f, &at(stringify!($key), i)))
+                        .collect::<Result<_, _>>()?,)*
+                })
+            }
+
+            /// Primitives of each kind, in the table's order.
+            pub fn counts(&self) -> Vec<usize> {
+                vec![$(self.$key.len(),)*]
+            }
+
+            pub fn len(&self) -> usize {
+                0 $(+ self.$key.len())*
+            }
+
+            /// Primitives of the kinds with bounds: what a BVH would hold.
+            pub fn bounded_count(&self) -> usize {
+                0 $(+ if <$kind as Kind>::BOUNDED { self.$key.len() } else { 0 })*
+            }
+
+            pub fn is_empty(&self) -> bool {
+                self.len() == 0
+            }
+
+            pub fn relative_to(&self, origin: DVec3) -> Self {
+                Self {
+                    $($key: self.$key.iter().map(|p| p.relative_to(origin)).collect(),)*
+                }
+            }
+
+            /// The materials the primitives use, each once or more.
+            pub fn materials(&self) -> impl Iterator<Item = u32> + '_ {
+                std::iter::empty()
+                    $(.chain(self.$key.iter().map(|p| p.material())))*
+            }
+
+            /// The bounded primitives' boxes, with their ids.
+            pub fn bounds(&self) -> Vec<(Aabb, PrimId)> {
+                let mut out = Vec::new();
+                let mut _kind = 0u32;
+                $(
+                    for (i, p) in self.$key.iter().enumerate() {
+                        if let Some(b) = p.bounds() {
+                            out.push((b, PrimId { kind: _kind, index: i as u32 }));
+                        }
+                    }
+                    _kind += 1;
+                )*
+                out
+            }
+
+            /// Each kind's array as the shader reads it; `orders[kind]`:
+            /// the kind in the BVH's leaf order, where it is in one.
+            pub fn gpu_arrays(&self, orders: &[Option<Vec<u32>>], precision: Precision) -> Vec<Array> {
+                let mut orders = orders.iter();
+                vec![$(gpu_array(
+                    &self.$key,
+                    orders.next().and_then(|o| o.as_deref()),
+                    precision,
+                ),)*]
+            }
+
+            pub fn cpu<R: Real>(&self) -> CpuPrims<R> {
+                CpuPrims {
+                    $($key: self.$key.iter().map(|p| p.cpu()).collect(),)*
+                }
+            }
+        }
+
+        /// The primitives in the CPU reference's arithmetic; its scans
+        /// mirror those generated for the shader (`crate::gpu::kinds`).
+        pub struct CpuPrims<R: Real> {
+            $(pub $key: Vec<<$kind as Kind>::Cpu<R>>,)*
+        }
+
+        impl<R: Real> CpuPrims<R> {
+            /// Tests each primitive the scan covers, in the table's order and
+            /// then the file's: every one, or (`bvh`) only the unbounded
+            /// kinds; calls `f(id, t)` for each hit, which returns false to
+            /// end the scan. `from`: the primitive the ray leaves.
+            pub fn scan(
+                &self,
+                bvh: bool,
+                ray: &Ray<R>,
+                from: PrimId,
+                mut f: impl FnMut(PrimId, R) -> bool,
+            ) {
+                let mut _kind = 0u32;
+                $(
+                    if !(bvh && <$kind as Kind>::BOUNDED) {
+                        for (i, p) in self.$key.iter().enumerate() {
+                            let id = PrimId { kind: _kind, index: i as u32 };
+                            if let Some(t) = p.intersect(ray, from == id) {
+                                if !f(id, t) {
+                                    return;
+                                }
+                            }
+                        }
+                    }
+                    _kind += 1;
+                )*
+            }
+
+            /// The distance along `ray` to the primitive `id`, or None.
+            pub fn intersect(&self, id: PrimId, ray: &Ray<R>, from: PrimId) -> Option<R> {
+                let mut _kind = 0u32;
+                $(
+                    if id.kind == _kind {
+                        return self.$key[id.index as usize].intersect(ray, from == id);
+                    }
+                    _kind += 1;
+                )*
+                unreachable!("no kind {}", id.kind)
+            }
+
+            /// The primitive `id`.
+            pub fn get(&self, id: PrimId) -> &dyn Shape<R> {
+                let mut _kind = 0u32;
+                $(
+                    if id.kind == _kind {
+                        return &self.$key[id.index as usize];
+                    }
+                    _kind += 1;
+                )*
+                unreachable!("no kind {}", id.kind)
+            }
+        }
+    };
+}
+
+with_kinds!(generate);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bounded_kinds_come_first() {
+        let first_unbounded = KINDS.iter().position(|k| !k.bounded).unwrap_or(KINDS.len());
+        assert!(
+            KINDS[first_unbounded..].iter().all(|k| !k.bounded),
+            "{KINDS:?}"
+        );
+    }
+
+    #[test]
+    fn the_kinds_fit_the_id_and_count_words() {
+        // A GPU primitive id keeps the kind in 4 bits, the uniform block
+        // the counts of 8 kinds.
+        assert!(KINDS.len() <= 8);
+    }
+}

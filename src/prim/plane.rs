@@ -1,0 +1,119 @@
+//! The plane: its scene-file table, checks and GPU struct, and the CPU
+//! reference's intersect and normal; mirrors shaders/prim/plane.glsl.
+//! Unbounded, so never in the BVH: every ray scans the planes.
+
+use glam::DVec3;
+use serde::Deserialize;
+
+use super::{Kind, Shape};
+use crate::accel::bvh::Aabb;
+use crate::cpu::ray::Ray;
+use crate::cpu::real::{Real, Vec3};
+use crate::scene::{At, SceneError, Triple};
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneFile {
+    pub point: Triple,
+    pub normal: Triple,
+    pub material: String,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Plane {
+    pub point: DVec3,
+    /// Unit length.
+    pub normal: DVec3,
+    pub material: u32,
+}
+
+crate::gpu_struct!(
+    /// The plane in the shader's buffers.
+    pub mod gpu: "Plane" {
+        /// xyz
+        point: real4,
+        /// xyz, unit length
+        normal: real4,
+        /// x material, y index in the scene file
+        meta: uvec4,
+    }
+);
+
+pub struct PlaneR<R> {
+    pub point: Vec3<R>,
+    pub normal: Vec3<R>,
+    pub material: usize,
+}
+
+impl Kind for Plane {
+    type File = PlaneFile;
+    type Gpu = gpu::Values;
+    type Cpu<R: Real> = PlaneR<R>;
+    const NAME: &'static str = "plane";
+    const GLSL: &'static str = include_str!("../../shaders/prim/plane.glsl");
+    const BOUNDED: bool = false;
+
+    fn check(f: &PlaneFile, at: &At) -> Result<Self, SceneError> {
+        Ok(Plane {
+            point: at.position("point", f.point)?,
+            normal: at.direction("normal", f.normal)?,
+            material: at.material("material", &f.material)?,
+        })
+    }
+
+    fn material(&self) -> u32 {
+        self.material
+    }
+
+    fn relative_to(&self, origin: DVec3) -> Self {
+        // The plane's point nearest the new origin: as small as a point of
+        // the plane can be, whatever point the file gave.
+        Plane {
+            point: self.normal * (self.point - origin).dot(self.normal),
+            ..*self
+        }
+    }
+
+    fn bounds(&self) -> Option<Aabb> {
+        None
+    }
+
+    fn gpu(&self, file_index: u32) -> gpu::Values {
+        let (p, n) = (self.point, self.normal);
+        gpu::Values {
+            point: [p.x, p.y, p.z, 0.0],
+            normal: [n.x, n.y, n.z, 0.0],
+            meta: [self.material, file_index, 0, 0],
+        }
+    }
+
+    fn cpu<R: Real>(&self) -> PlaneR<R> {
+        PlaneR {
+            point: Vec3::of(self.point),
+            normal: Vec3::of(self.normal),
+            material: self.material as usize,
+        }
+    }
+}
+
+impl<R: Real> Shape<R> for PlaneR<R> {
+    fn intersect(&self, ray: &Ray<R>, from_self: bool) -> Option<R> {
+        if from_self {
+            return None;
+        }
+        let denom = ray.dir.dot(self.normal);
+        if denom == R::zero() {
+            return None;
+        }
+        let t = (self.point - ray.origin).dot(self.normal) / denom;
+        (t > R::zero()).then_some(t)
+    }
+
+    fn normal(&self, _p: Vec3<R>) -> Vec3<R> {
+        self.normal
+    }
+
+    fn material(&self) -> usize {
+        self.material
+    }
+}

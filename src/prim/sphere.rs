@@ -1,0 +1,171 @@
+//! The sphere: its scene-file table, checks, GPU struct and bounds, and the
+//! CPU reference's intersect and normal; mirrors shaders/prim/sphere.glsl.
+//!
+//! Self-intersection is prevented without an epsilon: a ray that leaves a
+//! surface knows which primitive it left, and meets a sphere again only
+//! when it leaves it inwards, at t = -2 (o - c)·d.
+
+use glam::DVec3;
+use serde::Deserialize;
+
+use super::{Kind, Shape};
+use crate::accel::bvh::Aabb;
+use crate::cpu::ray::Ray;
+use crate::cpu::real::{Real, Vec3};
+use crate::scene::{At, SceneError, Triple};
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphereFile {
+    pub center: Triple,
+    pub radius: f64,
+    pub material: String,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sphere {
+    pub center: DVec3,
+    pub radius: f64,
+    pub material: u32,
+}
+
+crate::gpu_struct!(
+    /// The sphere in the shader's buffers.
+    pub mod gpu: "Sphere" {
+        /// xyz centre, w radius
+        center_radius: real4,
+        /// x material, y index in the scene file
+        meta: uvec4,
+    }
+);
+
+pub struct SphereR<R> {
+    pub center: Vec3<R>,
+    pub radius: R,
+    pub material: usize,
+}
+
+impl Kind for Sphere {
+    type File = SphereFile;
+    type Gpu = gpu::Values;
+    type Cpu<R: Real> = SphereR<R>;
+    const NAME: &'static str = "sphere";
+    const GLSL: &'static str = include_str!("../../shaders/prim/sphere.glsl");
+    const BOUNDED: bool = true;
+
+    fn check(f: &SphereFile, at: &At) -> Result<Self, SceneError> {
+        Ok(Sphere {
+            center: at.position("center", f.center)?,
+            radius: at.length("radius", f.radius)?,
+            material: at.material("material", &f.material)?,
+        })
+    }
+
+    fn material(&self) -> u32 {
+        self.material
+    }
+
+    fn relative_to(&self, origin: DVec3) -> Self {
+        Sphere {
+            center: self.center - origin,
+            ..*self
+        }
+    }
+
+    fn bounds(&self) -> Option<Aabb> {
+        Some(Aabb {
+            lo: self.center - self.radius,
+            hi: self.center + self.radius,
+        })
+    }
+
+    fn gpu(&self, file_index: u32) -> gpu::Values {
+        let c = self.center;
+        gpu::Values {
+            center_radius: [c.x, c.y, c.z, self.radius],
+            meta: [self.material, file_index, 0, 0],
+        }
+    }
+
+    fn cpu<R: Real>(&self) -> SphereR<R> {
+        SphereR {
+            center: Vec3::of(self.center),
+            radius: R::of(self.radius),
+            material: self.material as usize,
+        }
+    }
+}
+
+/// a + b as hi + lo exactly (Knuth's TwoSum).
+fn two_sum<R: Real>(a: R, b: R) -> (R, R) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// a² as hi + lo exactly, by Veltkamp's split of a into two halves whose
+/// products are exact (as the shader does it: llvmpipe may not fuse fma).
+fn two_square<R: Real>(a: R) -> (R, R) {
+    let c = R::of(R::SPLIT) * a;
+    let hi = c - (c - a);
+    let lo = a - hi;
+    let p = a * a;
+    (p, ((hi * hi - p) + R::of(2.0) * hi * lo) + lo * lo)
+}
+
+/// f·f - r², the origin's power with respect to the sphere, with every
+/// rounding of the squares and sums carried along. The plain form cancels
+/// where it matters most: an origin near the surface of a huge sphere (a
+/// camera one unit above a ground sphere of radius 1e6 has f·f ≈ 1e12 and a
+/// power of 2e6, and f32 spaces 1e12 by 65536).
+pub fn power<R: Real>(f: Vec3<R>, r: R) -> R {
+    let (x, ex) = two_square(f.x);
+    let (y, ey) = two_square(f.y);
+    let (z, ez) = two_square(f.z);
+    let (rr, er) = two_square(r);
+    let (s1, e1) = two_sum(x, y);
+    let (s2, e2) = two_sum(s1, z);
+    let (s3, e3) = two_sum(s2, -rr);
+    s3 + (((e1 + e2) + e3) + ((ex + ey) + ez - er))
+}
+
+impl<R: Real> Shape<R> for SphereR<R> {
+    fn intersect(&self, ray: &Ray<R>, from_self: bool) -> Option<R> {
+        let f = ray.origin - self.center;
+        let b = f.dot(ray.dir);
+        if from_self {
+            let t = R::of(-2.0) * b;
+            return (t > R::zero()).then_some(t);
+        }
+        // The discriminant from the perpendicular distance to the centre
+        // rather than b² - c, which loses every digit when the sphere is
+        // small against its distance (Ray Tracing Gems ch. 7).
+        let l = f - ray.dir * b;
+        let disc = self.radius * self.radius - l.dot(l);
+        if disc < R::zero() {
+            return None;
+        }
+        let c = power(f, self.radius);
+        let root = disc.sqrt();
+        // The stable root pair: q never cancels, and t0 = c/q is the other root.
+        let q = if b >= R::zero() { -b - root } else { -b + root };
+        let t0 = c / q;
+        let t1 = q;
+        let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+        if near > R::zero() {
+            Some(near)
+        } else if far > R::zero() {
+            Some(far)
+        } else {
+            None
+        }
+    }
+
+    fn normal(&self, p: Vec3<R>) -> Vec3<R> {
+        (p - self.center) / self.radius
+    }
+
+    fn material(&self) -> usize {
+        self.material
+    }
+}
