@@ -13,6 +13,10 @@
 const real NAIVE_EPSILON = 1e-4;
 #endif
 
+// How far rays leaving a triangle start off it, relative to the size of
+// their coordinates (lift() below).
+const real LIFT = 1.0 / 16384.0;
+
 // The nearest hit. Besides t and the primitive's id it carries what shading
 // needs of the primitive, picked up in the loop where the primitive's data
 // is already loaded: reading it again by a per-pixel index would cost one
@@ -23,6 +27,17 @@ struct Hit {
     uint material;
     vec4r shape;            // what the kind's normal needs (<kind>_shape)
 };
+
+// p moved off the surface along the unit `side`, by 2^-14 of the largest
+// coordinate of p and of the ray's origin o (512 ulps in f32): more than
+// the rounding of p = o + t d and of t can put it behind a neighbouring
+// triangle's plane. The same distance in f64, so that both precisions
+// trace the same model. For the kinds that ask for it (kinds.glsl's
+// leave()); mirrors lift() in src/cpu/intersect.rs.
+vec3r lift(vec3r p, vec3r o, vec3r side) {
+    vec3r a = max(abs(p), abs(o));
+    return p + side * (max(a.x, max(a.y, a.z)) * LIFT);
+}
 
 #include "kinds.glsl"
 

@@ -14,8 +14,14 @@ vec3r trace(Ray ray) {
             break;
         }
         vec3r p = ray.origin + ray.dir * hit.t;
+        // The geometric normal says which side the ray is on; the shading
+        // normal is turned with it to face the ray.
         vec3r outward = surface(hit, p);
-        vec3r n = dot(outward, ray.dir) > 0.0 ? -outward : outward;
+        vec3r shading = shading_normal(hit, p, outward);
+        bool back = dot(outward, ray.dir) > 0.0;
+        vec3r n = back ? -shading : shading;
+        // Where the rays that leave on the ray's side start.
+        p = leave(hit, p, ray.origin, back ? -outward : outward);
         Material m = materials[hit.material];
         color += shade(p, n, -ray.dir, m, hit.prim) * weight;
         real kr = m.params.y;

@@ -115,7 +115,7 @@ pub struct DeviceArgs {
     /// Render with the one shader that handles every feature, not the scene's own variant.
     #[arg(long)]
     generic: bool,
-    /// Scene management: a BVH over the bounded primitives (spheres; planes are scanned), none (every ray tests every object), or auto (by the count of bounded primitives). The CPU renderer follows it too.
+    /// Scene management: a BVH over the bounded primitives (spheres and triangles; planes are scanned), none (every ray tests every object), or auto (by the count of bounded primitives). The CPU renderer follows it too.
     #[arg(long, value_enum, default_value = "auto")]
     pub accel: AccelArg,
     /// Compile the shader afresh and keep no SPIR-V or pipeline cache.

@@ -163,8 +163,38 @@ impl<R: Real> BoxWalk<R> {
     }
 }
 
-/// The outward surface normal at `p` and the hit primitive's material.
-pub fn surface<R: Real>(w: &World<R>, prim: PrimId, p: Vec3<R>) -> (Vec3<R>, usize) {
+/// What shading needs of the primitive hit at `p`.
+pub struct Surface<R> {
+    /// The outward (geometric) normal: which side the ray is on.
+    pub outward: Vec3<R>,
+    /// The normal shading uses, on the side of `outward`.
+    pub shading: Vec3<R>,
+    pub material: usize,
+    /// Whether rays leaving it start lifted off it ([`lift`]).
+    pub lifted: bool,
+}
+
+pub fn surface<R: Real>(w: &World<R>, prim: PrimId, p: Vec3<R>) -> Surface<R> {
     let shape = w.prims.get(prim);
-    (shape.normal(p), shape.material())
+    let outward = shape.normal(p);
+    Surface {
+        outward,
+        shading: shape.shading(p, outward),
+        material: shape.material(),
+        lifted: shape.lifted(),
+    }
+}
+
+/// How far rays leaving a triangle start off it, relative to the size of
+/// their coordinates ([`lift`]): 512 ulps in f32.
+pub const LIFT: f64 = 1.0 / 16384.0;
+
+/// `p` moved off the surface along the unit `side`, by [`LIFT`] of the
+/// largest coordinate of `p` and of the ray's origin `o`: more than the
+/// rounding of p = o + t·d and of t can put it behind a neighbouring
+/// triangle's plane. The same distance in f64, so that both precisions
+/// trace the same model. Mirrors lift() in shaders/intersect.glsl.
+pub fn lift<R: Real>(p: Vec3<R>, o: Vec3<R>, side: Vec3<R>) -> Vec3<R> {
+    let largest = |v: Vec3<R>| v.x.abs().max(v.y.abs()).max(v.z.abs());
+    p + side * (largest(p).max(largest(o)) * R::of(LIFT))
 }

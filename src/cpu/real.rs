@@ -56,6 +56,13 @@ impl<R: Real> Vec3<R> {
     pub fn dot(self, o: Self) -> R {
         self.x * o.x + self.y * o.y + self.z * o.z
     }
+    pub fn cross(self, o: Self) -> Self {
+        Self::new(
+            self.y * o.z - self.z * o.y,
+            self.z * o.x - self.x * o.z,
+            self.x * o.y - self.y * o.x,
+        )
+    }
     pub fn length(self) -> R {
         self.dot(self).sqrt()
     }

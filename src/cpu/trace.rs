@@ -1,6 +1,6 @@
 //! The fixed-depth reflection loop (docs/scene-format.md, Shading); mirrors shaders/trace.glsl.
 
-use super::intersect::{intersect_scene, surface};
+use super::intersect::{intersect_scene, lift, surface};
 use super::ray::Ray;
 use super::real::{Real, Vec3};
 use super::shade::shade;
@@ -18,13 +18,19 @@ pub fn trace<R: Real>(w: &World<R>, primary: Ray<R>) -> Vec3<R> {
             break;
         };
         let p = ray.at(hit.t);
-        let (outward, material) = surface(w, hit.prim, p);
-        let n = if outward.dot(ray.dir) > R::zero() {
-            -outward
+        // The geometric normal says which side the ray is on; the shading
+        // normal is turned with it to face the ray.
+        let s = surface(w, hit.prim, p);
+        let back = s.outward.dot(ray.dir) > R::zero();
+        let n = if back { -s.shading } else { s.shading };
+        // Where the rays that leave on the ray's side start.
+        let face = if back { -s.outward } else { s.outward };
+        let p = if s.lifted {
+            lift(p, ray.origin, face)
         } else {
-            outward
+            p
         };
-        let m = &w.materials[material];
+        let m = &w.materials[s.material];
         color += shade(w, p, n, -ray.dir, m, hit.prim) * weight;
         if depth == w.max_depth || m.reflectivity == R::zero() {
             break;

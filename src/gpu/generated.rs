@@ -213,9 +213,60 @@ impl Variant {
         } else {
             s += "    return vec3r(0.0);\n";
         }
-        s += "}\n";
+        s += "}\n\n";
+        s += &shading(&declared);
         s
     }
+}
+
+/// The shading normal at p of the primitive hit, given its outward
+/// geometric normal: the kinds with shading normals give theirs.
+fn shading(declared: &[(usize, &KindInfo)]) -> String {
+    let mut s = String::from(
+        "// The unit normal that shading uses at p, on the side of the outward normal.\n\
+         vec3r shading_normal(Hit hit, vec3r p, vec3r geometric) {\n",
+    );
+    let smooth: Vec<&KindInfo> = declared
+        .iter()
+        .map(|(_, k)| *k)
+        .filter(|k| k.shading)
+        .collect();
+    if !smooth.is_empty() {
+        let _ = writeln!(
+            s,
+            "    uint kind = hit.prim >> {KIND_SHIFT};\n    uint index = hit.prim & {:#x}u;",
+            (1u32 << KIND_SHIFT) - 1
+        );
+    }
+    for k in smooth {
+        let _ = writeln!(
+            s,
+            "    if (kind == KIND_{}) {{\n        return {}_shading(index, p, geometric);\n    }}",
+            k.upper(),
+            k.name
+        );
+    }
+    s += "    return geometric;\n}\n\n";
+    s += "// Where rays leaving the primitive hit at p start, on `side`: lifted\n\
+          // off the kinds that ask for it (intersect.glsl's lift()), else p.\n\
+          vec3r leave(Hit hit, vec3r p, vec3r o, vec3r side) {\n";
+    let lifted: Vec<&KindInfo> = declared
+        .iter()
+        .map(|(_, k)| *k)
+        .filter(|k| k.lift)
+        .collect();
+    if !lifted.is_empty() {
+        let _ = writeln!(s, "    uint kind = hit.prim >> {KIND_SHIFT};");
+    }
+    for k in lifted {
+        let _ = writeln!(
+            s,
+            "    if (kind == KIND_{}) {{\n        return lift(p, o, side);\n    }}",
+            k.upper()
+        );
+    }
+    s += "    return p;\n}\n";
+    s
 }
 
 /// The BVH's leaf tests (shaders/bvh.glsl calls them): the leaf word is

@@ -8,8 +8,10 @@
 //!
 //! Adding a kind: its module, its include, and one line of the table.
 
+pub mod mesh;
 pub mod plane;
 pub mod sphere;
+pub mod triangle;
 
 use glam::DVec3;
 use serde::de::DeserializeOwned;
@@ -31,6 +33,7 @@ macro_rules! with_kinds {
     ($then:path) => {
         $then! {
             spheres: $crate::prim::sphere::Sphere,
+            triangles: $crate::prim::triangle::Triangle,
             planes: $crate::prim::plane::Plane,
         }
     };
@@ -51,6 +54,13 @@ pub trait Kind: Clone + PartialEq + std::fmt::Debug + Send + Sync + 'static {
     const GLSL: &'static str;
     /// Whether it has bounds (and so goes into the BVH).
     const BOUNDED: bool;
+    /// Whether its shading normal can differ from its geometric one: its
+    /// include then gives `<name>_shading` too (see [`Shape::shading`]).
+    const SHADING: bool = false;
+    /// Whether rays leaving it start lifted off its surface: a triangle's
+    /// neighbours share its edges, and the rounding of a hit point near an
+    /// edge can put it behind a neighbour's plane (see [`Shape::lifted`]).
+    const LIFT: bool = false;
 
     /// Checks the file's table (`at` names where it is) and resolves it.
     fn check(file: &Self::File, at: &At) -> Result<Self, SceneError>;
@@ -71,8 +81,19 @@ pub trait Shape<R: Real>: Send + Sync {
     /// The distance along a unit-direction ray to the primitive, or None.
     /// `from_self`: the ray leaves this primitive's surface.
     fn intersect(&self, ray: &Ray<R>, from_self: bool) -> Option<R>;
-    /// The outward unit normal at `p` on the surface.
+    /// The outward unit (geometric) normal at `p` on the surface: which
+    /// side of it a ray is on.
     fn normal(&self, p: Vec3<R>) -> Vec3<R>;
+    /// The unit normal that shading uses at `p`, on the side of
+    /// `geometric` (the outward normal at `p`); the same by default.
+    fn shading(&self, _p: Vec3<R>, geometric: Vec3<R>) -> Vec3<R> {
+        geometric
+    }
+    /// Whether rays leaving it start lifted off its surface
+    /// (`crate::cpu::intersect::lift`); [`Kind::LIFT`].
+    fn lifted(&self) -> bool {
+        false
+    }
     fn material(&self) -> usize;
 }
 
@@ -86,6 +107,8 @@ pub struct KindInfo {
     pub struct_members: &'static str,
     pub glsl: &'static str,
     pub bounded: bool,
+    pub shading: bool,
+    pub lift: bool,
 }
 
 impl KindInfo {
@@ -97,6 +120,8 @@ impl KindInfo {
             struct_members: <K::Gpu as GpuStruct>::MEMBERS,
             glsl: K::GLSL,
             bounded: K::BOUNDED,
+            shading: K::SHADING,
+            lift: K::LIFT,
         }
     }
 

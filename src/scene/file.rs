@@ -44,6 +44,9 @@ macro_rules! scene_file {
                 #[serde(default)]
                 pub $key: Vec<<$kind as crate::prim::Kind>::File>,
             )*
+            /// OBJ files, read into triangles (`crate::prim::mesh`).
+            #[serde(default)]
+            pub meshes: Vec<crate::prim::mesh::MeshFile>,
             #[serde(default)]
             pub lights: Vec<LightFile>,
         }

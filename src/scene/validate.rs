@@ -57,6 +57,30 @@ impl At<'_> {
         self.check.direction(&self.path.key(key), t)
     }
 
+    /// The same table's array `key`, element `i`: `vertices[2]`.
+    pub fn element(&self, key: &str, i: usize) -> At<'_> {
+        At {
+            check: self.check,
+            names: self.names,
+            path: self.path.key(key).index(i),
+        }
+    }
+
+    /// A point given as this element itself (see [`At::element`]).
+    pub fn position_here(&self, t: Triple) -> Result<DVec3> {
+        self.check.position(&self.path, t)
+    }
+
+    /// A direction given as this element itself, returned at unit length.
+    pub fn direction_here(&self, t: Triple) -> Result<DVec3> {
+        self.check.direction(&self.path, t)
+    }
+
+    /// An error at `key` of this table.
+    pub fn invalid<T>(&self, key: &str, message: impl Into<String>) -> Result<T> {
+        self.check.err(&self.path.key(key), message)
+    }
+
     /// A length: finite, > 0 and at most `MAX_COORDINATE`.
     pub fn length(&self, key: &str, v: f64) -> Result<f64> {
         let path = self.path.key(key);
@@ -307,11 +331,23 @@ impl Check<'_> {
             .iter()
             .map(|(name, m)| self.material(&root().key("materials").key(name), name, m))
             .collect::<Result<Vec<_>>>()?;
-        let prims = Prims::check(&prim_files, |key, i| At {
+        let mut prims = Prims::check(&prim_files, |key, i| At {
             check: self,
             names: &names,
             path: root().key(key).index(i),
         })?;
+        // A mesh's triangles follow the file's [[triangles]], mesh by mesh.
+        let dir = self.file.parent().unwrap_or(Path::new("."));
+        for (i, mesh) in raw.meshes.iter().enumerate() {
+            let at = At {
+                check: self,
+                names: &names,
+                path: root().key("meshes").index(i),
+            };
+            prims
+                .triangles
+                .extend(crate::prim::mesh::load(mesh, dir, &at)?);
+        }
 
         let lights = raw
             .lights

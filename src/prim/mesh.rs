@@ -1,0 +1,103 @@
+//! Meshes: a scene's `[[meshes]]` read from Wavefront OBJ files (with the
+//! tobj crate) into triangles. Not a kind of its own: once loaded, a mesh's
+//! faces are triangles like any other (docs/scene-format.md, Meshes).
+
+use std::io::BufReader;
+use std::path::Path;
+
+use glam::DVec3;
+use serde::Deserialize;
+
+use super::triangle::Triangle;
+use crate::scene::{At, SceneError, Triple};
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshFile {
+    /// The OBJ file, relative to the scene file.
+    pub file: String,
+    pub material: String,
+    /// Uniform scale, applied before `translate`: p·scale + translate.
+    #[serde(default = "one")]
+    pub scale: f64,
+    #[serde(default)]
+    pub translate: Option<Triple>,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// Reads the mesh's OBJ file (relative to `dir`, the scene file's folder)
+/// and places its faces as triangles: fan-triangulated polygons, with the
+/// file's vertex normals where every corner of a face has one, else flat.
+/// Faces without area are left out, as a mesh's slivers often are.
+pub fn load(f: &MeshFile, dir: &Path, at: &At) -> Result<Vec<Triangle>, SceneError> {
+    let material = at.material("material", &f.material)?;
+    let scale = at.length("scale", f.scale)?;
+    let translate = match f.translate {
+        Some(t) => at.position("translate", t)?,
+        None => DVec3::ZERO,
+    };
+    let path = dir.join(&f.file);
+    let shown = crate::printable::path(&path);
+    let file = std::fs::File::open(&path)
+        .or_else(|e| at.invalid("file", format!("cannot read {shown}: {e}")))?;
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    };
+    // Materials are the scene's: the OBJ's own (mtllib) are not read.
+    let (models, _) = tobj::load_obj_buf(&mut BufReader::new(file), &options, |_| {
+        Ok(Default::default())
+    })
+    .or_else(|e| at.invalid("file", format!("{shown}: not a valid OBJ file: {e}")))?;
+
+    let mut out = Vec::new();
+    for model in &models {
+        let m = &model.mesh;
+        let point = |i: u32| {
+            let i = 3 * i as usize;
+            DVec3::new(m.positions[i], m.positions[i + 1], m.positions[i + 2]) * scale + translate
+        };
+        let normal = |i: u32| {
+            let i = 3 * i as usize;
+            DVec3::new(m.normals[i], m.normals[i + 1], m.normals[i + 2])
+        };
+        let smooth = m.normal_indices.len() == m.indices.len();
+        for (face, corners) in m.indices.chunks_exact(3).enumerate() {
+            let vertices = [point(corners[0]), point(corners[1]), point(corners[2])];
+            if let Some(bad) = vertices
+                .iter()
+                .find(|v| !v.is_finite() || v.abs().max_element() > crate::scene::MAX_COORDINATE)
+            {
+                return at.invalid(
+                    "file",
+                    format!(
+                        "{shown}: object \"{}\", face {face}: vertex {bad} is not finite \
+                         or beyond ±{:e} once scaled and translated",
+                        crate::printable::text(&model.name),
+                        crate::scene::MAX_COORDINATE
+                    ),
+                );
+            }
+            let normals = if smooth {
+                let n = &m.normal_indices[3 * face..3 * face + 3];
+                let ns = [normal(n[0]), normal(n[1]), normal(n[2])];
+                // A zero or non-finite vertex normal cannot be interpolated:
+                // that face is shaded flat.
+                let units = ns.map(|n| (n / n.abs().max_element()).normalize_or_zero());
+                units
+                    .iter()
+                    .all(|n| *n != DVec3::ZERO && n.is_finite())
+                    .then_some(units)
+            } else {
+                None
+            };
+            out.extend(Triangle::new(vertices, normals, material));
+        }
+    }
+    Ok(out)
+}

@@ -1,0 +1,257 @@
+//! The triangle: its scene-file table, checks, GPU struct and bounds, and the
+//! CPU reference's intersect and normals; mirrors shaders/prim/triangle.glsl.
+//! Meshes (`crate::prim::mesh`) load into triangles.
+//!
+//! Two-sided, like the plane. The intersection is watertight (Woop, Benthin
+//! and Wald, "Watertight Ray/Triangle Intersection", JCGT 2013): the ray is
+//! sheared onto +z and each edge function is computed from the edge's two
+//! projected vertices alone, so two triangles that share an edge compute it
+//! with the same products and opposite signs, and a ray through the edge
+//! cannot pass between them. A zero edge function counts as inside: a ray
+//! exactly through a shared edge or vertex meets each triangle there at the
+//! same t, and the nearest hit is the earlier one (the tie rule).
+
+use glam::DVec3;
+use serde::Deserialize;
+
+use super::{Kind, Shape};
+use crate::accel::bvh::Aabb;
+use crate::cpu::ray::Ray;
+use crate::cpu::real::{Real, Vec3};
+use crate::scene::{At, SceneError, Triple};
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TriangleFile {
+    pub vertices: [Triple; 3],
+    /// Vertex normals for smooth shading; the geometric normal without.
+    #[serde(default)]
+    pub normals: Option<[Triple; 3]>,
+    pub material: String,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Triangle {
+    pub vertices: [DVec3; 3],
+    /// normalize((v1 − v0) × (v2 − v0)), from the file's coordinates (a
+    /// camera-relative rebase leaves it as it is).
+    pub normal: DVec3,
+    /// Unit vertex normals, where the triangle is smooth.
+    pub normals: Option<[DVec3; 3]>,
+    pub material: u32,
+}
+
+impl Triangle {
+    /// The triangle through `vertices`, or None where they span no area.
+    pub fn new(vertices: [DVec3; 3], normals: Option<[DVec3; 3]>, material: u32) -> Option<Self> {
+        let [a, b, c] = vertices;
+        let cross = (b - a).cross(c - a);
+        // Scale first so that tiny and huge (but finite) triangles normalize too.
+        let normal = (cross / cross.abs().max_element()).normalize_or_zero();
+        (normal != DVec3::ZERO && normal.is_finite()).then_some(Triangle {
+            vertices,
+            normal,
+            normals,
+            material,
+        })
+    }
+}
+
+crate::gpu_struct!(
+    /// The triangle in the shader's buffers.
+    pub mod gpu: "Triangle" {
+        /// xyz the first vertex, w the geometric normal's x
+        v0: real4,
+        /// xyz the second vertex, w the geometric normal's y
+        v1: real4,
+        /// xyz the third vertex, w the geometric normal's z
+        v2: real4,
+        /// xyz the vertex normals (zero where the triangle is flat)
+        n0: real4,
+        n1: real4,
+        n2: real4,
+        /// x material, y index in the scene file, z 1 where smooth
+        meta: uvec4,
+    }
+);
+
+pub struct TriangleR<R> {
+    pub vertices: [Vec3<R>; 3],
+    pub normal: Vec3<R>,
+    pub normals: Option<[Vec3<R>; 3]>,
+    pub material: usize,
+}
+
+impl Kind for Triangle {
+    type File = TriangleFile;
+    type Gpu = gpu::Values;
+    type Cpu<R: Real> = TriangleR<R>;
+    const NAME: &'static str = "triangle";
+    const GLSL: &'static str = include_str!("../../shaders/prim/triangle.glsl");
+    const BOUNDED: bool = true;
+    const SHADING: bool = true;
+    const LIFT: bool = true;
+
+    fn check(f: &TriangleFile, at: &At) -> Result<Self, SceneError> {
+        let mut vertices = [DVec3::ZERO; 3];
+        for (i, v) in f.vertices.iter().enumerate() {
+            vertices[i] = at.element("vertices", i).position_here(*v)?;
+        }
+        let normals = match &f.normals {
+            Some(ns) => {
+                let mut out = [DVec3::ZERO; 3];
+                for (i, n) in ns.iter().enumerate() {
+                    out[i] = at.element("normals", i).direction_here(*n)?;
+                }
+                Some(out)
+            }
+            None => None,
+        };
+        let material = at.material("material", &f.material)?;
+        match Triangle::new(vertices, normals, material) {
+            Some(t) => Ok(t),
+            None => at.invalid(
+                "vertices",
+                "the three vertices lie on one line: the triangle has no area",
+            ),
+        }
+    }
+
+    fn material(&self) -> u32 {
+        self.material
+    }
+
+    fn relative_to(&self, origin: DVec3) -> Self {
+        Triangle {
+            vertices: self.vertices.map(|v| v - origin),
+            ..*self
+        }
+    }
+
+    fn bounds(&self) -> Option<Aabb> {
+        let [a, b, c] = self.vertices;
+        Some(Aabb {
+            lo: a.min(b).min(c),
+            hi: a.max(b).max(c),
+        })
+    }
+
+    fn gpu(&self, file_index: u32) -> gpu::Values {
+        let [a, b, c] = self.vertices;
+        let g = self.normal;
+        let [n0, n1, n2] = self.normals.unwrap_or([DVec3::ZERO; 3]);
+        let four = |v: DVec3, w: f64| [v.x, v.y, v.z, w];
+        gpu::Values {
+            v0: four(a, g.x),
+            v1: four(b, g.y),
+            v2: four(c, g.z),
+            n0: four(n0, 0.0),
+            n1: four(n1, 0.0),
+            n2: four(n2, 0.0),
+            meta: [
+                self.material,
+                file_index,
+                u32::from(self.normals.is_some()),
+                0,
+            ],
+        }
+    }
+
+    fn cpu<R: Real>(&self) -> TriangleR<R> {
+        TriangleR {
+            vertices: self.vertices.map(Vec3::of),
+            normal: Vec3::of(self.normal),
+            normals: self.normals.map(|ns| ns.map(Vec3::of)),
+            material: self.material as usize,
+        }
+    }
+}
+
+/// `v` with its axes turned so that `kz` (the ray's dominant axis) comes
+/// last, and x and y swapped where the ray runs down that axis (so that the
+/// shear keeps the triangle's winding).
+fn permute<R: Real>(v: Vec3<R>, kz: usize, swap: bool) -> Vec3<R> {
+    let p = match kz {
+        0 => Vec3::new(v.y, v.z, v.x),
+        1 => Vec3::new(v.z, v.x, v.y),
+        _ => v,
+    };
+    if swap {
+        Vec3::new(p.y, p.x, p.z)
+    } else {
+        p
+    }
+}
+
+impl<R: Real> Shape<R> for TriangleR<R> {
+    fn intersect(&self, ray: &Ray<R>, from_self: bool) -> Option<R> {
+        // Flat: a ray that leaves a triangle cannot meet it again.
+        if from_self {
+            return None;
+        }
+        let d = ray.dir;
+        let ad = Vec3::new(d.x.abs(), d.y.abs(), d.z.abs());
+        let kz = if ad.x > ad.y {
+            if ad.x > ad.z {
+                0
+            } else {
+                2
+            }
+        } else if ad.y > ad.z {
+            1
+        } else {
+            2
+        };
+        let dz = permute(d, kz, false).z;
+        let swap = dz < R::zero();
+        let d = permute(d, kz, swap);
+        let sx = d.x / d.z;
+        let sy = d.y / d.z;
+        let sz = R::one() / d.z;
+        let [a, b, c] = self.vertices.map(|v| permute(v - ray.origin, kz, swap));
+        let (ax, ay) = (a.x - sx * a.z, a.y - sy * a.z);
+        let (bx, by) = (b.x - sx * b.z, b.y - sy * b.z);
+        let (cx, cy) = (c.x - sx * c.z, c.y - sy * c.z);
+        let u = cx * by - cy * bx;
+        let v = ax * cy - ay * cx;
+        let w = bx * ay - by * ax;
+        let zero = R::zero();
+        if (u < zero || v < zero || w < zero) && (u > zero || v > zero || w > zero) {
+            return None;
+        }
+        let det = u + v + w;
+        if det == zero {
+            return None;
+        }
+        let t = (u * (sz * a.z) + v * (sz * b.z) + w * (sz * c.z)) / det;
+        (t > zero).then_some(t)
+    }
+
+    fn normal(&self, _p: Vec3<R>) -> Vec3<R> {
+        self.normal
+    }
+
+    /// The vertex normals interpolated at `p` by its barycentric
+    /// coordinates, normalised; the geometric normal where the triangle is flat.
+    fn shading(&self, p: Vec3<R>, geometric: Vec3<R>) -> Vec3<R> {
+        let Some([n0, n1, n2]) = self.normals else {
+            return geometric;
+        };
+        let [v0, v1, v2] = self.vertices;
+        let (e1, e2, q) = (v1 - v0, v2 - v0, p - v0);
+        let c = e1.cross(e2);
+        let inv = R::one() / c.dot(c);
+        let b1 = q.cross(e2).dot(c) * inv;
+        let b2 = e1.cross(q).dot(c) * inv;
+        let b0 = R::one() - b1 - b2;
+        (n0 * b0 + n1 * b1 + n2 * b2).normalize()
+    }
+
+    fn lifted(&self) -> bool {
+        true
+    }
+
+    fn material(&self) -> usize {
+        self.material
+    }
+}
