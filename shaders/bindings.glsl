@@ -50,11 +50,19 @@
 #ifndef HAS_SHADOWS
 #define HAS_SHADOWS 1
 #endif
+#ifndef HAS_TRANSMISSION
+#define HAS_TRANSMISSION 1
+#endif
 #ifndef SHADOWS_ON
 #define SHADOWS_ON (g.lights.y != 0u)
 #endif
 #ifndef MAX_DEPTH
 #define MAX_DEPTH g.size.w
+// The refraction stack's size: the deepest any scene may be (MAX_DEPTH in
+// src/scene/mod.rs); a variant sizes it to its own depth.
+#define STACK_SIZE 64u
+#else
+#define STACK_SIZE MAX_DEPTH
 #endif
 #ifndef SAMPLES
 #define SAMPLES g.size.z

@@ -1,40 +1,109 @@
-// The fixed-depth reflection loop (docs/scene-format.md, Shading); mirrors src/cpu/trace.rs.
+// The ray tree to a fixed depth (docs/scene-format.md, Shading); mirrors
+// src/cpu/trace.rs. A hit adds its local shading times its path weight and
+// spawns a reflection ray (weight reflectivity) and a refraction ray
+// (weight transmittance). The reflection ray is followed at once; a
+// refraction ray waits on an explicit stack (GLSL has no recursion) and is
+// traced when its path ends, the most recent first. Without a transmitting
+// material (HAS_TRANSMISSION 0) there is no stack and this is the plain
+// reflection loop.
+
+#if HAS_TRANSMISSION
+// A refraction ray waiting to be traced.
+struct Branch {
+    Ray ray;
+    uint from;
+    uint depth;
+    real weight;
+};
+
+// The direction of the ray refracted at a surface with unit normal n facing
+// the incoming unit direction d, for eta = n_incoming / n_outgoing; false
+// under total internal reflection. eta 1 passes d through unchanged.
+bool refract_ray(vec3r d, vec3r n, real eta, out vec3r t) {
+    t = d;
+    if (eta == 1.0) {
+        return true;
+    }
+    real cos_i = -dot(d, n);
+    real k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+    if (k < 0.0) {
+        return false;
+    }
+    t = normalize(d * eta + n * (eta * cos_i - sqrt(k)));
+    return true;
+}
+#endif
 
 vec3r trace(Ray ray) {
     vec3r color = vec3r(0.0);
 #if HAS_OBJECTS
     real weight = 1.0;
     uint from = NONE;
+    uint depth = 1u;
+#if HAS_TRANSMISSION
+    Branch stack[STACK_SIZE];
+    uint top = 0u;
+#endif
     // Never unrolled: with MAX_DEPTH a constant the compiler could copy the
     // whole bounce up to 64 times, for a large and slow-to-compile shader.
-    [[dont_unroll]] for (uint depth = 1u; depth <= MAX_DEPTH; depth++) {
+    [[dont_unroll]] for (;;) {
+        // Whether this path goes on with the reflection ray.
+        bool follow = false;
         Hit hit;
         if (!intersect_scene(ray, from, INF, hit)) {
             color += g.background.rgb * weight;
-            break;
+        } else {
+            vec3r p = ray.origin + ray.dir * hit.t;
+            // The geometric normal says which side the ray is on; the shading
+            // normal is turned with it to face the ray.
+            vec3r outward = surface(hit, p);
+            vec3r shading = shading_normal(hit, p, outward);
+            bool back = dot(outward, ray.dir) > 0.0;
+            vec3r n = back ? -shading : shading;
+            vec3r face = back ? -outward : outward;
+            // Where the rays that leave on the ray's side start.
+            vec3r above = leave(hit, p, ray.origin, face);
+            Material m = materials[hit.material];
+            color += shade(above, n, -ray.dir, m, hit.prim) * weight;
+            real kr = m.params.y;
+#if HAS_TRANSMISSION
+            real kt = m.params.z;
+            if (depth < MAX_DEPTH && kt > 0.0) {
+                // Entering where the ray meets the outward side: eta = 1/ior.
+                real eta = back ? m.params.w : 1.0 / m.params.w;
+                vec3r t;
+                if (!refract_ray(ray.dir, n, eta, t)) {
+                    kr += kt;
+                } else if (weight * kt != 0.0) {
+                    vec3r below = leave(hit, p, ray.origin, -face);
+                    stack[top] = Branch(Ray(below, t), hit.prim, depth + 1u, weight * kt);
+                    top++;
+                }
+            }
+#endif
+            follow = depth < MAX_DEPTH && kr != 0.0 && weight * kr != 0.0;
+            if (follow) {
+                weight *= kr;
+                vec3r d = ray.dir - n * (2.0 * dot(ray.dir, n));
+                ray = Ray(above, normalize(d));
+                from = hit.prim;
+                depth++;
+            }
         }
-        vec3r p = ray.origin + ray.dir * hit.t;
-        // The geometric normal says which side the ray is on; the shading
-        // normal is turned with it to face the ray.
-        vec3r outward = surface(hit, p);
-        vec3r shading = shading_normal(hit, p, outward);
-        bool back = dot(outward, ray.dir) > 0.0;
-        vec3r n = back ? -shading : shading;
-        // Where the rays that leave on the ray's side start.
-        p = leave(hit, p, ray.origin, back ? -outward : outward);
-        Material m = materials[hit.material];
-        color += shade(p, n, -ray.dir, m, hit.prim) * weight;
-        real kr = m.params.y;
-        if (depth == MAX_DEPTH || kr == 0.0) {
+        if (!follow) {
+#if HAS_TRANSMISSION
+            if (top == 0u) {
+                break;
+            }
+            top--;
+            ray = stack[top].ray;
+            from = stack[top].from;
+            depth = stack[top].depth;
+            weight = stack[top].weight;
+#else
             break;
+#endif
         }
-        weight *= kr;
-        if (weight == 0.0) {
-            break;
-        }
-        vec3r d = ray.dir - n * (2.0 * dot(ray.dir, n));
-        ray = Ray(p, normalize(d));
-        from = hit.prim;
     }
 #else
     color = g.background.rgb;

@@ -1,4 +1,6 @@
-//! The fixed-depth reflection loop (docs/scene-format.md, Shading); mirrors shaders/trace.glsl.
+//! The ray tree to a fixed depth (docs/scene-format.md, Shading); mirrors
+//! shaders/trace.glsl, in the same order: the reflection ray is followed at
+//! once, and refraction rays wait on a stack, the most recent first.
 
 use super::intersect::{intersect_scene, lift, surface};
 use super::ray::Ray;
@@ -7,44 +9,99 @@ use super::shade::shade;
 use super::world::World;
 use crate::prim::PrimId;
 
+/// A refraction ray waiting to be traced.
+struct Branch<R> {
+    ray: Ray<R>,
+    from: PrimId,
+    depth: u32,
+    weight: R,
+}
+
+/// The direction of the ray refracted at a surface with unit normal `n`
+/// facing the incoming unit direction `d`, for eta = n_incoming /
+/// n_outgoing; None under total internal reflection. eta 1 passes `d`
+/// through unchanged.
+pub fn refract<R: Real>(d: Vec3<R>, n: Vec3<R>, eta: R) -> Option<Vec3<R>> {
+    if eta == R::one() {
+        return Some(d);
+    }
+    let cos_i = -d.dot(n);
+    let k = R::one() - eta * eta * (R::one() - cos_i * cos_i);
+    if k < R::zero() {
+        return None;
+    }
+    Some((d * eta + n * (eta * cos_i - k.sqrt())).normalize())
+}
+
 pub fn trace<R: Real>(w: &World<R>, primary: Ray<R>) -> Vec3<R> {
     let mut color = Vec3::zero();
     let mut weight = R::one();
     let mut ray = primary;
     let mut from = PrimId::NONE;
-    for depth in 1..=w.max_depth {
-        let Some(hit) = intersect_scene(w, &ray, from, R::infinity()) else {
-            color += w.background * weight;
-            break;
-        };
-        let p = ray.at(hit.t);
-        // The geometric normal says which side the ray is on; the shading
-        // normal is turned with it to face the ray.
-        let s = surface(w, hit.prim, p);
-        let back = s.outward.dot(ray.dir) > R::zero();
-        let n = if back { -s.shading } else { s.shading };
-        // Where the rays that leave on the ray's side start.
-        let face = if back { -s.outward } else { s.outward };
-        let p = if s.lifted {
-            lift(p, ray.origin, face)
-        } else {
-            p
-        };
-        let m = &w.materials[s.material];
-        color += shade(w, p, n, -ray.dir, m, hit.prim) * weight;
-        if depth == w.max_depth || m.reflectivity == R::zero() {
-            break;
+    let mut depth = 1;
+    let mut stack: Vec<Branch<R>> = Vec::new();
+    loop {
+        // Whether this path goes on with the reflection ray.
+        let mut follow = false;
+        match intersect_scene(w, &ray, from, R::infinity()) {
+            None => color += w.background * weight,
+            Some(hit) => {
+                let p = ray.at(hit.t);
+                // The geometric normal says which side the ray is on; the
+                // shading normal is turned with it to face the ray.
+                let s = surface(w, hit.prim, p);
+                let back = s.outward.dot(ray.dir) > R::zero();
+                let n = if back { -s.shading } else { s.shading };
+                let face = if back { -s.outward } else { s.outward };
+                // Where the rays that leave on a side start.
+                let leave = |side: Vec3<R>| {
+                    if s.lifted {
+                        lift(p, ray.origin, side)
+                    } else {
+                        p
+                    }
+                };
+                let above = leave(face);
+                let m = &w.materials[s.material];
+                color += shade(w, above, n, -ray.dir, m, hit.prim) * weight;
+                let mut kr = m.reflectivity;
+                let kt = m.transmittance;
+                if depth < w.max_depth && kt > R::zero() {
+                    // Entering where the ray meets the outward side: eta = 1/ior.
+                    let eta = if back { m.ior } else { R::one() / m.ior };
+                    match refract(ray.dir, n, eta) {
+                        None => kr += kt,
+                        Some(t) if weight * kt != R::zero() => stack.push(Branch {
+                            ray: Ray {
+                                origin: leave(-face),
+                                dir: t,
+                            },
+                            from: hit.prim,
+                            depth: depth + 1,
+                            weight: weight * kt,
+                        }),
+                        Some(_) => {}
+                    }
+                }
+                follow = depth < w.max_depth && kr != R::zero() && weight * kr != R::zero();
+                if follow {
+                    weight = weight * kr;
+                    let d = ray.dir - n * (R::of(2.0) * ray.dir.dot(n));
+                    ray = Ray {
+                        origin: above,
+                        dir: d.normalize(),
+                    };
+                    from = hit.prim;
+                    depth += 1;
+                }
+            }
         }
-        weight = weight * m.reflectivity;
-        if weight == R::zero() {
-            break;
+        if !follow {
+            let Some(b) = stack.pop() else {
+                break;
+            };
+            (ray, from, depth, weight) = (b.ray, b.from, b.depth, b.weight);
         }
-        let d = ray.dir - n * (R::of(2.0) * ray.dir.dot(n));
-        ray = Ray {
-            origin: p,
-            dir: d.normalize(),
-        };
-        from = hit.prim;
     }
     color
 }

@@ -32,6 +32,8 @@ pub struct MaterialR<R> {
     pub specular: Vec3<R>,
     pub shininess: R,
     pub reflectivity: R,
+    pub transmittance: R,
+    pub ior: R,
 }
 
 pub struct LightR<R> {
@@ -71,6 +73,8 @@ impl<R: Real> World<R> {
                     specular: Vec3::of(m.specular),
                     shininess: R::of(m.shininess),
                     reflectivity: R::of(m.reflectivity),
+                    transmittance: R::of(m.transmittance),
+                    ior: R::of(m.ior),
                 })
                 .collect(),
             lights: scene

@@ -39,7 +39,7 @@ crate::gpu_struct!(
         diffuse: real4,
         /// rgb Ks
         specular: real4,
-        /// x shininess, y reflectivity
+        /// x shininess, y reflectivity, z transmittance, w ior
         params: real4,
     }
 );
@@ -154,7 +154,7 @@ impl Uploads {
             ambient: xyz(m.ambient),
             diffuse: xyz(m.diffuse),
             specular: xyz(m.specular),
-            params: [m.shininess, m.reflectivity, 0.0, 0.0],
+            params: [m.shininess, m.reflectivity, m.transmittance, m.ior],
         });
         let lights = scene.lights.iter().map(|l| light::Values {
             position: xyz(l.position),

@@ -69,7 +69,9 @@ pub struct Features {
     pub attenuation: bool,
     /// Shadows on, with lights and objects to cast them.
     pub shadows: bool,
-    /// Ray segments traced: 1 where no material reflects.
+    /// A material transmits: the shader keeps a stack of refraction rays.
+    pub transmits: bool,
+    /// Ray segments traced: 1 where no material reflects or transmits.
     pub max_depth: u32,
     pub samples: u32,
     /// The scene's arrays as uniform buffers of these lengths (each kind's,
@@ -89,11 +91,18 @@ impl Features {
         let objects = !scene.prims.is_empty();
         let lights = scene.lights.len();
         let reflects = scene.materials.iter().any(|m| m.reflectivity > 0.0);
-        // Lavapipe (Mesa 22.3) crashed in a worker thread rendering the
-        // uniform-buffer variant of scenes without spheres (planes and lights
-        // only); those take storage buffers.
+        let transmits = scene.materials.iter().any(|m| m.transmittance > 0.0);
+        // Lavapipe (Mesa 22.3) crashes in a worker thread rendering the
+        // uniform-buffer variant of two kinds of scene: without spheres
+        // (planes and lights only), and with spheres as the only primitives
+        // and directional lights as the only lights (tests/variants.rs
+        // renders every mix of kinds and light types). Those take storage
+        // buffers.
         let range = device.max_uniform_buffer_range as usize;
+        let spheres_only = kinds.iter().skip(1).all(|n| *n == 0);
+        let positioned = has(LightKind::Point) || has(LightKind::Spot);
         let fits = kinds[0] > 0
+            && !(spheres_only && lights > 0 && !positioned)
             && uploads.array_bytes().iter().all(|b| *b <= range)
             && uploads
                 .nodes
@@ -110,7 +119,12 @@ impl Features {
                 l.kind != LightKind::Directional && l.attenuation != glam::DVec3::new(1.0, 0.0, 0.0)
             }),
             shadows: scene.shadows && objects && lights > 0,
-            max_depth: if reflects { scene.max_depth } else { 1 },
+            transmits: transmits && scene.max_depth > 1,
+            max_depth: if reflects || transmits {
+                scene.max_depth
+            } else {
+                1
+            },
             samples: scene.samples,
             uniform_slots: fits.then(|| uploads.array_lengths()),
             nodes: uploads.layout_len,
@@ -130,6 +144,7 @@ impl Features {
         def("HAS_SPOT", flag(self.spot));
         def("HAS_ATTENUATION", flag(self.attenuation));
         def("HAS_SHADOWS", flag(self.shadows));
+        def("HAS_TRANSMISSION", flag(self.transmits));
         def("SHADOWS_ON", "true".to_owned());
         def("MAX_DEPTH", format!("{}u", self.max_depth));
         def("SAMPLES", format!("{}u", self.samples));
@@ -289,6 +304,7 @@ impl Variant {
                     (f.spot, "spot"),
                     (f.attenuation, "att"),
                     (f.shadows, "shadows"),
+                    (f.transmits, "refract"),
                     (f.uniform_slots.is_some(), "ubo"),
                     (f.unroll, "unrolled"),
                 ] {

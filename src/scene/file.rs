@@ -122,6 +122,10 @@ pub struct MaterialFile {
     pub shininess: f64,
     #[serde(default)]
     pub reflectivity: f64,
+    #[serde(default)]
+    pub transmittance: f64,
+    #[serde(default = "one_f")]
+    pub ior: f64,
 }
 
 /// One flat table for every light type: `validate` checks that each key

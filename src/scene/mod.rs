@@ -58,6 +58,10 @@ pub struct Material {
     pub specular: DVec3,
     pub shininess: f64,
     pub reflectivity: f64,
+    /// The refraction ray's weight, 0..1 (docs/scene-format.md, Shading).
+    pub transmittance: f64,
+    /// Index of refraction, > 0: inside over outside.
+    pub ior: f64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -221,7 +221,15 @@ impl Check<'_> {
             })
             .collect();
         let bounce = per_light.iter().sum::<f64>().max(max(scene.background));
-        let bound = bounce * f64::from(scene.max_depth);
+        // The path weights of one depth sum to at most g^(depth - 1), where
+        // g is the largest reflectivity + transmittance (a ray spawns both,
+        // or one with their sum under total internal reflection).
+        let g = scene
+            .materials
+            .iter()
+            .map(|m| m.reflectivity + m.transmittance)
+            .fold(1.0f64, f64::max);
+        let bound = bounce * (0..scene.max_depth).map(|d| g.powi(d as i32)).sum::<f64>();
         if bound.is_finite() && bound <= MAX_BRIGHTNESS {
             return Ok(());
         }
@@ -391,6 +399,17 @@ impl Check<'_> {
                 format!("must be in [0, 1], got {reflectivity}"),
             );
         }
+        let transmittance = self.finite(&path.key("transmittance"), m.transmittance)?;
+        if !(0.0..=1.0).contains(&transmittance) {
+            return self.err(
+                &path.key("transmittance"),
+                format!("must be in [0, 1], got {transmittance}"),
+            );
+        }
+        let ior = self.finite(&path.key("ior"), m.ior)?;
+        if ior <= 0.0 {
+            return self.err(&path.key("ior"), format!("must be > 0, got {ior}"));
+        }
         Ok(Material {
             name: name.to_owned(),
             ambient: self.colour(&path.key("ambient"), m.ambient)?,
@@ -398,6 +417,8 @@ impl Check<'_> {
             specular: self.colour(&path.key("specular"), m.specular)?,
             shininess,
             reflectivity,
+            transmittance,
+            ior,
         })
     }
 
