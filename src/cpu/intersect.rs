@@ -3,7 +3,7 @@
 //! kind's own intersect and normal are in its module of `crate::prim`.
 
 use crate::accel::bvh::{Bvh, Node};
-use crate::prim::PrimId;
+use crate::prim::{PrimId, KINDS};
 
 use super::ray::Ray;
 use super::real::{Real, Vec3};
@@ -181,7 +181,7 @@ pub fn surface<R: Real>(w: &World<R>, prim: PrimId, p: Vec3<R>) -> Surface<R> {
         outward,
         shading: shape.shading(p, outward),
         material: shape.material(),
-        lifted: shape.lifted(),
+        lifted: KINDS[prim.kind as usize].lift,
     }
 }
 

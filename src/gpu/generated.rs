@@ -37,12 +37,12 @@ impl Variant {
         ]
     }
 
-    /// The kinds the shader declares, by their place in `KINDS`.
-    fn declared(&self) -> Vec<(usize, &'static KindInfo)> {
+    /// The kinds the shader declares, in the table's order.
+    fn declared(&self) -> Vec<&'static KindInfo> {
         self.bindings()
             .into_iter()
             .filter_map(|(block, _, _)| match block {
-                Block::Kind(k) => Some((k, &KINDS[k])),
+                Block::Kind(k) => Some(&KINDS[k]),
                 _ => None,
             })
             .collect()
@@ -138,7 +138,7 @@ impl Variant {
         let declared = self.declared();
         let bvh = self.bvh_layouts > 0;
         let mut s = String::from(NOTE);
-        for (_, kind) in &declared {
+        for kind in &declared {
             let _ = writeln!(s, "#include \"{}\"", kind.include());
         }
         let _ = writeln!(
@@ -149,7 +149,7 @@ impl Variant {
         // The scans: every declared kind, or those outside the BVH.
         let scanned: Vec<&KindInfo> = declared
             .iter()
-            .map(|(_, k)| *k)
+            .copied()
             .filter(|k| !(bvh && k.bounded))
             .collect();
         s += "// The nearest hit closer than hit.t among the scanned kinds, in the\n\
@@ -197,86 +197,68 @@ impl Variant {
         }
         s += "// The outward unit normal at p of the primitive hit.\n\
               vec3r surface(Hit hit, vec3r p) {\n";
-        if let Some(((_, last), rest)) = declared.split_last() {
-            if !rest.is_empty() {
-                let _ = writeln!(s, "    uint kind = hit.prim >> {KIND_SHIFT};");
-            }
-            for (_, k) in rest {
-                let _ = writeln!(
-                    s,
-                    "    if (kind == KIND_{}) {{\n        return {}_normal(hit.shape, p);\n    }}",
-                    k.upper(),
-                    k.name
-                );
-            }
-            let _ = writeln!(s, "    return {}_normal(hit.shape, p);", last.name);
-        } else {
-            s += "    return vec3r(0.0);\n";
-        }
-        s += "}\n\n";
-        s += &shading(&declared);
+        s += &match declared.split_last() {
+            Some((last, rest)) => return_by_kind(
+                rest,
+                |k| format!("{}_normal(hit.shape, p)", k.name),
+                &format!("{}_normal(hit.shape, p)", last.name),
+            ),
+            None => return_by_kind(&[], |_| String::new(), "vec3r(0.0)"),
+        };
+        s += "}\n\n\
+              // The unit normal that shading uses at p, on the side of the outward\n\
+              // normal: the kinds with shading normals give theirs.\n\
+              vec3r shading_normal(Hit hit, vec3r p, vec3r geometric) {\n";
+        let smooth: Vec<&KindInfo> = declared.iter().copied().filter(|k| k.shading).collect();
+        s += &return_by_kind(
+            &smooth,
+            |k| {
+                format!(
+                    "{}_shading(hit.prim & {:#x}u, p, geometric)",
+                    k.name,
+                    (1u32 << KIND_SHIFT) - 1
+                )
+            },
+            "geometric",
+        );
+        s += "}\n\n\
+              // Where rays leaving the primitive hit at p start, on `side`: lifted\n\
+              // off the kinds that ask for it (intersect.glsl's lift()), else p.\n\
+              vec3r leave(Hit hit, vec3r p, vec3r o, vec3r side) {\n";
+        let lifted: Vec<&KindInfo> = declared.iter().copied().filter(|k| k.lift).collect();
+        s += &return_by_kind(&lifted, |_| "lift(p, o, side)".to_owned(), "p");
+        s += "}\n";
         s
     }
 }
 
-/// The shading normal at p of the primitive hit, given its outward
-/// geometric normal: the kinds with shading normals give theirs.
-fn shading(declared: &[(usize, &KindInfo)]) -> String {
-    let mut s = String::from(
-        "// The unit normal that shading uses at p, on the side of the outward normal.\n\
-         vec3r shading_normal(Hit hit, vec3r p, vec3r geometric) {\n",
-    );
-    let smooth: Vec<&KindInfo> = declared
-        .iter()
-        .map(|(_, k)| *k)
-        .filter(|k| k.shading)
-        .collect();
-    if !smooth.is_empty() {
-        let _ = writeln!(
-            s,
-            "    uint kind = hit.prim >> {KIND_SHIFT};\n    uint index = hit.prim & {:#x}u;",
-            (1u32 << KIND_SHIFT) - 1
-        );
-    }
-    for k in smooth {
-        let _ = writeln!(
-            s,
-            "    if (kind == KIND_{}) {{\n        return {}_shading(index, p, geometric);\n    }}",
-            k.upper(),
-            k.name
-        );
-    }
-    s += "    return geometric;\n}\n\n";
-    s += "// Where rays leaving the primitive hit at p start, on `side`: lifted\n\
-          // off the kinds that ask for it (intersect.glsl's lift()), else p.\n\
-          vec3r leave(Hit hit, vec3r p, vec3r o, vec3r side) {\n";
-    let lifted: Vec<&KindInfo> = declared
-        .iter()
-        .map(|(_, k)| *k)
-        .filter(|k| k.lift)
-        .collect();
-    if !lifted.is_empty() {
+/// The body of a function of the primitive hit (`hit`): it returns
+/// `value(k)` where the hit is of a kind `k` of `kinds`, else `otherwise`.
+fn return_by_kind(
+    kinds: &[&KindInfo],
+    value: impl Fn(&KindInfo) -> String,
+    otherwise: &str,
+) -> String {
+    let mut s = String::new();
+    if !kinds.is_empty() {
         let _ = writeln!(s, "    uint kind = hit.prim >> {KIND_SHIFT};");
     }
-    for k in lifted {
+    for k in kinds {
         let _ = writeln!(
             s,
-            "    if (kind == KIND_{}) {{\n        return lift(p, o, side);\n    }}",
-            k.upper()
+            "    if (kind == KIND_{}) {{\n        return {};\n    }}",
+            k.upper(),
+            value(k)
         );
     }
-    s += "    return p;\n}\n";
+    let _ = writeln!(s, "    return {otherwise};");
     s
 }
 
 /// The BVH's leaf tests (shaders/bvh.glsl calls them): the leaf word is
 /// first << 8 | kind << 4 | count (src/accel/bvh.rs).
-fn leaves(declared: &[(usize, &KindInfo)]) -> String {
-    let bounded: Vec<&KindInfo> = declared
-        .iter()
-        .map(|(_, k)| *k)
-        .filter(|k| k.bounded)
-        .collect();
+fn leaves(declared: &[&KindInfo]) -> String {
+    let bounded: Vec<&KindInfo> = declared.iter().copied().filter(|k| k.bounded).collect();
     let mut s = String::new();
     let dispatch = |body: &dyn Fn(&KindInfo) -> String| {
         let mut out =

@@ -9,7 +9,7 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use super::triangle::Triangle;
-use crate::scene::{At, SceneError, Triple};
+use crate::scene::{unit_vector, At, SceneError, Triple};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -85,14 +85,12 @@ pub fn load(f: &MeshFile, dir: &Path, at: &At) -> Result<Vec<Triangle>, SceneErr
             }
             let normals = if smooth {
                 let n = &m.normal_indices[3 * face..3 * face + 3];
-                let ns = [normal(n[0]), normal(n[1]), normal(n[2])];
                 // A zero or non-finite vertex normal cannot be interpolated:
                 // that face is shaded flat.
-                let units = ns.map(|n| (n / n.abs().max_element()).normalize_or_zero());
-                units
-                    .iter()
-                    .all(|n| *n != DVec3::ZERO && n.is_finite())
-                    .then_some(units)
+                match [n[0], n[1], n[2]].map(|i| unit_vector(normal(i))) {
+                    [Some(a), Some(b), Some(c)] => Some([a, b, c]),
+                    _ => None,
+                }
             } else {
                 None
             };

@@ -59,7 +59,7 @@ pub trait Kind: Clone + PartialEq + std::fmt::Debug + Send + Sync + 'static {
     const SHADING: bool = false;
     /// Whether rays leaving it start lifted off its surface: a triangle's
     /// neighbours share its edges, and the rounding of a hit point near an
-    /// edge can put it behind a neighbour's plane (see [`Shape::lifted`]).
+    /// edge can put it behind a neighbour's plane (`crate::cpu::intersect::lift`).
     const LIFT: bool = false;
 
     /// Checks the file's table (`at` names where it is) and resolves it.
@@ -88,11 +88,6 @@ pub trait Shape<R: Real>: Send + Sync {
     /// `geometric` (the outward normal at `p`); the same by default.
     fn shading(&self, _p: Vec3<R>, geometric: Vec3<R>) -> Vec3<R> {
         geometric
-    }
-    /// Whether rays leaving it start lifted off its surface
-    /// (`crate::cpu::intersect::lift`); [`Kind::LIFT`].
-    fn lifted(&self) -> bool {
-        false
     }
     fn material(&self) -> usize;
 }

@@ -18,7 +18,7 @@ use super::{Kind, Shape};
 use crate::accel::bvh::Aabb;
 use crate::cpu::ray::Ray;
 use crate::cpu::real::{Real, Vec3};
-use crate::scene::{At, SceneError, Triple};
+use crate::scene::{unit_vector, At, SceneError, Triple};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -45,10 +45,7 @@ impl Triangle {
     /// The triangle through `vertices`, or None where they span no area.
     pub fn new(vertices: [DVec3; 3], normals: Option<[DVec3; 3]>, material: u32) -> Option<Self> {
         let [a, b, c] = vertices;
-        let cross = (b - a).cross(c - a);
-        // Scale first so that tiny and huge (but finite) triangles normalize too.
-        let normal = (cross / cross.abs().max_element()).normalize_or_zero();
-        (normal != DVec3::ZERO && normal.is_finite()).then_some(Triangle {
+        unit_vector((b - a).cross(c - a)).map(|normal| Triangle {
             vertices,
             normal,
             normals,
@@ -245,10 +242,6 @@ impl<R: Real> Shape<R> for TriangleR<R> {
         let b2 = e1.cross(q).dot(c) * inv;
         let b0 = R::one() - b1 - b2;
         (n0 * b0 + n1 * b1 + n2 * b2).normalize()
-    }
-
-    fn lifted(&self) -> bool {
-        true
     }
 
     fn material(&self) -> usize {

@@ -15,7 +15,7 @@ use glam::DVec3;
 
 pub use error::SceneError;
 pub use file::Triple;
-pub use validate::{parse, At, Overrides, MAX_COORDINATE};
+pub use validate::{parse, unit_vector, At, Overrides, MAX_COORDINATE};
 
 use crate::prim::Prims;
 

@@ -131,6 +131,13 @@ impl At<'_> {
     }
 }
 
+/// `v` at unit length, or None where it is zero (or not finite). Scaled
+/// first, so that tiny and huge (but finite) vectors normalize too.
+pub fn unit_vector(v: DVec3) -> Option<DVec3> {
+    let unit = (v / v.abs().max_element()).normalize_or_zero();
+    (unit != DVec3::ZERO && unit.is_finite()).then_some(unit)
+}
+
 /// Coordinates and lengths at most this far from 0: squared distances
 /// (about 1e36 each, three to a length) stay inside f32's 3.4e38.
 pub const MAX_COORDINATE: f64 = 1e18;
@@ -313,13 +320,10 @@ impl Check<'_> {
     /// A direction: finite, non-zero, returned at unit length.
     fn direction(&self, path: &KeyPath, t: Triple) -> Result<DVec3> {
         let v = self.vector(path, t)?;
-        // Scale first so that tiny and huge (but finite) vectors normalize too.
-        let scaled = v / v.abs().max_element();
-        let unit = scaled.normalize_or_zero();
-        if unit == DVec3::ZERO || !unit.is_finite() {
-            return self.err(path, "must be a non-zero vector");
+        match unit_vector(v) {
+            Some(unit) => Ok(unit),
+            None => self.err(path, "must be a non-zero vector"),
         }
-        Ok(unit)
     }
 
     fn scene(&self, mut raw: SceneFile, overrides: &Overrides) -> Result<Scene> {
