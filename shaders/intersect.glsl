@@ -11,6 +11,8 @@
 // The textbook forms' fixed epsilon (--intersect naive), instead of knowing
 // which surface a ray left.
 const real NAIVE_EPSILON = 1e-4;
+#else
+#include "exact.glsl"
 #endif
 
 // How far rays leaving a triangle start off it, relative to the size of

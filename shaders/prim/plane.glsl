@@ -21,6 +21,6 @@ vec4r plane_shape(Plane p) {
     return p.normal;
 }
 
-vec3r plane_normal(vec4r shape, vec3r p) {
+vec3r plane_normal(uint i, vec4r shape, vec3r p) {
     return shape.xyz;
 }

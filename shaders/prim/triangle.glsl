@@ -76,7 +76,7 @@ vec4r triangle_shape(Triangle tri) {
     return vec4r(tri.v0.w, tri.v1.w, tri.v2.w, 0.0);
 }
 
-vec3r triangle_normal(vec4r shape, vec3r p) {
+vec3r triangle_normal(uint i, vec4r shape, vec3r p) {
     return shape.xyz;
 }
 

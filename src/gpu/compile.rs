@@ -23,6 +23,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "intersect.glsl",
         include_str!("../../shaders/intersect.glsl"),
     ),
+    ("exact.glsl", include_str!("../../shaders/exact.glsl")),
     ("shade.glsl", include_str!("../../shaders/shade.glsl")),
     ("specular.glsl", include_str!("../../shaders/specular.glsl")),
     ("trace.glsl", include_str!("../../shaders/trace.glsl")),

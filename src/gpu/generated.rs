@@ -136,6 +136,8 @@ impl Variant {
 
     fn kinds(&self) -> String {
         let declared = self.declared();
+        // The hit primitive's index in its kind's array.
+        let index = format!("hit.prim & {:#x}u", (1u32 << KIND_SHIFT) - 1);
         let bvh = self.bvh_layouts > 0;
         let mut s = String::from(NOTE);
         for kind in &declared {
@@ -200,8 +202,8 @@ impl Variant {
         s += &match declared.split_last() {
             Some((last, rest)) => return_by_kind(
                 rest,
-                |k| format!("{}_normal(hit.shape, p)", k.name),
-                &format!("{}_normal(hit.shape, p)", last.name),
+                |k| format!("{}_normal({index}, hit.shape, p)", k.name),
+                &format!("{}_normal({index}, hit.shape, p)", last.name),
             ),
             None => return_by_kind(&[], |_| String::new(), "vec3r(0.0)"),
         };
@@ -212,13 +214,7 @@ impl Variant {
         let smooth: Vec<&KindInfo> = declared.iter().copied().filter(|k| k.shading).collect();
         s += &return_by_kind(
             &smooth,
-            |k| {
-                format!(
-                    "{}_shading(hit.prim & {:#x}u, p, geometric)",
-                    k.name,
-                    (1u32 << KIND_SHIFT) - 1
-                )
-            },
+            |k| format!("{}_shading({index}, p, geometric)", k.name),
             "geometric",
         );
         s += "}\n\n\

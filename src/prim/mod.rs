@@ -8,6 +8,7 @@
 //!
 //! Adding a kind: its module, its include, and one line of the table.
 
+pub mod cylinder;
 pub mod mesh;
 pub mod plane;
 pub mod sphere;
@@ -34,6 +35,7 @@ macro_rules! with_kinds {
         $then! {
             spheres: $crate::prim::sphere::Sphere,
             triangles: $crate::prim::triangle::Triangle,
+            cylinders: $crate::prim::cylinder::Cylinder,
             planes: $crate::prim::plane::Plane,
         }
     };
