@@ -59,8 +59,8 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         "two GPU renders of the same scene differ"
     );
     let accel = a.device.accel.into();
-    let (reference, _, cpu64) = render_cpu_timed(&scene, Precision::F64, accel);
-    let (cpu32_image, _, cpu32) = render_cpu_timed(&scene, Precision::F32, accel);
+    let (reference, _, cpu64, _) = render_cpu_timed(&scene, Precision::F64, accel);
+    let (cpu32_image, _, cpu32, _) = render_cpu_timed(&scene, Precision::F32, accel);
     let (cpu64_s, cpu32_s) = (cpu64.render_s, cpu32.render_s);
     let gpu_err = diff::figures(&gpu_image, &reference)?;
     let cpu32_err = diff::figures(&cpu32_image, &reference)?;

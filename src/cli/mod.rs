@@ -2,6 +2,7 @@
 //! back as an error with context; `main` prints it and exits 2.
 
 mod compare;
+mod convert;
 mod diff;
 mod info;
 mod progress;
@@ -49,6 +50,8 @@ enum Command {
     Shader(shader::ShaderArgs),
     /// Re-render whenever the scene or a shader file changes.
     Watch(watch::WatchArgs),
+    /// Write an NFF scene (the SPD's format) as a TOML scene that renders the same image.
+    Convert(convert::ConvertArgs),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -66,7 +69,7 @@ pub enum Precision {
 /// The scene and the settings that override its own.
 #[derive(Args)]
 pub struct SceneArgs {
-    /// The scene file (TOML, see docs/scene-format.md).
+    /// The scene file: TOML, or NFF by its .nff extension (docs/scene-format.md).
     pub scene: PathBuf,
     /// Image width in pixels (1..=16384).
     #[arg(long)]
@@ -258,5 +261,6 @@ pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Report(a) => report::run(&a),
         Command::Shader(a) => shader::run(&a),
         Command::Watch(a) => watch::run(&a),
+        Command::Convert(a) => convert::run(&a),
     }
 }

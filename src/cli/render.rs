@@ -1,3 +1,4 @@
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -6,6 +7,7 @@ use anyhow::Context;
 use clap::Args;
 
 use glint::accel::Accel;
+use glint::cpu::stats::RayCounts;
 use glint::raster::{io, Image};
 use glint::scene::Scene;
 use glint::{cpu, gpu};
@@ -27,8 +29,27 @@ pub struct RenderArgs {
     /// Replace a read-only output file too.
     #[arg(long)]
     force: bool,
+    /// Write the rays cast and the times to FILE as JSON (docs/spd.md); with --backend cpu.
+    #[arg(long, value_name = "FILE")]
+    stats: Option<PathBuf>,
     #[command(flatten)]
     device: DeviceArgs,
+}
+
+/// What `--stats` writes.
+#[derive(serde::Serialize)]
+struct Stats {
+    rays: RayCounts,
+    seconds: StatsSeconds,
+}
+
+#[derive(serde::Serialize)]
+struct StatsSeconds {
+    /// Reading and checking the scene file.
+    input: f64,
+    /// The scene in the renderer's precision and its BVH.
+    setup: f64,
+    trace: f64,
 }
 
 impl RenderArgs {
@@ -36,6 +57,12 @@ impl RenderArgs {
     fn inputs(&self) -> Vec<&Path> {
         let mut v = vec![self.scene.scene.as_path()];
         v.extend(self.device.shader.as_deref());
+        v
+    }
+
+    fn outputs(&self, image: &Path) -> Vec<PathBuf> {
+        let mut v = vec![image.to_owned()];
+        v.extend(self.stats.clone());
         v
     }
 }
@@ -47,12 +74,37 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     };
     // Refuse a bad output name before spending time on the render.
     io::Format::of(&output)?;
-    io::refuse_input(&output, &a.inputs())?;
-    io::check_target(&output, a.force)?;
+    if a.stats.is_some() && a.backend != Backend::Cpu {
+        anyhow::bail!(
+            "--stats: the rays are counted by the CPU renderer so far; add --backend cpu"
+        );
+    }
+    if a.stats.as_ref() == Some(&output) {
+        anyhow::bail!("--stats names the image's own file {}", output.display());
+    }
+    for out in a.outputs(&output) {
+        io::refuse_input(&out, &a.inputs())?;
+        io::check_target(&out, a.force)?;
+    }
+    let loading = Instant::now();
     let scene = a.scene.load()?;
+    let input_s = loading.elapsed().as_secs_f64();
+    let mut stats = None;
     let (image, label, seconds) = match (a.backend, a.precision) {
         (Backend::Gpu, p) => render_gpu(&scene, &a.device, p.unwrap_or(Precision::F32))?,
-        (Backend::Cpu, p) => render_cpu(&scene, p.unwrap_or(Precision::F64), a.device.accel.into()),
+        (Backend::Cpu, p) => {
+            let (image, label, times, rays) =
+                render_cpu_timed(&scene, p.unwrap_or(Precision::F64), a.device.accel.into());
+            stats = Some(Stats {
+                rays,
+                seconds: StatsSeconds {
+                    input: input_s,
+                    setup: times.setup_s,
+                    trace: times.render_s,
+                },
+            });
+            (image, label, times.render_s)
+        }
     };
     // glint's own shading stays finite for every scene it accepts; a shader
     // of the user's may not, and such an image is not written.
@@ -75,6 +127,13 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     }
     io::write_forced(&output, &image, scene.srgb, a.force)
         .with_context(|| "cannot write the image")?;
+    if let (Some(path), Some(stats)) = (&a.stats, &stats) {
+        let json = serde_json::to_string_pretty(stats)?;
+        io::write_atomic(path, a.force, |out, p| {
+            writeln!(out, "{json}").map_err(io::io_err(p))
+        })
+        .with_context(|| "cannot write the statistics")?;
+    }
     eprintln!(
         "rendered {}x{} ({} spp, depth {}) with {label} in {seconds:.3} s -> {}",
         scene.width,
@@ -131,11 +190,6 @@ pub fn render_gpu_timed(
     Ok((image, renderer, times, setup))
 }
 
-pub fn render_cpu(scene: &Scene, precision: Precision, accel: Accel) -> (Image, String, f64) {
-    let (image, label, times) = render_cpu_timed(scene, precision, accel);
-    (image, label, times.render_s)
-}
-
 /// The CPU's setup (the scene in its precision, the BVH) and render times.
 #[derive(Debug, Clone, Copy, serde::Serialize)]
 pub struct CpuTimes {
@@ -147,22 +201,22 @@ pub fn render_cpu_timed(
     scene: &Scene,
     precision: Precision,
     accel: Accel,
-) -> (Image, String, CpuTimes) {
+) -> (Image, String, CpuTimes, RayCounts) {
     let bar = progress::bar(
         u64::from(scene.height),
         &format!("cpu {precision:?}").to_lowercase(),
     );
     let start = Instant::now();
-    let (image, setup_s) = match precision {
+    let ((image, rays), setup_s) = match precision {
         Precision::F32 => {
             let world = cpu::world::World::<f32>::new(scene, accel);
             let setup_s = start.elapsed().as_secs_f64();
-            (cpu::render_world(&world, &|n| bar.inc(n)), setup_s)
+            (cpu::render_counted(&world, &|n| bar.inc(n)), setup_s)
         }
         Precision::F64 => {
             let world = cpu::world::World::<f64>::new(scene, accel);
             let setup_s = start.elapsed().as_secs_f64();
-            (cpu::render_world(&world, &|n| bar.inc(n)), setup_s)
+            (cpu::render_counted(&world, &|n| bar.inc(n)), setup_s)
         }
     };
     let render_s = start.elapsed().as_secs_f64() - setup_s;
@@ -172,5 +226,6 @@ pub fn render_cpu_timed(
         image,
         format!("CPU {precision:?} on {threads} threads").replace("F", "f"),
         CpuTimes { setup_s, render_s },
+        rays,
     )
 }

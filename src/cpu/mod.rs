@@ -7,6 +7,7 @@ pub mod intersect;
 pub mod ray;
 pub mod real;
 pub mod shade;
+pub mod stats;
 pub mod trace;
 pub mod world;
 
@@ -17,6 +18,7 @@ use crate::raster::Image;
 use crate::scene::Scene;
 
 pub use real::Real;
+use stats::RayCounts;
 use world::World;
 
 /// Renders `scene` in precision `R`, rows in parallel, with the BVH where
@@ -33,25 +35,42 @@ pub fn render_rows<R: Real>(scene: &Scene, accel: Accel, progress: &(dyn Fn(u64)
 
 /// Renders a prepared world (tests use it to alter the BVH).
 pub fn render_world<R: Real>(world: &World<R>, progress: &(dyn Fn(u64) + Sync)) -> Image {
+    render_counted(world, progress).0
+}
+
+/// As [`render_world`], with the rays it cast.
+pub fn render_counted<R: Real>(
+    world: &World<R>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> (Image, RayCounts) {
     let (width, height, samples) = (world.width, world.height, world.samples);
     let inv = R::one() / R::of(f64::from(samples * samples));
     let mut pixels = vec![[0.0f32; 3]; width as usize * height as usize];
-    pixels
+    let counts = pixels
         .par_chunks_mut(width as usize)
         .enumerate()
-        .for_each(|(y, row)| {
+        .map(|(y, row)| {
+            let mut counts = RayCounts::default();
             for (x, px) in row.iter_mut().enumerate() {
                 let mut sum = real::Vec3::zero();
                 for j in 0..samples {
                     for i in 0..samples {
                         let ray = ray::primary_ray(world, x as u32, y as u32, i, j);
-                        sum += trace::trace(world, ray);
+                        sum += trace::trace(world, ray, &mut counts);
                     }
                 }
                 let c = sum * inv;
                 *px = [c.x.to_f32(), c.y.to_f32(), c.z.to_f32()];
             }
             progress(1);
-        });
-    Image::new(width, height, pixels)
+            counts
+        })
+        .reduce(RayCounts::default, RayCounts::sum);
+    let image = Image::new(width, height, pixels);
+    let image = if world.corners {
+        image.corner_mean()
+    } else {
+        image
+    };
+    (image, counts)
 }

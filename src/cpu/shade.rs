@@ -6,6 +6,7 @@ use crate::scene::LightKind;
 use super::intersect::occluded;
 use super::ray::Ray;
 use super::real::{Real, Vec3};
+use super::stats::RayCounts;
 use super::world::{MaterialR, World};
 use crate::prim::PrimId;
 
@@ -36,6 +37,7 @@ pub fn shade<R: Real>(
     v: Vec3<R>,
     m: &MaterialR<R>,
     from: PrimId,
+    counts: &mut RayCounts,
 ) -> Vec3<R> {
     let mut local = Vec3::zero();
     for light in &w.lights {
@@ -71,7 +73,13 @@ pub fn shade<R: Real>(
         // No shadow ray where the direct term would be zero anyway: facing
         // away, outside a spot's cone, or a light without diffuse and specular.
         let direct = n_dot_l > R::zero() && spot > R::zero() && light.direct;
-        if direct && !(w.shadows && occluded(w, &Ray { origin: p, dir: l }, from, dist)) {
+        // The SPD's procedure: a shadow ray only where the light is in
+        // front of the surface (and here, lit at all).
+        let shadowed = direct && w.shadows && {
+            counts.shadow += 1;
+            occluded(w, &Ray { origin: p, dir: l }, from, dist)
+        };
+        if direct && !shadowed {
             contribution += light.diffuse * m.diffuse * n_dot_l
                 + light.specular * m.specular * specular(n, l, v, m.shininess);
         }

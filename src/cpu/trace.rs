@@ -6,6 +6,7 @@ use super::intersect::{intersect_scene, lift, surface};
 use super::ray::Ray;
 use super::real::{Real, Vec3};
 use super::shade::shade;
+use super::stats::RayCounts;
 use super::world::World;
 use crate::prim::PrimId;
 
@@ -33,7 +34,9 @@ pub fn refract<R: Real>(d: Vec3<R>, n: Vec3<R>, eta: R) -> Option<Vec3<R>> {
     Some((d * eta + n * (eta * cos_i - k.sqrt())).normalize())
 }
 
-pub fn trace<R: Real>(w: &World<R>, primary: Ray<R>) -> Vec3<R> {
+/// The colour the eye ray `primary` brings back; `counts` counts its tree.
+pub fn trace<R: Real>(w: &World<R>, primary: Ray<R>, counts: &mut RayCounts) -> Vec3<R> {
+    counts.eye += 1;
     let mut color = Vec3::zero();
     let mut weight = R::one();
     let mut ray = primary;
@@ -46,6 +49,9 @@ pub fn trace<R: Real>(w: &World<R>, primary: Ray<R>) -> Vec3<R> {
         match intersect_scene(w, &ray, from, R::infinity()) {
             None => color += w.background * weight,
             Some(hit) => {
+                if depth == 1 {
+                    counts.eye_hit += 1;
+                }
                 let p = ray.at(hit.t);
                 // The geometric normal says which side the ray is on; the
                 // shading normal is turned with it to face the ray.
@@ -63,7 +69,7 @@ pub fn trace<R: Real>(w: &World<R>, primary: Ray<R>) -> Vec3<R> {
                 };
                 let above = leave(face);
                 let m = &w.materials[s.material];
-                color += shade(w, above, n, -ray.dir, m, hit.prim) * weight;
+                color += shade(w, above, n, -ray.dir, m, hit.prim, counts) * weight;
                 let mut kr = m.reflectivity;
                 let kt = m.transmittance;
                 if depth < w.max_depth && kt > R::zero() {
@@ -71,20 +77,24 @@ pub fn trace<R: Real>(w: &World<R>, primary: Ray<R>) -> Vec3<R> {
                     let eta = if back { m.ior } else { R::one() / m.ior };
                     match refract(ray.dir, n, eta) {
                         None => kr += kt,
-                        Some(t) if weight * kt != R::zero() => stack.push(Branch {
-                            ray: Ray {
-                                origin: leave(-face),
-                                dir: t,
-                            },
-                            from: hit.prim,
-                            depth: depth + 1,
-                            weight: weight * kt,
-                        }),
+                        Some(t) if weight * kt != R::zero() => {
+                            counts.refract += 1;
+                            stack.push(Branch {
+                                ray: Ray {
+                                    origin: leave(-face),
+                                    dir: t,
+                                },
+                                from: hit.prim,
+                                depth: depth + 1,
+                                weight: weight * kt,
+                            });
+                        }
                         Some(_) => {}
                     }
                 }
                 follow = depth < w.max_depth && kr != R::zero() && weight * kr != R::zero();
                 if follow {
+                    counts.reflect += 1;
                     weight = weight * kr;
                     let d = ray.dir - n * (R::of(2.0) * ray.dir.dot(n));
                     ray = Ray {

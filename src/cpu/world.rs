@@ -21,9 +21,12 @@ pub struct World<R: Real> {
     pub background: Vec3<R>,
     pub shadows: bool,
     pub max_depth: u32,
+    /// The image traced: (w+1)×(h+1) where the scene samples pixel
+    /// corners (`Scene::corner_grid`), which `render_world` then averages.
     pub width: u32,
     pub height: u32,
     pub samples: u32,
+    pub corners: bool,
 }
 
 pub struct MaterialR<R> {
@@ -54,7 +57,9 @@ impl<R: Real> World<R> {
     /// The scene in camera-relative coordinates (see `Scene::camera_relative`),
     /// rounded to `R`.
     pub fn new(scene: &Scene, accel: Accel) -> Self {
-        let scene = &scene.camera_relative();
+        let grid = scene.corner_grid();
+        let corners = grid.is_some();
+        let scene = &grid.as_ref().unwrap_or(scene).camera_relative();
         let bvh = accel.uses_bvh(scene).then(|| accel::scene_bvh(scene));
         let cam = &scene.camera;
         Self {
@@ -99,6 +104,7 @@ impl<R: Real> World<R> {
             width: scene.width,
             height: scene.height,
             samples: scene.samples,
+            corners,
         }
     }
 }

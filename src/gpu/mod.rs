@@ -432,6 +432,10 @@ impl Renderer {
         if self.lost {
             return Err(GpuError::Lost);
         }
+        if let Some(grid) = scene.corner_grid() {
+            let (image, times) = self.render_with(&grid, settings, progress)?;
+            return Ok((image.corner_mean(), times));
+        }
         if settings.precision == Precision::F64 && !self.device.info.shader_float64 {
             return Err(GpuError::Unsupported(format!(
                 "{} has no shaderFloat64: render in f32, or on the CPU in f64",

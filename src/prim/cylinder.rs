@@ -17,7 +17,7 @@
 //! surface knows it: its origin's root is 0, and the other root is −2b/A.
 
 use glam::DVec3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use super::{Kind, Shape};
 use crate::accel::bvh::Aabb;
@@ -26,7 +26,7 @@ use crate::cpu::ray::Ray;
 use crate::cpu::real::{Real, Vec3};
 use crate::scene::{unit_vector, At, SceneError, Triple, MAX_COORDINATE};
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CylinderFile {
     pub base: Triple,

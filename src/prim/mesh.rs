@@ -6,12 +6,12 @@ use std::io::BufReader;
 use std::path::Path;
 
 use glam::DVec3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use super::triangle::Triangle;
 use crate::scene::{unit_vector, At, SceneError, Triple};
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MeshFile {
     /// The OBJ file, relative to the scene file.

@@ -3,7 +3,7 @@
 //! Unbounded, so never in the BVH: every ray scans the planes.
 
 use glam::DVec3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use super::{Kind, Shape};
 use crate::accel::bvh::Aabb;
@@ -11,7 +11,7 @@ use crate::cpu::ray::Ray;
 use crate::cpu::real::{Real, Vec3};
 use crate::scene::{At, SceneError, Triple};
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlaneFile {
     pub point: Triple,

@@ -6,7 +6,7 @@
 //! when it leaves it inwards, at t = -2 (o - c)·d.
 
 use glam::DVec3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use super::{Kind, Shape};
 use crate::accel::bvh::Aabb;
@@ -15,7 +15,7 @@ use crate::cpu::ray::Ray;
 use crate::cpu::real::{Real, Vec3};
 use crate::scene::{At, SceneError, Triple};
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SphereFile {
     pub center: Triple,

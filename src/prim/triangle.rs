@@ -12,7 +12,7 @@
 //! same t, and the nearest hit is the earlier one (the tie rule).
 
 use glam::DVec3;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use super::{Kind, Shape};
 use crate::accel::bvh::Aabb;
@@ -20,7 +20,7 @@ use crate::cpu::ray::Ray;
 use crate::cpu::real::{Real, Vec3};
 use crate::scene::{unit_vector, At, SceneError, Triple};
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TriangleFile {
     pub vertices: [Triple; 3],

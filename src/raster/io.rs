@@ -57,7 +57,7 @@ impl Format {
     }
 }
 
-fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> ImageIoError + '_ {
+pub fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> ImageIoError + '_ {
     move |cause| ImageIoError::Io {
         path: path.to_owned(),
         cause,
@@ -112,6 +112,20 @@ pub fn write(path: &Path, img: &Image, srgb: bool) -> Result<(), ImageIoError> {
 /// name, not the file's contents.
 pub fn write_forced(path: &Path, img: &Image, srgb: bool, force: bool) -> Result<(), ImageIoError> {
     let format = Format::of(path)?;
+    write_atomic(path, force, |out, path| match format {
+        Format::Png => write_png(out, img, srgb, path),
+        Format::Pfm => write_pfm(out, img).map_err(io_err(path)),
+        Format::Exr => write_exr(out, img, path),
+    })
+}
+
+/// Writes a file atomically, as `write_forced` does an image: `fill`
+/// writes the contents (given the target's path for its messages).
+pub fn write_atomic(
+    path: &Path,
+    force: bool,
+    fill: impl FnOnce(&mut BufWriter<&File>, &Path) -> Result<(), ImageIoError>,
+) -> Result<(), ImageIoError> {
     check_target(path, force)?;
     let target = follow_links(path);
     let path = target.as_path();
@@ -124,7 +138,7 @@ pub fn write_forced(path: &Path, img: &Image, srgb: bool, force: bool) -> Result
     let prefix = partial::prefix();
     let mut builder = tempfile::Builder::new();
     builder.prefix(&prefix).suffix(".tmp");
-    // tempfile makes private files; an image is as readable as any new file.
+    // tempfile makes private files; an output is as readable as any new file.
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
     let tmp = builder.tempfile_in(dir).map_err(io_err(path))?;
@@ -135,7 +149,7 @@ pub fn write_forced(path: &Path, img: &Image, srgb: bool, force: bool) -> Result
     }
     let tmp_path = tmp.path().to_owned();
     partial::register(&tmp_path);
-    let result = write_into(tmp, path, format, img, srgb);
+    let result = write_into(tmp, path, fill);
     partial::unregister(&tmp_path);
     result
 }
@@ -170,22 +184,16 @@ fn follow_links(path: &Path) -> PathBuf {
     p
 }
 
-/// Writes the image into `tmp`, then renames it over `path`; a failure drops
-/// (and so removes) `tmp`.
+/// Fills `tmp`, then renames it over `path`; a failure drops (and so
+/// removes) `tmp`.
 fn write_into(
     tmp: tempfile::NamedTempFile,
     path: &Path,
-    format: Format,
-    img: &Image,
-    srgb: bool,
+    fill: impl FnOnce(&mut BufWriter<&File>, &Path) -> Result<(), ImageIoError>,
 ) -> Result<(), ImageIoError> {
     {
         let mut out = BufWriter::new(tmp.as_file());
-        match format {
-            Format::Png => write_png(&mut out, img, srgb, path)?,
-            Format::Pfm => write_pfm(&mut out, img).map_err(io_err(path))?,
-            Format::Exr => write_exr(&mut out, img, path)?,
-        }
+        fill(&mut out, path)?;
         out.flush().map_err(io_err(path))?;
     }
     tmp.as_file().sync_all().map_err(io_err(path))?;

@@ -3,7 +3,7 @@
 
 use std::collections::BTreeMap;
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// Three numbers, exactly: serde's own `[f64; 3]` takes the first three
 /// elements of a longer array and ignores the rest.
@@ -14,6 +14,12 @@ impl std::ops::Deref for Triple {
     type Target = [f64; 3];
     fn deref(&self) -> &[f64; 3] {
         &self.0
+    }
+}
+
+impl Serialize for Triple {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize(s)
     }
 }
 
@@ -31,7 +37,7 @@ impl<'de> Deserialize<'de> for Triple {
 /// `deny_unknown_fields`).
 macro_rules! scene_file {
     ($($key:ident : $kind:ty),* $(,)?) => {
-        #[derive(Debug, Deserialize)]
+        #[derive(Debug, Deserialize, Serialize)]
         #[serde(deny_unknown_fields)]
         pub struct SceneFile {
             pub image: ImageFile,
@@ -41,13 +47,13 @@ macro_rules! scene_file {
             #[serde(default)]
             pub materials: BTreeMap<String, MaterialFile>,
             $(
-                #[serde(default)]
+                #[serde(default, skip_serializing_if = "Vec::is_empty")]
                 pub $key: Vec<<$kind as crate::prim::Kind>::File>,
             )*
             /// OBJ files, read into triangles (`crate::prim::mesh`).
-            #[serde(default)]
+            #[serde(default, skip_serializing_if = "Vec::is_empty")]
             pub meshes: Vec<crate::prim::mesh::MeshFile>,
-            #[serde(default)]
+            #[serde(default, skip_serializing_if = "Vec::is_empty")]
             pub lights: Vec<LightFile>,
         }
 
@@ -64,7 +70,7 @@ macro_rules! scene_file {
 
 crate::with_kinds!(scene_file);
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ImageFile {
     pub width: i64,
@@ -73,9 +79,23 @@ pub struct ImageFile {
     pub samples: i64,
     #[serde(default)]
     pub srgb: bool,
+    #[serde(default)]
+    pub sampling: Sampling,
 }
 
-#[derive(Debug, Deserialize)]
+/// Where a pixel's eye rays go (docs/scene-format.md, Rays).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Sampling {
+    /// samples × samples rays through the centres of a grid over the pixel.
+    #[default]
+    Centers,
+    /// One ray through each pixel corner, (w+1)×(h+1), four averaged per
+    /// pixel: the SPD's procedure.
+    Corners,
+}
+
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RenderFile {
     #[serde(default = "three")]
@@ -97,7 +117,7 @@ impl Default for RenderFile {
 }
 
 /// Both camera forms share one table; which keys are present picks the form.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CameraFile {
     pub eye: Triple,
@@ -109,7 +129,7 @@ pub struct CameraFile {
     pub vfov: Option<f64>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialFile {
     #[serde(default)]
@@ -130,7 +150,7 @@ pub struct MaterialFile {
 
 /// One flat table for every light type: `validate` checks that each key
 /// present belongs to the light's type and that its required keys are there.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct LightFile {
     #[serde(rename = "type")]

@@ -61,6 +61,18 @@ pub fn line_col(text: &str, offset: usize) -> LineCol {
     }
 }
 
+/// Where in its file a key path was written: the line and column of a TOML
+/// value, or the line of the NFF entity a table came from.
+pub trait Locate {
+    fn find(&self, path: &KeyPath) -> Option<LineCol>;
+}
+
+impl Locate for Located {
+    fn find(&self, path: &KeyPath) -> Option<LineCol> {
+        Located::find(self, path)
+    }
+}
+
 /// The text of a scene, kept to locate errors. Its document (with the span
 /// of every key) is parsed only when an error asks where: it takes about
 /// 20 times the text's size, which a scene that loads never needs.

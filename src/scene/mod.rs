@@ -2,9 +2,11 @@
 //! form both renderers consume (materials by index, unit normals, the camera
 //! as an eye and a virtual screen).
 
+mod corners;
 mod error;
 mod file;
 mod locate;
+pub mod nff;
 mod rebase;
 mod split;
 mod validate;
@@ -14,8 +16,8 @@ use std::path::Path;
 use glam::DVec3;
 
 pub use error::SceneError;
-pub use file::Triple;
-pub use validate::{parse, unit_vector, At, Overrides, MAX_COORDINATE};
+pub use file::{Sampling, Triple};
+pub use validate::{parse, parse_nff, unit_vector, At, Overrides, MAX_COORDINATE};
 
 use crate::prim::Prims;
 
@@ -28,6 +30,7 @@ pub struct Scene {
     pub width: u32,
     pub height: u32,
     pub samples: u32,
+    pub sampling: Sampling,
     pub srgb: bool,
     pub max_depth: u32,
     pub shadows: bool,
@@ -96,6 +99,12 @@ impl Light {
     }
 }
 
+/// Whether `path` names an NFF file (by its extension, `.nff` in any case).
+pub fn is_nff(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("nff"))
+}
+
 impl Scene {
     /// Reads and validates a scene file, then applies command-line overrides.
     pub fn load(path: &Path, overrides: &Overrides) -> Result<Scene, SceneError> {
@@ -103,7 +112,11 @@ impl Scene {
             path: path.to_owned(),
             cause,
         })?;
-        parse(&text, path, overrides)
+        if is_nff(path) {
+            validate::parse_nff(&text, path, overrides)
+        } else {
+            parse(&text, path, overrides)
+        }
     }
 
     pub fn pixel_count(&self) -> u64 {

@@ -7,9 +7,10 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::file::{CameraFile, LightFile, MaterialFile, SceneFile, Triple};
-use super::locate::{KeyPath, Located};
+use super::locate::{KeyPath, Locate, Located};
 use super::{
-    Camera, Light, LightKind, Material, Scene, SceneError, MAX_DEPTH, MAX_SAMPLES, MAX_SIZE,
+    Camera, Light, LightKind, Material, Sampling, Scene, SceneError, MAX_DEPTH, MAX_SAMPLES,
+    MAX_SIZE,
 };
 use crate::prim::Prims;
 
@@ -27,10 +28,25 @@ pub fn parse(text: &str, file: &Path, overrides: &Overrides) -> Result<Scene> {
     let located = Located::new(text);
     let raw: SceneFile =
         super::split::parse(text).map_err(|b| toml_error(&b.error, b.offset, file, &located))?;
-    let check = Check {
-        file,
-        located: &located,
-    };
+    resolve(raw, file, &located, overrides)
+}
+
+/// Reads and validates NFF text (docs/scene-format.md, NFF); `file` is only
+/// used in messages.
+pub fn parse_nff(text: &str, file: &Path, overrides: &Overrides) -> Result<Scene> {
+    let nff = super::nff::read(text, file)?;
+    resolve(nff.scene, file, &nff.lines, overrides)
+}
+
+/// Validates a scene file read from any format: `located` names where
+/// each key path was written.
+pub(super) fn resolve(
+    raw: SceneFile,
+    file: &Path,
+    located: &dyn Locate,
+    overrides: &Overrides,
+) -> Result<Scene> {
+    let check = Check { file, located };
     let mut scene = check.scene(raw, overrides)?;
     apply_overrides(&mut scene, overrides)?;
     check.brightness(&scene)?;
@@ -193,7 +209,7 @@ fn root() -> KeyPath {
 
 struct Check<'a> {
     file: &'a Path,
-    located: &'a Located,
+    located: &'a dyn Locate,
 }
 
 type Result<T> = std::result::Result<T, SceneError>;
@@ -332,6 +348,13 @@ impl Check<'_> {
         let width = self.int_in(&image.key("width"), raw.image.width, 1, MAX_SIZE)?;
         let height = self.int_in(&image.key("height"), raw.image.height, 1, MAX_SIZE)?;
         let samples = self.int_in(&image.key("samples"), raw.image.samples, 1, MAX_SAMPLES)?;
+        let sampling = raw.image.sampling;
+        if sampling == Sampling::Corners && samples != 1 {
+            return self.err(
+                &image.key("sampling"),
+                format!("\"corners\" traces one ray per pixel corner: it takes samples = 1, got {samples}"),
+            );
+        }
         let max_depth =
             self.int_in(&render.key("max_depth"), raw.render.max_depth, 1, MAX_DEPTH)?;
         let background = self.colour(&render.key("background"), raw.render.background)?;
@@ -377,6 +400,7 @@ impl Check<'_> {
             width,
             height,
             samples,
+            sampling,
             srgb: raw.image.srgb,
             max_depth,
             shadows: raw.render.shadows,
@@ -633,6 +657,8 @@ fn apply_overrides(scene: &mut Scene, o: &Overrides) -> Result<()> {
     }
     if let Some(s) = check("--samples", o.samples, 1, MAX_SAMPLES)? {
         scene.samples = s;
+        // A grid of samples is the centres sampling's (docs/scene-format.md, Rays).
+        scene.sampling = Sampling::Centers;
     }
     if let Some(d) = check("--max-depth", o.max_depth, 1, MAX_DEPTH)? {
         scene.max_depth = d;

@@ -1,0 +1,81 @@
+//! The Standard Procedural Databases (scenes/spd/, docs/spd.md): the ray
+//! counts of the SPD's procedure against its published statistics, and the
+//! GPU against the reference.
+
+mod common;
+
+use glint::accel::Accel;
+use glint::cpu::{self, stats::RayCounts, world::World};
+use glint::raster::diff::{figures, Tolerance};
+use glint::scene::{Overrides, Scene};
+
+fn load(name: &str, size: Option<u32>) -> Scene {
+    let path = common::repo()
+        .join("scenes/spd")
+        .join(format!("{name}.nff"));
+    let o = Overrides {
+        width: size,
+        height: size,
+        ..Overrides::default()
+    };
+    Scene::load(&path, &o).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The SPD's published eye hit, reflect, refract and shadow rays (its
+/// README; scenes/spd/README.md).
+const PUBLISHED: &[(&str, [u64; 4])] = &[
+    ("balls", [263169, 175095, 0, 954368]),
+    ("mount", [173125, 354769, 354769, 412922]),
+    ("rings", [263169, 315236, 0, 1085002]),
+    ("teapot", [161120, 225248, 0, 407656]),
+    ("tetra", [49788, 0, 0, 46112]),
+    ("tree", [169836, 0, 0, 1097419]),
+];
+
+fn counts(name: &str) -> RayCounts {
+    let scene = load(name, None);
+    cpu::render_counted(&World::<f64>::new(&scene, Accel::Auto), &|_| {}).1
+}
+
+/// Six of the seven within 10 % of the published counts, at the procedure's
+/// 512×512 with corner sampling (513×513 eye rays). Gears is not among
+/// them: the SPD spawns a reflection ray at a transmitting surface whose Ks
+/// is 0, which glint's model does not (docs/spd.md).
+#[test]
+fn ray_counts_are_within_ten_percent_of_the_published_ones() {
+    for (name, want) in PUBLISHED {
+        let c = counts(name);
+        assert_eq!(c.eye, 513 * 513, "{name}");
+        let got = [c.eye_hit, c.reflect, c.refract, c.shadow];
+        for (g, w) in got.iter().zip(want) {
+            let off = (*g as f64 - *w as f64).abs() / (*w as f64).max(1.0);
+            assert!(off <= 0.10, "{name}: {got:?} against {want:?}");
+        }
+    }
+    // The check can fail: gears' reflection rays are a third of the SPD's.
+    let gears = counts("gears");
+    assert!((gears.reflect as f64) < 0.5 * 304643.0, "{gears:?}");
+}
+
+/// Every database renders on both renderers without a non-finite value; on
+/// those without chaotic mirror chains or coincident transmitting faces the
+/// GPU passes `glint compare`'s tolerance (docs/spd.md says why three do not).
+#[test]
+fn the_databases_render_on_both_renderers() {
+    let mut gpu = common::gpu();
+    for name in [
+        "balls", "gears", "mount", "rings", "teapot", "tetra", "tree",
+    ] {
+        let scene = load(name, Some(128));
+        let reference = cpu::render::<f64>(&scene);
+        let image = gpu.render(&scene, &|_| {}).unwrap().0;
+        let f = figures(&image, &reference).unwrap();
+        assert_eq!(f.nonfinite, 0, "{name}");
+        if ["mount", "teapot", "tetra", "tree"].contains(&name) {
+            assert!(
+                Tolerance::default().violations(&f).is_empty(),
+                "{name}: {f:?}"
+            );
+        }
+    }
+}
