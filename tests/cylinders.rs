@@ -12,20 +12,9 @@ use glint::prim::cylinder::{Cylinder, CylinderR};
 use glint::prim::{Kind, Shape};
 use glint::raster::diff::figures;
 
-/// A small deterministic generator (xorshift), so that a failure repeats.
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn point(&mut self, size: f64) -> DVec3 {
-        DVec3::new(self.unit(), self.unit(), self.unit()) * (2.0 * size) - size
-    }
+/// A random point in the cube of half-side `size` around 0.
+fn point(rng: &mut common::Rng, size: f64) -> DVec3 {
+    DVec3::new(rng.unit(), rng.unit(), rng.unit()) * (2.0 * size) - size
 }
 
 fn ray<R: Real>(origin: DVec3, dir: DVec3) -> Ray<R> {
@@ -52,16 +41,16 @@ fn off_surface(c: &Cylinder, p: DVec3) -> (f64, f64) {
 /// surface again at that point.
 #[test]
 fn hits_lie_on_the_surface_within_its_span() {
-    let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+    let mut rng = common::Rng(0x2545_f491_4f6c_dd1d);
     let mut hits = 0;
     for _ in 0..2000 {
-        let base = rng.point(2.0);
-        let apex = rng.point(2.0);
+        let base = point(&mut rng, 2.0);
+        let apex = point(&mut rng, 2.0);
         let (rb, ra) = (rng.unit() + 0.05, rng.unit() * 1.5);
         let c = Cylinder::new(base, rb, apex, ra, 0).unwrap();
         let shape: CylinderR<f64> = c.cpu();
-        let origin = rng.point(6.0);
-        let target = c.center + rng.point(1.5);
+        let origin = point(&mut rng, 6.0);
+        let target = c.center + point(&mut rng, 1.5);
         let r = ray::<f64>(origin, target - origin);
         let Some(t) = shape.intersect(&r, false) else {
             continue;

@@ -41,23 +41,11 @@ fn octahedron() -> Vec<Triangle> {
         .collect()
 }
 
-/// A small deterministic generator (xorshift), so that a failure repeats.
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// Rays from inside the octahedron aimed exactly at its edges (at points
 /// along them) and at its vertices: each must leave through some face.
 fn rays_at_edges_and_vertices<R: Real>(n: usize) -> Vec<Ray<R>> {
     let tris = octahedron();
-    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut rng = common::Rng(0x9e37_79b9_7f4a_7c15);
     let mut rays = Vec::new();
     for _ in 0..n {
         for t in &tris {
