@@ -31,10 +31,11 @@ pub fn run(a: &ConvertArgs) -> anyhow::Result<ExitCode> {
             path: a.scene.clone(),
             cause,
         })?;
-    // The whole scene is checked first: what is written is a valid scene.
-    glint::scene::parse_nff(&text, &a.scene, &Overrides::default())?;
     let read = nff::read(&text, &a.scene)?;
     let toml = toml::to_string(&read.scene).context("cannot write the scene as TOML")?;
+    // The whole scene is checked before anything is written: what is
+    // written is a valid scene.
+    read.check(&a.scene, &Overrides::default())?;
     let source = a.scene.file_name().unwrap_or_default().to_string_lossy();
     io::write_atomic(&a.output, a.force, |out, path| {
         write!(

@@ -17,7 +17,7 @@ use super::locate::{KeyPath, LineCol, Locate};
 use super::SceneError;
 use crate::prim::cylinder::CylinderFile;
 use crate::prim::sphere::SphereFile;
-use crate::prim::triangle::TriangleFile;
+use crate::prim::triangle::{Triangle, TriangleFile};
 
 /// The SPD's ray-tree depth: the eye ray is depth 1.
 pub const SPD_DEPTH: i64 = 5;
@@ -26,6 +26,18 @@ pub const SPD_DEPTH: i64 = 5;
 pub struct Nff {
     pub scene: SceneFile,
     pub lines: Lines,
+}
+
+impl Nff {
+    /// Checks and resolves the scene, as for a TOML file; errors name the
+    /// NFF line of the entity at fault.
+    pub fn check(
+        self,
+        file: &Path,
+        overrides: &super::Overrides,
+    ) -> Result<super::Scene, SceneError> {
+        super::validate::resolve(self.scene, file, &self.lines, overrides)
+    }
 }
 
 /// The NFF line of each table (`spheres[3]`, `materials.f2`, `camera`).
@@ -354,15 +366,16 @@ impl<'a> Reader<'a> {
                 }
             })
             .collect();
-        let camera = match camera(&view) {
-            Some(c) => c,
-            None => {
-                return self.error(
-                    view.line,
-                    "v: from and at are one point, up is parallel to the view, or the angle is not in (0, 180)",
-                )
-            }
-        };
+        if !(view.angle > 0.0 && view.angle < 180.0) || view.width < 2 || view.height < 2 {
+            return self.error(
+                view.line,
+                format!(
+                    "v: the angle must be in (0, 180) degrees and the resolution at least 2×2, got {} and {}×{}",
+                    view.angle, view.width, view.height
+                ),
+            );
+        }
+        let camera = camera(&view);
         let scene = SceneFile {
             image: ImageFile {
                 width: view.width,
@@ -413,33 +426,27 @@ fn nff_material(v: &[f64]) -> MaterialFile {
 fn fan(corners: &[(DVec3, DVec3)]) -> Vec<[(DVec3, DVec3); 3]> {
     (1..corners.len() - 1)
         .map(|i| [corners[0], corners[i], corners[i + 1]])
-        .filter(|[a, b, c]| crate::scene::unit_vector((b.0 - a.0).cross(c.0 - a.0)).is_some())
+        .filter(|[a, b, c]| Triangle::new([a.0, b.0, c.0], None, 0).is_some())
         .collect()
 }
 
-/// NFF's view as glint's camera form (a): a screen at distance 1 whose
-/// edge pixels' centres are `angle` apart vertically, with square pixels.
-fn camera(v: &View) -> Option<CameraFile> {
-    let fwd = crate::scene::unit_vector(v.at - v.from)?;
-    let right = crate::scene::unit_vector(fwd.cross(v.up))?;
-    let up = right.cross(fwd);
-    if !(v.angle > 0.0 && v.angle < 180.0) || v.width < 2 || v.height < 2 {
-        return None;
-    }
-    // A pixel centre's screen coordinate is 2 (y + 0.5) / h − 1: the edge
-    // rows' centres sit at ±(1 − 1/h) of the half-height.
-    let (w, h) = (v.width as f64, v.height as f64);
-    let half = (v.angle.to_radians() / 2.0).tan() / (1.0 - 1.0 / h);
+/// NFF's view as glint's look-at camera (form (b), which the checks turn
+/// into a screen as for any TOML scene). NFF's `angle` spans the centres of
+/// the top and bottom rows of pixels; a pixel centre's screen coordinate is
+/// 2 (y + 0.5) / h − 1, so those centres sit at ±(1 − 1/h) of the
+/// half-height, and `vfov` (edge to edge) is wider by that factor.
+fn camera(v: &View) -> CameraFile {
+    let half = (v.angle.to_radians() / 2.0).tan() / (1.0 - 1.0 / v.height as f64);
     let triple = |p: DVec3| Some(Triple(p.to_array()));
-    Some(CameraFile {
+    CameraFile {
         eye: Triple(v.from.to_array()),
-        screen_center: triple(v.from + fwd),
-        screen_right: triple(right * (half * w / h)),
-        screen_up: triple(up * half),
-        look_at: None,
-        up: None,
-        vfov: None,
-    })
+        screen_center: None,
+        screen_right: None,
+        screen_up: None,
+        look_at: triple(v.at),
+        up: triple(v.up),
+        vfov: Some(2.0 * half.atan().to_degrees()),
+    }
 }
 
 #[cfg(test)]
@@ -526,10 +533,11 @@ mod tests {
 
     #[test]
     fn the_angle_spans_the_edge_pixels_centres() {
-        let nff = read_str(&format!("{VIEW}b 0 0 0\n")).unwrap();
-        let up = nff.scene.camera.screen_up.unwrap();
+        let text = format!("{VIEW}b 0 0 0\n");
+        let scene =
+            crate::scene::parse_nff(&text, Path::new("t.nff"), &Default::default()).unwrap();
         // The top row's centre at 1 − 1/8 of the half-height is 20° up.
-        let top = up.0[1] * (1.0 - 1.0 / 8.0);
-        assert!((top - 20f64.to_radians().tan()).abs() < 1e-15);
+        let top = scene.camera.screen_up.y * (1.0 - 1.0 / 8.0);
+        assert!((top - 20f64.to_radians().tan()).abs() < 1e-15, "{top}");
     }
 }

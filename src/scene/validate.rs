@@ -34,8 +34,7 @@ pub fn parse(text: &str, file: &Path, overrides: &Overrides) -> Result<Scene> {
 /// Reads and validates NFF text (docs/scene-format.md, NFF); `file` is only
 /// used in messages.
 pub fn parse_nff(text: &str, file: &Path, overrides: &Overrides) -> Result<Scene> {
-    let nff = super::nff::read(text, file)?;
-    resolve(nff.scene, file, &nff.lines, overrides)
+    super::nff::read(text, file)?.check(file, overrides)
 }
 
 /// Validates a scene file read from any format: `located` names where
