@@ -79,6 +79,8 @@
 #define ON_TEST()
 #endif
 
+#include "count.glsl"
+
 // UNROLL_LOOPS unrolls the loops over the scene, which makes every buffer
 // offset a constant: llvmpipe then loads each value once for all lanes
 // instead of lane by lane.

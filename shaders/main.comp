@@ -19,6 +19,7 @@ void main() {
     }
     uint x = tile.rect.x + local.x;
     uint y = tile.rect.y + local.y;
+    begin_counts();
     uint samples = SAMPLES;
     vec3r sum = vec3r(0.0);
     [[dont_unroll]] for (uint j = 0u; j < samples; j++) {
@@ -27,4 +28,5 @@ void main() {
         }
     }
     pixels[local.y * tile.rect.z + local.x] = vec4(vec3(sum * (1.0 / real(samples * samples))), loops_completed() ? 1.0 : 0.0);
+    end_counts();
 }

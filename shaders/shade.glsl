@@ -59,7 +59,10 @@ vec3r shade(vec3r p, vec3r n, vec3r v, Material m, uint from) {
         // away, outside a spot's cone, or a light without diffuse and specular.
         bool direct = n_dot_l > 0.0 && spot > 0.0 && light.meta.y != 0u;
 #if HAS_SHADOWS
-        direct = direct && !(SHADOWS_ON && occluded(Ray(p, l), from, dist));
+        if (direct && SHADOWS_ON) {
+            COUNT(COUNT_SHADOW);
+            direct = !occluded(Ray(p, l), from, dist);
+        }
 #endif
         if (direct) {
             contribution += light.diffuse.rgb * m.diffuse.rgb * n_dot_l

@@ -35,6 +35,7 @@ bool refract_ray(vec3r d, vec3r n, real eta, out vec3r t) {
 #endif
 
 vec3r trace(Ray ray) {
+    COUNT(COUNT_EYE);
     vec3r color = vec3r(0.0);
 #if HAS_OBJECTS
     real weight = 1.0;
@@ -53,6 +54,9 @@ vec3r trace(Ray ray) {
         if (!intersect_scene(ray, from, INF, hit)) {
             color += g.background.rgb * weight;
         } else {
+            if (depth == 1u) {
+                COUNT(COUNT_EYE_HIT);
+            }
             vec3r p = ray.origin + ray.dir * hit.t;
             // The geometric normal says which side the ray is on; the shading
             // normal is turned with it to face the ray.
@@ -75,6 +79,7 @@ vec3r trace(Ray ray) {
                 if (!refract_ray(ray.dir, n, eta, t)) {
                     kr += kt;
                 } else if (weight * kt != 0.0) {
+                    COUNT(COUNT_REFRACT);
                     vec3r below = leave(hit, p, ray.origin, -face);
                     stack[top] = Branch(Ray(below, t), hit.prim, depth + 1u, weight * kt);
                     top++;
@@ -83,6 +88,7 @@ vec3r trace(Ray ray) {
 #endif
             follow = depth < MAX_DEPTH && kr != 0.0 && weight * kr != 0.0;
             if (follow) {
+                COUNT(COUNT_REFLECT);
                 weight *= kr;
                 vec3r d = ray.dir - n * (2.0 * dot(ray.dir, n));
                 ray = Ray(above, normalize(d));

@@ -2,6 +2,7 @@
 //! renders; a CPU reference in f64 (and f32) checks it pixel by pixel.
 
 pub mod accel;
+pub mod condition;
 pub mod cpu;
 pub mod gpu;
 pub mod prim;
@@ -10,3 +11,4 @@ pub mod raster;
 pub mod report;
 pub mod scene;
 pub mod stability;
+pub mod stats;

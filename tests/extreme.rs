@@ -302,3 +302,181 @@ fn no_scene_in_the_suite_gives_a_non_finite_value() {
         }
     }
 }
+
+/// Refraction where it is stiff: rays entering water at up to 89.9° from
+/// its normal and a glass sphere at its silhouette agree with f64; inside a
+/// glass sphere of radius 1e3, 0.999 r from the centre, every pixel is one
+/// of the two analytic values, Ka (the ray leaves at its first hit) or 6 Ka
+/// (totally reflected at all six hits of depth 6; a chord meets the wall at
+/// the same angle at both ends), on the side of the critical angle that the
+/// ray's distance from the centre says, but within rounding of it.
+#[test]
+fn refraction_at_grazing_entry_and_at_the_critical_angle() {
+    robust_agrees("refract-grazing");
+    let (scene, reference) = robust_agrees("refract-critical");
+    naive_fails("refract-critical", &scene, &reference);
+    let r = scene.prims.spheres[0].radius;
+    let ka = [0.5, 0.25, 0.125].map(|k| 0.2 * k);
+    let cam = &scene.camera;
+    let (w, h) = (scene.width, scene.height);
+    for (what, image) in [
+        ("GPU", gpu(&scene, Intersect::Robust)),
+        ("CPU f32", cpu::render::<f32>(&scene)),
+        ("CPU f64", cpu::render::<f64>(&scene)),
+    ] {
+        let mut counts = [0; 2];
+        for y in 0..h {
+            for x in 0..w {
+                let u = 2.0 * (f64::from(x) + 0.5) / f64::from(w) - 1.0;
+                let v = 1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(h);
+                let d = (cam.screen_center - cam.eye + cam.screen_right * u + cam.screen_up * v)
+                    .normalize();
+                // sin θ at the wall: the line's distance from the centre over r.
+                let sin = cam.eye.cross(d).length() / r;
+                let got = image.get(x, y);
+                let is = |times: f64| {
+                    (0..3)
+                        .all(|c| (f64::from(got[c]) - times * ka[c]).abs() <= 1e-5 * times * ka[c])
+                };
+                let total = is(6.0);
+                assert!(total || is(1.0), "{what} ({x}, {y}): {got:?}");
+                if (sin - 1.0 / 1.5).abs() > 1e-4 {
+                    assert_eq!(total, sin > 1.0 / 1.5, "{what} ({x}, {y}): sin {sin}");
+                }
+                counts[usize::from(total)] += 1;
+            }
+        }
+        // The check can fail: both values occur.
+        assert!(counts[0] > 1000 && counts[1] > 1000, "{what}: {counts:?}");
+    }
+}
+
+/// Transmitters of index 1 with no colour of their own, one of them seen
+/// almost edge-on, leave the image as it is without them, to within the
+/// lift of rays leaving a triangle (shadows are off in that scene, since
+/// they would cast them).
+#[test]
+fn an_index_of_one_passes_even_grazing_rays_straight_through() {
+    let (scene, reference) = robust_agrees("refract-ior1");
+    let air = scene
+        .materials
+        .iter()
+        .position(|m| m.name == "air")
+        .unwrap() as u32;
+    let mut without = scene.clone();
+    without.prims.spheres.retain(|s| s.material != air);
+    without.prims.triangles.retain(|t| t.material != air);
+    without.prims.cylinders.retain(|c| c.material != air);
+    assert_eq!(
+        scene.prims.len() - without.prims.len(),
+        4,
+        "a sphere, two triangles and a cylinder"
+    );
+    let bare = cpu::render::<f64>(&without);
+    // Not to the last bit: a ray leaving a triangle starts lifted off it
+    // (by 1/16384 of its coordinates, docs/scene-format.md, Shading), which
+    // moves the pane's rays by 1.5e-4 and the image by 3e-4 at most.
+    let f = error(&reference, &bare);
+    assert!(
+        f.frac_over_1_255 == 0.0 && f.max_abs < 1e-3,
+        "f64 with and without: {f:?}"
+    );
+    assert_passes(
+        "refract-ior1",
+        "GPU against the bare world",
+        &gpu(&scene, Intersect::Robust),
+        &bare,
+    );
+    // The check can fail: index 1.01 bends the rays.
+    let mut bent = scene.clone();
+    bent.materials[air as usize].ior = 1.01;
+    assert!(!passes(&cpu::render::<f64>(&bent), &bare));
+}
+
+/// The smooth icosphere mesh scaled by 1e5 and 1e-5 and moved 1e6 from the
+/// origin (camera and light with it) gives the image it gives at scale 1,
+/// on the GPU, within tolerance; each agrees with its own f64 image.
+#[test]
+fn meshes_look_the_same_at_any_scale_and_offset() {
+    let (_, near) = robust_agrees("mesh-near");
+    for name in ["mesh-huge-1e5", "mesh-tiny-1e-5", "mesh-far-1e6"] {
+        let (scene, reference) = robust_agrees(name);
+        if name != "mesh-huge-1e5" {
+            naive_fails(name, &scene, &reference);
+        }
+        assert_passes(
+            name,
+            "GPU against scale 1",
+            &gpu(&scene, Intersect::Robust),
+            &near,
+        );
+    }
+}
+
+/// Slivers of aspect 530 and a vertex shared by 1,000 triangles leave no
+/// background pixel inside the shapes they tile, on either renderer.
+#[test]
+fn slivers_and_a_crowded_vertex_leave_no_holes() {
+    let scene = load("triangle-slivers");
+    naive_fails("triangle-slivers", &scene, &cpu::render::<f64>(&scene));
+    let magenta = [1.0f32, 0.0, 1.0];
+    // Where pixel (x, y)'s ray meets z = 0 (generate.py), and whether that
+    // is inside a shape by more than a pixel.
+    let at = |x: u32, y: u32| {
+        (
+            0.015 * (f64::from(x) + 0.5) - 2.4,
+            1.8 - 0.015 * (f64::from(y) + 0.5),
+        )
+    };
+    let (left, _) = at(60, 0);
+    let (rect_x, rect_y) = (left - 4.0 * 0.015 / 8.0, -0.5);
+    let (rect_w, rect_h) = (640.0 * 0.015 / 8.0, 1.0);
+    let centre = at(220, 119);
+    let inside = |(px, py): (f64, f64)| {
+        let m = 0.015;
+        let in_rect = px > rect_x + m
+            && px < rect_x + rect_w - m
+            && py > rect_y + m
+            && py < rect_y + rect_h - m;
+        let in_disc = (px - centre.0).hypot(py - centre.1) < 0.5 - m;
+        in_rect || in_disc
+    };
+    for (what, image) in [
+        ("GPU", gpu(&scene, Intersect::Robust)),
+        ("CPU f32", cpu::render::<f32>(&scene)),
+        ("CPU f64", cpu::render::<f64>(&scene)),
+    ] {
+        let mut covered = 0;
+        for y in 0..scene.height {
+            for x in 0..scene.width {
+                if inside(at(x, y)) {
+                    covered += 1;
+                    assert_ne!(image.get(x, y), magenta, "{what}: a hole at ({x}, {y})");
+                }
+            }
+        }
+        assert!(covered > 8_000, "{covered}");
+        // The check can fail: outside the shapes the background shows.
+        assert_eq!(image.get(5, 5), magenta);
+    }
+    // The centre pixel of the fan is the crowded vertex.
+    assert!(inside(centre));
+}
+
+/// Rays along a pipe's axis (A = 0) pass through to the far end; a cone's
+/// axis, a ray in a cone's surface, a rod of radius 1e-3 seen end-on and
+/// a silhouette all agree with f64.
+#[test]
+fn rays_along_a_cylinder_axis_and_a_cone_surface() {
+    let (scene, reference) = robust_agrees("cylinder-axis");
+    let bg = scene.background.as_vec3().to_array();
+    let image = gpu(&scene, Intersect::Robust);
+    // The centre pixel's ray is the pipe's axis: it meets nothing of the
+    // pipe and sees the background through its far end.
+    for img in [&image, &reference] {
+        assert_eq!(img.get(80, 60), bg, "the axis ray");
+        // The check can fail: its neighbours a few pixels off meet the wall.
+        assert_ne!(img.get(80, 60 + 40), bg);
+    }
+    robust_agrees("cylinder-along");
+}

@@ -251,3 +251,170 @@ outputs keep the values.""", bg=(0, 0, 0))
           + point_light((2, 4, 3), (0.15 * I,) * 3, (I,) * 3, (I,) * 3)
           + spot((-2, 3, 1), (2, -3, -1), 25, 5, diffuse=(0.5 * I,) * 3, specular=(0.5 * I,) * 3)
           + directional((-1, -2, -1), diffuse=(0.2 * I,) * 3, specular=(0.2 * I,) * 3))
+
+# Refraction, triangles and cylinders (the refraction/triangles/SPD issue,
+# part 7).
+
+import math
+
+def glass(name, ior, transmittance=1.0, reflectivity=0.0, ambient=(0, 0, 0), diffuse=(0, 0, 0), specular=(0, 0, 0), shininess=1.0):
+    return material(name, ambient, diffuse, specular, shininess, reflectivity) + \
+        f"transmittance = {float(transmittance)!r}\nior = {float(ior)!r}\n"
+
+def triangle(a, b, c, mat):
+    return f"""
+[[triangles]]
+vertices = [{v(a)}, {v(b)}, {v(c)}]
+material = "{mat}"
+"""
+
+def mesh(file, mat, scale=1.0, translate=(0, 0, 0)):
+    return f"""
+[[meshes]]
+file = "{file}"
+material = "{mat}"
+scale = {float(scale)!r}
+translate = {v(translate)}
+"""
+
+def cylinder(base, base_radius, apex, apex_radius, mat):
+    return f"""
+[[cylinders]]
+base = {v(base)}
+base_radius = {float(base_radius)!r}
+apex = {v(apex)}
+apex_radius = {float(apex_radius)!r}
+material = "{mat}"
+"""
+
+write("refract-grazing", header("""
+Refraction at grazing entry: the eye 0.05 above a sheet of water (a plane
+of index 1.33 that transmits 0.8 and reflects 0.2) looks toward the
+horizon, so rays enter it at up to 89.9 degrees from the normal; under it a
+floor and a sphere, over it a glass sphere of index 1.5 whose silhouette
+rays enter it tangentially. Depth 5.""", depth=5)
+      + look_at((0, 0.05, 6), (0, -0.1, 0), 50) + BALL + GROUND
+      + glass("water", 1.33, 0.8, 0.2, specular=(0.3, 0.3, 0.3), shininess=50)
+      + glass("glass", 1.5, 0.9, 0.1)
+      + plane((0, 0, 0), (0, 1, 0), "water")
+      + plane((0, -1, 0), (0, 1, 0), "ground")
+      + sphere((0.8, -0.5, 1), 0.4, "ball")
+      + sphere((-0.6, 0.45, 2), 0.4, "glass")
+      + point_light((2, 5, 4), (0.1, 0.1, 0.1)))
+
+R_GLASS = 1000.0
+write("refract-critical", header(f"""
+Total internal reflection near the critical angle: the eye inside a glass
+sphere of radius {R_GLASS:g} and index 1.5, at 0.999 r, looking along the
+wall with a 120-degree field. A ray whose line passes at h from the centre
+meets the wall at sin(theta) = h / r and is totally reflected where that is
+over 1/1.5, at every hit of its chord. The glass reflects nothing, transmits
+everything and has an ambient colour; the only light is ambient and the
+background black, so a pixel is Ka (the ray leaves) or 6 Ka (it is
+reflected at all six hits of depth 6).""", width=160, height=120, depth=6, bg=(0, 0, 0))
+      + look_at((0.999 * R_GLASS, 0, 0), (0.999 * R_GLASS - 1, 0.3, 0.2), 120)
+      + glass("glass", 1.5, ambient=(0.5, 0.25, 0.125))
+      + sphere((0, 0, 0), R_GLASS, "glass")
+      + directional((0, -1, 0), (0.2, 0.2, 0.2), (0, 0, 0), (0, 0, 0)))
+
+IOR1_WORLD = (look_at((0, 1.2, 4), (0, 0.2, 0), 45) + BALL + GROUND
+              + sphere((0.0, 0.3, 0.0), 0.3, "ball") + sphere((-0.8, 0.5, -0.5), 0.5, "ball")
+              + plane((0, 0, 0), (0, 1, 0), "ground")
+              + point_light((2, 4, 3), (0.15, 0.15, 0.15)))
+write("refract-ior1", header("""
+Index 1 passes rays straight through: transmitters of index 1 with no
+colour of their own (a sphere whose silhouette crosses the ball, a pane of
+two triangles seen almost edge-on, at 1e-3 rad, and an open cylinder) in
+front of a small world, shadows off. The image must be that of the world
+without them: a ray goes on in the same direction from where it entered,
+however grazing.""", depth=8, shadows=False)
+      + IOR1_WORLD + glass("air", 1.0)
+      + sphere((0.25, 0.45, 1.2), 0.35, "air")
+      + triangle((-1.2, -0.1, 2.5), (-0.2, -0.1, 2.5 - 1e-3), (-1.2, 1.5, 2.5), "air")
+      + triangle((-0.2, -0.1, 2.5 - 1e-3), (-0.2, 1.5, 2.5 - 1e-3), (-1.2, 1.5, 2.5), "air")
+      + cylinder((0.6, 0.0, 0.8), 0.15, (0.6, 0.9, 0.8), 0.15, "air"))
+
+WHITE = material("white", (0.1, 0.1, 0.1), (0.8, 0.8, 0.8), (0.3, 0.3, 0.3), 20)
+for name, scale, translate in [("huge-1e5", 1e5, (0, 0, 0)), ("tiny-1e-5", 1e-5, (0, 0, 0)),
+                               ("far-1e6", 1.0, (1e6, 1e6, 1e6)), ("near", 1.0, (0, 0, 0))]:
+    s, t = scale, translate
+    write(f"mesh-{name}", header(f"""
+The smooth icosphere mesh (320 faces) scaled by {s:g} and moved by {t[0]:g}
+along every axis, camera and light with it: seen from 3 radii, with a
+floor triangle under it. Its image is the same at every scale and
+offset: no holes at edges and vertices, no self-shadowing.""", bg=(1, 0, 1))
+          + look_at((t[0], t[1] + 1.2 * s, t[2] + 3 * s), (t[0], t[1], t[2]), 45)
+          + WHITE + GROUND
+          + mesh("../meshes/icosphere-smooth.obj", "white", s, t)
+          + triangle((t[0] - 4 * s, t[1] - s, t[2] + 4 * s), (t[0] + 4 * s, t[1] - s, t[2] + 4 * s),
+                     (t[0], t[1] - s, t[2] - 6 * s), "ground")
+          + point_light((t[0] + 3 * s, t[1] + 5 * s, t[2] + 4 * s), (0.1, 0.1, 0.1)))
+
+# Slivers, as a mesh (slivers.obj): a rectangle cut into vertical strips
+# 8 to a pixel, each two triangles, whose edges every eighth fall on a
+# column of pixel centres; and a disc of fan triangles whose common vertex
+# is on a pixel centre. The camera looks down -z at z = 0 from z = 3
+# through a screen of half-size 0.8 x 0.6 at distance 1, so pixel (x, y)
+# of 320 x 240 looks at (0.015 (x + 0.5) - 2.4, 1.8 - 0.015 (y + 0.5)).
+def pixel_centre(x, y):
+    return 0.015 * (x + 0.5) - 2.4, 1.8 - 0.015 * (y + 0.5)
+
+STRIPS, FAN = 640, 1000
+width = 0.015 / 8
+# The outer edges half-way between pixel centres, edge 4 on one.
+x0 = pixel_centre(60, 0)[0] - 4 * width
+cx, cy = pixel_centre(220, 119)
+with open("slivers.obj", "w") as f:
+    f.write("# Slivers for slivers.toml; written by generate.py.\n")
+    for i in range(STRIPS + 1):
+        f.write(f"v {x0 + i * width!r} -0.5 0.0\nv {x0 + i * width!r} 0.5 0.0\n")
+    for i in range(STRIPS):
+        a, b, c, d = 2 * i + 1, 2 * i + 3, 2 * i + 4, 2 * i + 2
+        f.write(f"f {a} {b} {c}\nf {a} {c} {d}\n")
+    centre = 2 * (STRIPS + 1) + 1
+    f.write(f"v {cx!r} {cy!r} 0.0\n")
+    for i in range(FAN):
+        t = 2 * math.pi * i / FAN
+        f.write(f"v {cx + 0.5 * math.cos(t)!r} {cy + 0.5 * math.sin(t)!r} 0.0\n")
+    for i in range(FAN):
+        f.write(f"f {centre} {centre + 1 + i} {centre + 1 + (i + 1) % FAN}\n")
+
+write("triangle-slivers", header(f"""
+Slivers: a rectangle 1.2 wide cut into {STRIPS} vertical strips 8 to a
+pixel, each two triangles of aspect 530, and a disc of radius 0.5 cut into
+{FAN} fan triangles that all meet at its centre, on a magenta background
+(slivers.obj, written by generate.py). Every eighth strip edge lies on a
+column of pixel centres and the disc's centre on a pixel centre, so eye
+rays pass within rounding of shared edges and of a vertex shared by {FAN}
+triangles: watertight intersection leaves no magenta pixel inside either
+shape.""", bg=(1, 0, 1), depth=1)
+      + screen((0, 0, 3), (0, 0, 2), (0.8, 0, 0), (0, 0.6, 0)) + WHITE
+      + mesh("slivers.obj", "white")
+      + point_light((0, 0, 5), (0.2, 0.2, 0.2)))
+
+write("cylinder-axis", header("""
+Rays along a cylinder's axis: the eye on the axis of an open pipe of radius
+1 and length 40, looking down it, so that the centre pixel's ray is
+parallel to the axis (A = 0: no hit, the background at the far end) and
+the others meet the wall at ever smaller angles; inside it, a cone seen
+from straight above its apex, whose axis is another ray's.""", width=161, height=121, depth=3)
+      + look_at((0, 0, 0), (0, 0, -1), 60)
+      + BALL + GROUND
+      + cylinder((0, 0, -40), 1, (0, 0, 0.5), 1, "ground")
+      + cylinder((0.5, 0.3, -6), 0.3, (0.5, 0.3, -5), 0, "ball")
+      + point_light((0, 0.5, -3), (0.1, 0.1, 0.1)))
+
+write("cylinder-along", header("""
+Rays along a cone's surface: the eye on the line of one of the sides of a
+cone of half-angle 45 degrees, 0.5 beyond its apex, looking down that
+side, so that the centre pixel's ray lies in the surface (A = 0, solved
+linearly) and its neighbours graze it; with a thin rod (radius 1e-3,
+length 10) seen end-on and one side-on, and a cylinder's silhouette, where
+eye rays are tangent to it.""", width=321, height=241, depth=2)
+      + look_at((0, 0.5, 0.5), (0, -0.5, -0.5), 70)
+      + BALL + GROUND
+      + cylinder((0, -3, 0), 3, (0, 0, 0), 0, "ground")
+      + cylinder((0.5, -1.5, -2), 1e-3, (0.5, -1.5, -12), 1e-3, "ball")
+      + cylinder((-1, -1, -2.5), 1e-3, (1, -2.5, -2.5), 1e-3, "ball")
+      + cylinder((-1.2, -3, -3), 0.4, (-1.2, 0, -3), 0.4, "ball")
+      + point_light((2, 3, 2), (0.15, 0.15, 0.15)))

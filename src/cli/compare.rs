@@ -4,6 +4,7 @@ use std::process::ExitCode;
 use clap::Args;
 use serde_json::json;
 
+use glint::condition;
 use glint::raster::diff::{self, ErrorFigures, Tolerance};
 use glint::raster::io;
 
@@ -51,21 +52,32 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     let load_s = t_load.elapsed().as_secs_f64();
     // The first render pays for the driver's own compile of the shader (on
     // lavapipe, LLVM at the first dispatch); the timed one is the second.
-    let (gpu_image, mut renderer, first, setup) =
-        render_gpu_timed(&scene, &a.device, Precision::F32)?;
+    let first = render_gpu_timed(&scene, &a.device, Precision::F32, false)?;
+    let (gpu_image, mut renderer, setup) = (first.image, first.renderer, first.setup);
+    let first = first.times;
     let (warm_image, gpu_times) = super::exit_on_timeout(renderer.render(&scene, &|_| {}))?;
     anyhow::ensure!(
         warm_image == gpu_image,
         "two GPU renders of the same scene differ"
     );
     let accel = a.device.accel.into();
-    let (reference, _, cpu64, _) = render_cpu_timed(&scene, Precision::F64, accel);
-    let (cpu32_image, _, cpu32, _) = render_cpu_timed(&scene, Precision::F32, accel);
+    let cpu64 = render_cpu_timed(&scene, Precision::F64, accel, false);
+    let cpu32 = render_cpu_timed(&scene, Precision::F32, accel, false);
+    let (reference, cpu32_image, cpu64, cpu32) =
+        (cpu64.image, cpu32.image, cpu64.times, cpu32.times);
     let (cpu64_s, cpu32_s) = (cpu64.render_s, cpu32.render_s);
-    let gpu_err = diff::figures(&gpu_image, &reference)?;
     let cpu32_err = diff::figures(&cpu32_image, &reference)?;
     let tolerance = Tolerance::default();
-    let violations = tolerance.violations(&gpu_err);
+    let bar = super::progress::bar(
+        u64::from(scene.height) * u64::from(condition::TRIALS + 1),
+        "conditioning",
+    );
+    let judgement = condition::judge(&scene, &gpu_image, &reference, &tolerance, accel, &|n| {
+        bar.inc(n)
+    });
+    bar.finish_and_clear();
+    let (gpu_err, conditioned, violations) =
+        (judgement.error, judgement.conditioned, judgement.violations);
     if let Some(path) = &a.diff_out {
         io::write(path, &diff::heat_map(&gpu_image, &reference)?, false)?;
     }
@@ -93,6 +105,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             "cpu_f32": { "seconds": cpu32_s, "setup_s": cpu32.setup_s, "error": cpu32_err },
             "cpu_f64": { "seconds": cpu64_s, "setup_s": cpu64.setup_s },
             "tolerance": tolerance,
+            "conditioned": conditioned,
             "pass": violations.is_empty(),
             "violations": violations,
         });
@@ -134,10 +147,24 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         println!("cpu f64    {cpu64_s:.3} s  ({threads} threads)  reference");
         println!("gpu error  {}", format_figures(&gpu_err));
         println!("cpu32 err  {}", format_figures(&cpu32_err));
+        if let Some(c) = &conditioned {
+            println!(
+                "condition  {:.4}% of pixels ill-conditioned at f32 ({} perturbed f64 renders and the f32 one), {:.4}% over 1/255 among them",
+                100.0 * c.ill,
+                condition::TRIALS,
+                100.0 * c.over_and_ill
+            );
+            println!("well-cond  {}", format_figures(&c.error));
+        }
         println!(
-            "tolerance  over 1/255 <= {:.2}%, rmse <= {:.1e}, no non-finite value: {}",
+            "tolerance  over 1/255 <= {:.2}%, rmse <= {:.1e}, no non-finite value{}: {}",
             100.0 * tolerance.frac_over_1_255,
             tolerance.rmse,
+            if conditioned.is_some() {
+                ", over the well-conditioned pixels"
+            } else {
+                ""
+            },
             if violations.is_empty() {
                 "pass"
             } else {

@@ -7,9 +7,9 @@ use anyhow::Context;
 use clap::Args;
 
 use glint::accel::Accel;
-use glint::cpu::stats::RayCounts;
 use glint::raster::{io, Image};
 use glint::scene::Scene;
+use glint::stats::{Counts, RayCounts};
 use glint::{cpu, gpu};
 
 use super::{progress, Backend, DeviceArgs, Precision, SceneArgs};
@@ -29,7 +29,7 @@ pub struct RenderArgs {
     /// Replace a read-only output file too.
     #[arg(long)]
     force: bool,
-    /// Write the rays cast and the times to FILE as JSON (docs/spd.md); with --backend cpu.
+    /// Write the rays cast, the tests they cost and the times to FILE as JSON (docs/spd.md).
     #[arg(long, value_name = "FILE")]
     stats: Option<PathBuf>,
     #[command(flatten)]
@@ -40,14 +40,31 @@ pub struct RenderArgs {
 #[derive(serde::Serialize)]
 struct Stats {
     rays: RayCounts,
+    /// Ray/primitive tests by kind, and `bvh_nodes`: BVH nodes visited.
+    tests: std::collections::BTreeMap<&'static str, u64>,
     seconds: StatsSeconds,
+}
+
+impl Stats {
+    fn new(counts: &Counts, input: f64, setup: f64, trace: f64) -> Self {
+        Self {
+            rays: counts.rays(),
+            tests: counts.tests(),
+            seconds: StatsSeconds {
+                input,
+                setup,
+                trace,
+            },
+        }
+    }
 }
 
 #[derive(serde::Serialize)]
 struct StatsSeconds {
     /// Reading and checking the scene file.
     input: f64,
-    /// The scene in the renderer's precision and its BVH.
+    /// The scene in the renderer's precision and its BVH; on the GPU also
+    /// opening the device and compiling the (counting) shader.
     setup: f64,
     trace: f64,
 }
@@ -74,11 +91,6 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     };
     // Refuse a bad output name before spending time on the render.
     io::Format::of(&output)?;
-    if a.stats.is_some() && a.backend != Backend::Cpu {
-        anyhow::bail!(
-            "--stats: the rays are counted by the CPU renderer so far; add --backend cpu"
-        );
-    }
     if a.stats.as_ref() == Some(&output) {
         anyhow::bail!("--stats names the image's own file {}", output.display());
     }
@@ -89,21 +101,30 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     let loading = Instant::now();
     let scene = a.scene.load()?;
     let input_s = loading.elapsed().as_secs_f64();
-    let mut stats = None;
-    let (image, label, seconds) = match (a.backend, a.precision) {
-        (Backend::Gpu, p) => render_gpu(&scene, &a.device, p.unwrap_or(Precision::F32))?,
+    let count = a.stats.is_some();
+    let (image, label, seconds, stats) = match (a.backend, a.precision) {
+        (Backend::Gpu, p) => {
+            let precision = p.unwrap_or(Precision::F32);
+            let r = render_gpu_timed(&scene, &a.device, precision, count)?;
+            let label = format!(
+                "GPU {} on {}",
+                format!("{precision:?}").to_lowercase(),
+                r.renderer.device_info().name
+            );
+            let seconds = r.times.total_s();
+            let setup = r.setup.device_s
+                + r.times.setup.compile_s
+                + r.times.setup.pipeline_s
+                + r.times.bvh_s;
+            let stats = r.counts.map(|c| Stats::new(&c, input_s, setup, seconds));
+            (r.image, label, seconds, stats)
+        }
         (Backend::Cpu, p) => {
-            let (image, label, times, rays) =
-                render_cpu_timed(&scene, p.unwrap_or(Precision::F64), a.device.accel.into());
-            stats = Some(Stats {
-                rays,
-                seconds: StatsSeconds {
-                    input: input_s,
-                    setup: times.setup_s,
-                    trace: times.render_s,
-                },
-            });
-            (image, label, times.render_s)
+            let precision = p.unwrap_or(Precision::F64);
+            let r = render_cpu_timed(&scene, precision, a.device.accel.into(), count);
+            let (setup, trace) = (r.times.setup_s, r.times.render_s);
+            let stats = r.counts.map(|c| Stats::new(&c, input_s, setup, trace));
+            (r.image, r.label, trace, stats)
         }
     };
     // glint's own shading stays finite for every scene it accepts; a shader
@@ -145,49 +166,59 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-pub fn render_gpu(
-    scene: &Scene,
-    device: &DeviceArgs,
-    precision: Precision,
-) -> anyhow::Result<(Image, String, f64)> {
-    let (image, renderer, times, _) = render_gpu_timed(scene, device, precision)?;
-    let name = if precision == Precision::F64 {
-        "f64"
-    } else {
-        "f32"
-    };
-    Ok((
-        image,
-        format!("GPU {name} on {}", renderer.device_info().name),
-        times.total_s(),
-    ))
+/// A GPU render, with the renderer (for its device) and the setup times
+/// of the scene's variant.
+pub struct GpuRender {
+    pub image: Image,
+    pub renderer: gpu::Renderer,
+    pub times: gpu::RenderTimes,
+    pub setup: gpu::SetupTimes,
+    /// Where the render counted (the counting variant: its times include
+    /// the counting).
+    pub counts: Option<Counts>,
 }
 
-/// Renders on the GPU, returning the renderer too (for its device) and
-/// the setup times of the scene's variant.
 pub fn render_gpu_timed(
     scene: &Scene,
     device: &DeviceArgs,
     precision: Precision,
-) -> anyhow::Result<(Image, gpu::Renderer, gpu::RenderTimes, gpu::SetupTimes)> {
+    count: bool,
+) -> anyhow::Result<GpuRender> {
     let mut options = device.options()?;
     options.settings.precision = match precision {
         Precision::F32 => gpu::Precision::F32,
         Precision::F64 => gpu::Precision::F64,
     };
     let mut renderer = gpu::Renderer::new(&options)?;
-    let setup = renderer.prepare_for(scene)?;
+    let setup = if count {
+        gpu::SetupTimes {
+            device_s: renderer.device_s(),
+            ..gpu::SetupTimes::default()
+        }
+    } else {
+        renderer.prepare_for(scene)?
+    };
     let bar = progress::bar(
         scene.pixel_count(),
-        if precision == Precision::F64 {
-            "gpu f64"
-        } else {
-            "gpu f32"
-        },
+        &format!("gpu {precision:?}").to_lowercase(),
     );
-    let (image, times) = super::exit_on_timeout(renderer.render(scene, &|n| bar.inc(n)))?;
+    let progress = |n| bar.inc(n);
+    let (image, times, counts) = if count {
+        let (image, times, counts) =
+            super::exit_on_timeout(renderer.render_counted(scene, &progress))?;
+        (image, times, Some(counts))
+    } else {
+        let (image, times) = super::exit_on_timeout(renderer.render(scene, &progress))?;
+        (image, times, None)
+    };
     bar.finish_and_clear();
-    Ok((image, renderer, times, setup))
+    Ok(GpuRender {
+        image,
+        renderer,
+        times,
+        setup,
+        counts,
+    })
 }
 
 /// The CPU's setup (the scene in its precision, the BVH) and render times.
@@ -197,35 +228,53 @@ pub struct CpuTimes {
     pub render_s: f64,
 }
 
+/// A CPU render and what it cost.
+pub struct CpuRender {
+    pub image: Image,
+    pub label: String,
+    pub times: CpuTimes,
+    pub counts: Option<Counts>,
+}
+
 pub fn render_cpu_timed(
     scene: &Scene,
     precision: Precision,
     accel: Accel,
-) -> (Image, String, CpuTimes, RayCounts) {
+    count: bool,
+) -> CpuRender {
     let bar = progress::bar(
         u64::from(scene.height),
         &format!("cpu {precision:?}").to_lowercase(),
     );
     let start = Instant::now();
-    let ((image, rays), setup_s) = match precision {
-        Precision::F32 => {
-            let world = cpu::world::World::<f32>::new(scene, accel);
-            let setup_s = start.elapsed().as_secs_f64();
-            (cpu::render_counted(&world, &|n| bar.inc(n)), setup_s)
+    fn go<R: cpu::Real>(
+        scene: &Scene,
+        accel: Accel,
+        count: bool,
+        start: Instant,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> (Image, Option<Counts>, f64) {
+        let world = cpu::world::World::<R>::new(scene, accel);
+        let setup_s = start.elapsed().as_secs_f64();
+        if count {
+            let (image, counts) = cpu::render_counted(&world, progress);
+            (image, Some(counts), setup_s)
+        } else {
+            (cpu::render_world(&world, progress), None, setup_s)
         }
-        Precision::F64 => {
-            let world = cpu::world::World::<f64>::new(scene, accel);
-            let setup_s = start.elapsed().as_secs_f64();
-            (cpu::render_counted(&world, &|n| bar.inc(n)), setup_s)
-        }
+    }
+    let progress = |n| bar.inc(n);
+    let (image, counts, setup_s) = match precision {
+        Precision::F32 => go::<f32>(scene, accel, count, start, &progress),
+        Precision::F64 => go::<f64>(scene, accel, count, start, &progress),
     };
     let render_s = start.elapsed().as_secs_f64() - setup_s;
     bar.finish_and_clear();
     let threads = rayon::current_num_threads();
-    (
+    CpuRender {
         image,
-        format!("CPU {precision:?} on {threads} threads").replace("F", "f"),
-        CpuTimes { setup_s, render_s },
-        rays,
-    )
+        label: format!("CPU {precision:?} on {threads} threads").replace("F", "f"),
+        times: CpuTimes { setup_s, render_s },
+        counts,
+    }
 }

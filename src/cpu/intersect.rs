@@ -4,6 +4,7 @@
 
 use crate::accel::bvh::{Bvh, Node};
 use crate::prim::{PrimId, KINDS};
+use crate::stats::{Counter, Tally};
 
 use super::ray::Ray;
 use super::real::{Real, Vec3};
@@ -17,17 +18,19 @@ pub struct Hit<R> {
 
 /// The nearest hit with t in (0, t_max), skipping the surface the ray
 /// leaves (`from`). Ties in t go to the lower id: the earlier kind, then the
-/// earlier primitive in the file.
-pub fn intersect_scene<R: Real>(
+/// earlier primitive in the file. `tally` counts the tests and nodes.
+pub fn intersect_scene<R: Real, T: Tally>(
     w: &World<R>,
     ray: &Ray<R>,
     from: PrimId,
     t_max: R,
+    tally: &mut T,
 ) -> Option<Hit<R>> {
     let mut best: Option<Hit<R>> = None;
     let mut limit = t_max;
     if let Some(tree) = &w.bvh {
-        limit = walk(tree, ray, limit, |id, limit| {
+        limit = walk(tree, ray, limit, tally, |id, limit, tally| {
+            tally.count(Counter::Test(id.kind));
             if let Some(t) = w.prims.intersect(id, ray, from) {
                 let tie = t == *limit && best.is_some_and(|b| id < b.prim);
                 if t < *limit || tie {
@@ -40,7 +43,7 @@ pub fn intersect_scene<R: Real>(
     }
     // The kinds the tree does not hold, in the table's order: a strict `<`
     // leaves a tie to the earlier.
-    w.prims.scan(w.bvh.is_some(), ray, from, |id, t| {
+    w.prims.scan(w.bvh.is_some(), ray, from, tally, |id, t| {
         if t < limit {
             limit = t;
             best = Some(Hit { t, prim: id });
@@ -52,16 +55,23 @@ pub fn intersect_scene<R: Real>(
 
 /// Whether anything lies on the shadow ray strictly between 0 and `dist`:
 /// the any-hit walk of the BVH, then the scan of what it does not hold.
-pub fn occluded<R: Real>(w: &World<R>, ray: &Ray<R>, from: PrimId, dist: R) -> bool {
+pub fn occluded<R: Real, T: Tally>(
+    w: &World<R>,
+    ray: &Ray<R>,
+    from: PrimId,
+    dist: R,
+    tally: &mut T,
+) -> bool {
     let mut blocked = false;
     if let Some(tree) = &w.bvh {
-        walk(tree, ray, dist, |id, _| {
+        walk(tree, ray, dist, tally, |id, _, tally| {
+            tally.count(Counter::Test(id.kind));
             blocked = w.prims.intersect(id, ray, from).is_some_and(|t| t < dist);
             !blocked
         });
     }
     if !blocked {
-        w.prims.scan(w.bvh.is_some(), ray, from, |_, t| {
+        w.prims.scan(w.bvh.is_some(), ray, from, tally, |_, t| {
             blocked = t < dist;
             !blocked
         });
@@ -72,17 +82,19 @@ pub fn occluded<R: Real>(w: &World<R>, ray: &Ray<R>, from: PrimId, dist: R) -> b
 /// Walks the tree in `ray`'s order: for each primitive of every leaf whose
 /// box the ray meets within `limit`, calls `visit(id, &mut limit)`, which
 /// may lower the limit, and returns false to end the walk. Returns the limit.
-fn walk<R: Real>(
+fn walk<R: Real, T: Tally>(
     tree: &Bvh,
     ray: &Ray<R>,
     mut limit: R,
-    mut visit: impl FnMut(PrimId, &mut R) -> bool,
+    tally: &mut T,
+    mut visit: impl FnMut(PrimId, &mut R, &mut T) -> bool,
 ) -> R {
     let boxes = BoxWalk::new(ray);
     let nodes = boxes.layout(tree);
     let mut i = 0;
     while i < nodes.len() {
         let node = &nodes[i];
+        tally.count(Counter::Node);
         if boxes.enters(node, limit) {
             let Some((kind, range)) = node.prims() else {
                 i += 1;
@@ -93,7 +105,7 @@ fn walk<R: Real>(
                     kind: kind as u32,
                     index,
                 };
-                if !visit(id, &mut limit) {
+                if !visit(id, &mut limit, tally) {
                     return limit;
                 }
             }

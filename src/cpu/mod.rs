@@ -7,7 +7,6 @@ pub mod intersect;
 pub mod ray;
 pub mod real;
 pub mod shade;
-pub mod stats;
 pub mod trace;
 pub mod world;
 
@@ -17,8 +16,8 @@ use crate::accel::Accel;
 use crate::raster::Image;
 use crate::scene::Scene;
 
+use crate::stats::{Counts, Tally};
 pub use real::Real;
-use stats::RayCounts;
 use world::World;
 
 /// Renders `scene` in precision `R`, rows in parallel, with the BVH where
@@ -35,14 +34,21 @@ pub fn render_rows<R: Real>(scene: &Scene, accel: Accel, progress: &(dyn Fn(u64)
 
 /// Renders a prepared world (tests use it to alter the BVH).
 pub fn render_world<R: Real>(world: &World<R>, progress: &(dyn Fn(u64) + Sync)) -> Image {
-    render_counted(world, progress).0
+    render_tallied::<R, ()>(world, progress).0
 }
 
-/// As [`render_world`], with the rays it cast.
+/// As [`render_world`], with the rays it cast and the tests they cost.
 pub fn render_counted<R: Real>(
     world: &World<R>,
     progress: &(dyn Fn(u64) + Sync),
-) -> (Image, RayCounts) {
+) -> (Image, Counts) {
+    render_tallied(world, progress)
+}
+
+fn render_tallied<R: Real, T: Tally>(
+    world: &World<R>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> (Image, T) {
     let (width, height, samples) = (world.width, world.height, world.samples);
     let inv = R::one() / R::of(f64::from(samples * samples));
     let mut pixels = vec![[0.0f32; 3]; width as usize * height as usize];
@@ -50,7 +56,7 @@ pub fn render_counted<R: Real>(
         .par_chunks_mut(width as usize)
         .enumerate()
         .map(|(y, row)| {
-            let mut counts = RayCounts::default();
+            let mut counts = T::default();
             for (x, px) in row.iter_mut().enumerate() {
                 let mut sum = real::Vec3::zero();
                 for j in 0..samples {
@@ -65,7 +71,7 @@ pub fn render_counted<R: Real>(
             progress(1);
             counts
         })
-        .reduce(RayCounts::default, RayCounts::sum);
+        .reduce(T::default, T::merge);
     let image = Image::new(width, height, pixels);
     let image = if world.corners {
         image.corner_mean()

@@ -6,9 +6,9 @@ use crate::scene::LightKind;
 use super::intersect::occluded;
 use super::ray::Ray;
 use super::real::{Real, Vec3};
-use super::stats::RayCounts;
 use super::world::{MaterialR, World};
 use crate::prim::PrimId;
+use crate::stats::{Counter, Tally};
 
 /// x^n with the scene format's conventions: x^0 = 1 (also for x = 0), and 0 for x <= 0
 /// otherwise; GLSL's pow leaves both undefined.
@@ -30,14 +30,14 @@ pub fn specular<R: Real>(n: Vec3<R>, l: Vec3<R>, v: Vec3<R>, shininess: R) -> R 
 }
 
 /// The sum of every light's contribution at `p`, where `n` faces the viewer.
-pub fn shade<R: Real>(
+pub fn shade<R: Real, T: Tally>(
     w: &World<R>,
     p: Vec3<R>,
     n: Vec3<R>,
     v: Vec3<R>,
     m: &MaterialR<R>,
     from: PrimId,
-    counts: &mut RayCounts,
+    tally: &mut T,
 ) -> Vec3<R> {
     let mut local = Vec3::zero();
     for light in &w.lights {
@@ -76,8 +76,8 @@ pub fn shade<R: Real>(
         // The SPD's procedure: a shadow ray only where the light is in
         // front of the surface (and here, lit at all).
         let shadowed = direct && w.shadows && {
-            counts.shadow += 1;
-            occluded(w, &Ray { origin: p, dir: l }, from, dist)
+            tally.count(Counter::Shadow);
+            occluded(w, &Ray { origin: p, dir: l }, from, dist, tally)
         };
         if direct && !shadowed {
             contribution += light.diffuse * m.diffuse * n_dot_l

@@ -6,9 +6,9 @@ use super::intersect::{intersect_scene, lift, surface};
 use super::ray::Ray;
 use super::real::{Real, Vec3};
 use super::shade::shade;
-use super::stats::RayCounts;
 use super::world::World;
 use crate::prim::PrimId;
+use crate::stats::{Counter, Tally};
 
 /// A refraction ray waiting to be traced.
 struct Branch<R> {
@@ -34,9 +34,9 @@ pub fn refract<R: Real>(d: Vec3<R>, n: Vec3<R>, eta: R) -> Option<Vec3<R>> {
     Some((d * eta + n * (eta * cos_i - k.sqrt())).normalize())
 }
 
-/// The colour the eye ray `primary` brings back; `counts` counts its tree.
-pub fn trace<R: Real>(w: &World<R>, primary: Ray<R>, counts: &mut RayCounts) -> Vec3<R> {
-    counts.eye += 1;
+/// The colour the eye ray `primary` brings back; `tally` counts its tree.
+pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) -> Vec3<R> {
+    tally.count(Counter::Eye);
     let mut color = Vec3::zero();
     let mut weight = R::one();
     let mut ray = primary;
@@ -46,11 +46,11 @@ pub fn trace<R: Real>(w: &World<R>, primary: Ray<R>, counts: &mut RayCounts) -> 
     loop {
         // Whether this path goes on with the reflection ray.
         let mut follow = false;
-        match intersect_scene(w, &ray, from, R::infinity()) {
+        match intersect_scene(w, &ray, from, R::infinity(), tally) {
             None => color += w.background * weight,
             Some(hit) => {
                 if depth == 1 {
-                    counts.eye_hit += 1;
+                    tally.count(Counter::EyeHit);
                 }
                 let p = ray.at(hit.t);
                 // The geometric normal says which side the ray is on; the
@@ -69,7 +69,7 @@ pub fn trace<R: Real>(w: &World<R>, primary: Ray<R>, counts: &mut RayCounts) -> 
                 };
                 let above = leave(face);
                 let m = &w.materials[s.material];
-                color += shade(w, above, n, -ray.dir, m, hit.prim, counts) * weight;
+                color += shade(w, above, n, -ray.dir, m, hit.prim, tally) * weight;
                 let mut kr = m.reflectivity;
                 let kt = m.transmittance;
                 if depth < w.max_depth && kt > R::zero() {
@@ -78,7 +78,7 @@ pub fn trace<R: Real>(w: &World<R>, primary: Ray<R>, counts: &mut RayCounts) -> 
                     match refract(ray.dir, n, eta) {
                         None => kr += kt,
                         Some(t) if weight * kt != R::zero() => {
-                            counts.refract += 1;
+                            tally.count(Counter::Refract);
                             stack.push(Branch {
                                 ray: Ray {
                                     origin: leave(-face),
@@ -94,7 +94,7 @@ pub fn trace<R: Real>(w: &World<R>, primary: Ray<R>, counts: &mut RayCounts) -> 
                 }
                 follow = depth < w.max_depth && kr != R::zero() && weight * kr != R::zero();
                 if follow {
-                    counts.reflect += 1;
+                    tally.count(Counter::Reflect);
                     weight = weight * kr;
                     let d = ray.dir - n * (R::of(2.0) * ray.dir.dot(n));
                     ray = Ray {

@@ -18,6 +18,7 @@ use super::error::GpuError;
 pub const BUILTIN: &[(&str, &str)] = &[
     ("main.comp", include_str!("../../shaders/main.comp")),
     ("bindings.glsl", include_str!("../../shaders/bindings.glsl")),
+    ("count.glsl", include_str!("../../shaders/count.glsl")),
     ("ray.glsl", include_str!("../../shaders/ray.glsl")),
     (
         "intersect.glsl",

@@ -18,6 +18,7 @@ use super::variant::{Block, Variant};
 use super::WORKGROUP;
 use crate::accel::bvh::node;
 use crate::prim::{KindInfo, KINDS};
+use crate::stats::Counter;
 
 /// The generated files' names, as `#include` names them.
 pub const INTERFACE: &str = "interface.glsl";
@@ -72,6 +73,16 @@ impl Variant {
         for (i, kind) in KINDS.iter().enumerate() {
             let _ = writeln!(s, "const uint KIND_{} = {i}u;", kind.upper());
         }
+        // The counters' slots (src/stats.rs): each a (low, high) pair of words.
+        for (i, (_, name)) in Counter::NAMED.iter().enumerate() {
+            let _ = writeln!(s, "const uint {name} = {i}u;");
+        }
+        let _ = writeln!(
+            s,
+            "const uint COUNT_TESTS = {}u;\nconst uint COUNT_SLOTS = {}u;",
+            Counter::TESTS,
+            Counter::SLOTS
+        );
         // Counts and features for the generic shader: a variant defines them.
         let words = ["kinds_lo", "kinds_hi"];
         let lanes = ["x", "y", "z", "w"];
@@ -124,6 +135,10 @@ impl Variant {
                     "#ifdef NODE_SLOTS\nSCENE_BLOCK({binding}) Nodes {{ vec4 node_words[2u * NODE_SLOTS]; }};\n#else\n\
                      layout(std430, set = 0, binding = {binding}) readonly buffer Nodes {{ vec4 node_words[]; }};\n#endif"
                 ),
+                Block::Counts => writeln!(
+                    s,
+                    "layout(std430, set = 0, binding = {binding}) buffer Counts {{ uint count_words[]; }};"
+                ),
                 Block::Pixels => writeln!(
                     s,
                     "layout(std430, set = 0, binding = {binding}) writeonly buffer Pixels {{ vec4 pixels[]; }};"
@@ -162,6 +177,7 @@ impl Variant {
                 s,
                 "    SCENE_LOOP for (uint i = 0u; i < {upper}_COUNT; i++) {{\n\
                  \x20       ON_TEST();\n\
+                 \x20       COUNT_TEST(KIND_{upper});\n\
                  \x20       {ty} p = {key}[i];\n\
                  \x20       uint id = prim_id(KIND_{upper}, i);\n\
                  \x20       real t = {name}_intersect(r, p, from == id);\n\
@@ -183,6 +199,7 @@ impl Variant {
                 s,
                 "    SCENE_LOOP for (uint i = 0u; i < {upper}_COUNT; i++) {{\n\
                  \x20       ON_TEST();\n\
+                 \x20       COUNT_TEST(KIND_{upper});\n\
                  \x20       real t = {name}_intersect(r, {key}[i], from == prim_id(KIND_{upper}, i));\n\
                  \x20       if (t > 0.0 && t < dist) {{\n\
                  \x20           return true;\n\
@@ -283,6 +300,7 @@ fn leaves(declared: &[&KindInfo]) -> String {
         format!(
             "    [[dont_unroll]] for (uint i = first; i < end; i++) {{\n\
              \x20       ON_TEST();\n\
+             \x20       COUNT_TEST(KIND_{upper});\n\
              \x20       {ty} p = {key}[i];\n\
              \x20       uint id = prim_id(KIND_{upper}, i);\n\
              \x20       real t = {name}_intersect(r, p, from == id);\n\
@@ -307,6 +325,7 @@ fn leaves(declared: &[&KindInfo]) -> String {
         format!(
             "    [[dont_unroll]] for (uint i = first; i < end && !blocked; i++) {{\n\
              \x20       ON_TEST();\n\
+             \x20       COUNT_TEST(KIND_{upper});\n\
              \x20       real t = {name}_intersect(r, {key}[i], from == prim_id(KIND_{upper}, i));\n\
              \x20       blocked = t > 0.0 && t < dist;\n\
              \x20   }}\n",

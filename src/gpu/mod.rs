@@ -19,6 +19,7 @@ use glam::UVec4;
 use crate::accel::Accel;
 use crate::raster::Image;
 use crate::scene::Scene;
+use crate::stats::{Counter, Counts};
 pub use error::GpuError;
 use layout::{TileRect, Uploads};
 use variant::{Block, Variant};
@@ -312,7 +313,7 @@ impl Renderer {
         scene: &Scene,
         settings: &RenderSettings,
     ) -> (Variant, Vec<(String, Option<String>)>) {
-        self.variant_of(scene, settings, &self.uploads(scene, settings).0)
+        self.variant_of(scene, settings, &self.uploads(scene, settings).0, false)
     }
 
     /// `scene`'s uploads under `settings`, built or reused from the last
@@ -343,6 +344,7 @@ impl Renderer {
         scene: &Scene,
         settings: &RenderSettings,
         uploads: &Uploads,
+        count: bool,
     ) -> (Variant, Vec<(String, Option<String>)>) {
         let variant = Variant::for_scene(
             scene,
@@ -351,6 +353,7 @@ impl Renderer {
             settings.precision,
             &self.device.info,
             settings.generic,
+            count,
         );
         let mut defines = variant.defines();
         defines.extend(self.defines.iter().cloned());
@@ -429,12 +432,36 @@ impl Renderer {
         settings: &RenderSettings,
         progress: &dyn Fn(u64),
     ) -> Result<(Image, RenderTimes), GpuError> {
+        let (image, times, _) = self.render_maybe_counted(scene, settings, false, progress)?;
+        Ok((image, times))
+    }
+
+    /// As `render`, with the shader's counts of rays, tests and BVH nodes
+    /// (src/stats.rs); the counting variant is compiled for it.
+    pub fn render_counted(
+        &mut self,
+        scene: &Scene,
+        progress: &dyn Fn(u64),
+    ) -> Result<(Image, RenderTimes, Counts), GpuError> {
+        let settings = self.settings;
+        let (image, times, counts) = self.render_maybe_counted(scene, &settings, true, progress)?;
+        Ok((image, times, counts.expect("a counting render counts")))
+    }
+
+    fn render_maybe_counted(
+        &mut self,
+        scene: &Scene,
+        settings: &RenderSettings,
+        count: bool,
+        progress: &dyn Fn(u64),
+    ) -> Result<(Image, RenderTimes, Option<Counts>), GpuError> {
         if self.lost {
             return Err(GpuError::Lost);
         }
         if let Some(grid) = scene.corner_grid() {
-            let (image, times) = self.render_with(&grid, settings, progress)?;
-            return Ok((image.corner_mean(), times));
+            let (image, times, counts) =
+                self.render_maybe_counted(&grid, settings, count, progress)?;
+            return Ok((image.corner_mean(), times, counts));
         }
         if settings.precision == Precision::F64 && !self.device.info.shader_float64 {
             return Err(GpuError::Unsupported(format!(
@@ -445,7 +472,7 @@ impl Renderer {
         // Laying the scene out counts as upload (where this call did it), but
         // not the compile between; the BVH build is reported apart.
         let (up, layout_s) = self.uploads(scene, settings);
-        let (variant, defines) = self.variant_of(scene, settings, &up);
+        let (variant, defines) = self.variant_of(scene, settings, &up, count);
         let (key, setup) = self.prepare(&variant, &defines)?;
         let pipeline = &self.pipelines[&key];
 
@@ -478,6 +505,12 @@ impl Renderer {
                     &up.nodes.as_ref().expect("a BVH variant has nodes").bytes,
                     usage,
                     "BVH nodes",
+                )?,
+                Block::Counts => Buffer::with_data(
+                    d,
+                    &[0u32; 2 * Counter::SLOTS],
+                    raw::BufferUsageFlags::STORAGE_BUFFER,
+                    "the counters",
                 )?,
                 Block::Pixels => Buffer::new(
                     d,
@@ -549,7 +582,18 @@ impl Renderer {
             }
         }
         self.check_validation()?;
-        Ok((Image::new(width, height, pixels), times))
+        let counts = variant.count.then(|| {
+            let at = variant
+                .bindings()
+                .iter()
+                .position(|(b, _, _)| *b == Block::Counts)
+                .expect("a counting variant binds its counters");
+            let words: &[[u32; 2]] = buffers[at].read(Counter::SLOTS);
+            Counts::from_slots(std::array::from_fn(|i| {
+                u64::from(words[i][1]) << 32 | u64::from(words[i][0])
+            }))
+        });
+        Ok((Image::new(width, height, pixels), times, counts))
     }
 
     fn dispatch(

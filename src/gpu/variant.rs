@@ -28,6 +28,8 @@ pub enum Block {
     Materials,
     Lights,
     Nodes,
+    /// The counters of `--stats` (src/stats.rs), where the variant counts.
+    Counts,
     Pixels,
 }
 
@@ -40,6 +42,7 @@ impl Block {
             Block::Materials => "materials",
             Block::Lights => "lights",
             Block::Nodes => "BVH nodes",
+            Block::Counts => "the counters",
             Block::Pixels => "the output tile",
         }
     }
@@ -54,6 +57,8 @@ pub struct Variant {
     pub bvh_layouts: usize,
     /// None: the generic shader.
     pub features: Option<Features>,
+    /// Counts rays, tests and BVH nodes (shaders/count.glsl).
+    pub count: bool,
 }
 
 /// What one scene needs of the shader.
@@ -180,12 +185,14 @@ impl Variant {
         precision: Precision,
         device: &DeviceInfo,
         generic: bool,
+        count: bool,
     ) -> Self {
         Self {
             intersect,
             precision,
             bvh_layouts: uploads.layouts,
             features: (!generic).then(|| Features::of(scene, uploads, device)),
+            count,
         }
     }
 
@@ -197,6 +204,7 @@ impl Variant {
             precision: Precision::F32,
             bvh_layouts: 0,
             features: None,
+            count: false,
         }
     }
 
@@ -211,6 +219,9 @@ impl Variant {
         if self.bvh_layouts > 0 {
             d.push(("USE_BVH".to_owned(), None));
             d.push(("LAYOUTS".to_owned(), Some(format!("{}u", self.bvh_layouts))));
+        }
+        if self.count {
+            d.push(("COUNT_RAYS".to_owned(), None));
         }
         if let Some(f) = &self.features {
             f.defines(&mut d);
@@ -242,6 +253,11 @@ impl Variant {
             (Block::Materials, objects, scene_type),
             (Block::Lights, lights, scene_type),
             (Block::Nodes, self.bvh_layouts > 0, scene_type),
+            (
+                Block::Counts,
+                self.count,
+                vk::DescriptorType::STORAGE_BUFFER,
+            ),
             (Block::Pixels, true, vk::DescriptorType::STORAGE_BUFFER),
         ]);
         blocks
@@ -288,6 +304,9 @@ impl Variant {
         }
         if self.bvh_layouts > 0 {
             parts.push(format!("bvh{}", self.bvh_layouts));
+        }
+        if self.count {
+            parts.push("counted".to_owned());
         }
         match &self.features {
             None => parts.push("generic".to_owned()),

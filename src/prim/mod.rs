@@ -23,6 +23,7 @@ use crate::cpu::real::{Real, Vec3};
 use crate::gpu::interface::{self, Array, GpuStruct};
 use crate::gpu::Precision;
 use crate::scene::{At, SceneError};
+use crate::stats::{Counter, Tally};
 
 /// The table of kinds: the scene file's key of each kind's array, and the
 /// kind. Kinds with bounds come before the unbounded ones (tested): a tie in
@@ -220,6 +221,13 @@ macro_rules! generate {
                 }
             }
 
+            /// Each primitive moved by `by(its box)` (None: unbounded).
+            pub fn each_moved(&self, mut by: impl FnMut(Option<Aabb>) -> DVec3) -> Self {
+                Self {
+                    $($key: self.$key.iter().map(|p| p.relative_to(-by(p.bounds()))).collect(),)*
+                }
+            }
+
             /// The materials the primitives use, each once or more.
             pub fn materials(&self) -> impl Iterator<Item = u32> + '_ {
                 std::iter::empty()
@@ -269,12 +277,14 @@ macro_rules! generate {
             /// Tests each primitive the scan covers, in the table's order and
             /// then the file's: every one, or (`bvh`) only the unbounded
             /// kinds; calls `f(id, t)` for each hit, which returns false to
-            /// end the scan. `from`: the primitive the ray leaves.
-            pub fn scan(
+            /// end the scan. `from`: the primitive the ray leaves; `tally`
+            /// counts the tests.
+            pub fn scan<T: Tally>(
                 &self,
                 bvh: bool,
                 ray: &Ray<R>,
                 from: PrimId,
+                tally: &mut T,
                 mut f: impl FnMut(PrimId, R) -> bool,
             ) {
                 let mut _kind = 0u32;
@@ -282,6 +292,7 @@ macro_rules! generate {
                     if !(bvh && <$kind as Kind>::BOUNDED) {
                         for (i, p) in self.$key.iter().enumerate() {
                             let id = PrimId { kind: _kind, index: i as u32 };
+                            tally.count(Counter::Test(_kind));
                             if let Some(t) = p.intersect(ray, from == id) {
                                 if !f(id, t) {
                                     return;

@@ -65,12 +65,29 @@ pub fn pixel_errors(img: &Image, reference: &Image) -> Result<Vec<f64>, SizeMism
 }
 
 pub fn figures(img: &Image, reference: &Image) -> Result<ErrorFigures, SizeMismatch> {
+    figures_where(img, reference, |_| true)
+}
+
+/// The figures over the pixels `i` for which `counted(i)` holds (the
+/// fraction over 1/255 is of those pixels).
+pub fn figures_where(
+    img: &Image,
+    reference: &Image,
+    counted: impl Fn(usize) -> bool,
+) -> Result<ErrorFigures, SizeMismatch> {
     let per_pixel = pixel_errors(img, reference)?;
     let mut max_abs = 0.0f64;
     let mut sum_sq = 0.0f64;
     let mut finite_pairs = 0u64;
     let mut nonfinite = 0u64;
-    for (a, r) in img.pixels.iter().zip(&reference.pixels) {
+    let mut pixels = 0usize;
+    let mut over = 0usize;
+    for (i, (a, r)) in img.pixels.iter().zip(&reference.pixels).enumerate() {
+        if !counted(i) {
+            continue;
+        }
+        pixels += 1;
+        over += usize::from(per_pixel[i] > 1.0 / 255.0);
         for c in 0..3 {
             let (a, r) = (f64::from(a[c]), f64::from(r[c]));
             if !a.is_finite() {
@@ -89,7 +106,6 @@ pub fn figures(img: &Image, reference: &Image) -> Result<ErrorFigures, SizeMisma
     } else {
         sum_sq / finite_pairs as f64
     };
-    let over = per_pixel.iter().filter(|e| **e > 1.0 / 255.0).count();
     Ok(ErrorFigures {
         max_abs,
         rmse: mse.sqrt(),
@@ -98,7 +114,7 @@ pub fn figures(img: &Image, reference: &Image) -> Result<ErrorFigures, SizeMisma
         } else {
             -10.0 * mse.log10()
         },
-        frac_over_1_255: over as f64 / per_pixel.len().max(1) as f64,
+        frac_over_1_255: over as f64 / pixels.max(1) as f64,
         nonfinite,
     })
 }
