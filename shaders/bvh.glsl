@@ -80,7 +80,7 @@ void bvh_nearest(Ray r, uint from, inout Hit hit) {
     uint i = 0u;
     [[dont_unroll]] while (i < NODE_COUNT) {
         ON_NODE();
-        COUNT(COUNT_NODE);
+        COUNT_NODE();
         Node node = load_node(base + i);
         if (!ANY(enters(r, inv, node, hit.t))) {
             i = node.skip;
@@ -103,7 +103,7 @@ bool bvh_occluded(Ray r, uint from, real dist) {
     uint i = 0u;
     [[dont_unroll]] while (i < NODE_COUNT && !blocked) {
         ON_NODE();
-        COUNT(COUNT_NODE);
+        COUNT_NODE();
         Node node = load_node(base + i);
         if (!ANY(enters(r, inv, node, dist))) {
             i = node.skip;

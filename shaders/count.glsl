@@ -1,14 +1,18 @@
 // The counters of `glint render --stats` (src/stats.rs, docs/spd.md): where
-// the host defines COUNT_RAYS, each invocation counts its rays, its
-// ray/primitive tests by kind and the BVH nodes it visits, and adds them to
+// the host defines COUNT_RAYS, each invocation counts its rays, and the
+// ray/primitive tests by kind and the BVH nodes visited by each type of
+// ray (COUNT_AS sets the type of the ray being traced), and adds them to
 // the Counts block when it ends; elsewhere the hooks are empty and the
 // shader is as it was. The events are counted where src/cpu counts them.
 // The loops over the slots are unrolled: they cost nothing of llvmpipe's
 // loop budget (budget.glsl).
 #ifdef COUNT_RAYS
 uint counted[COUNT_SLOTS];
+uint counting_as = RAY_EYE;
 #define COUNT(slot) counted[slot]++
-#define COUNT_TEST(kind) counted[COUNT_TESTS + (kind)]++
+#define COUNT_AS(type) counting_as = (type)
+#define COUNT_NODE() counted[COUNT_WORK + counting_as * COUNT_PER_TYPE]++
+#define COUNT_TEST(kind) counted[COUNT_WORK + counting_as * COUNT_PER_TYPE + 1u + (kind)]++
 
 void begin_counts() {
     [[unroll]] for (uint i = 0u; i < COUNT_SLOTS; i++) {
@@ -32,6 +36,8 @@ void end_counts() {
 }
 #else
 #define COUNT(slot)
+#define COUNT_AS(type)
+#define COUNT_NODE()
 #define COUNT_TEST(kind)
 #define begin_counts()
 #define end_counts()

@@ -41,6 +41,8 @@ vec3r trace(Ray ray) {
     real weight = 1.0;
     uint from = NONE;
     uint depth = 1u;
+    // Only for the counters of --stats (count.glsl).
+    uint ray_type = RAY_EYE;
 #if HAS_TRANSMISSION
     Branch stack[STACK_SIZE];
     uint top = 0u;
@@ -50,6 +52,7 @@ vec3r trace(Ray ray) {
     [[dont_unroll]] for (;;) {
         // Whether this path goes on with the reflection ray.
         bool follow = false;
+        COUNT_AS(ray_type);
         Hit hit;
         if (!intersect_scene(ray, from, INF, hit)) {
             color += g.background.rgb * weight;
@@ -94,6 +97,7 @@ vec3r trace(Ray ray) {
                 ray = Ray(above, normalize(d));
                 from = hit.prim;
                 depth++;
+                ray_type = RAY_REFLECT;
             }
         }
         if (!follow) {
@@ -106,6 +110,7 @@ vec3r trace(Ray ray) {
             from = stack[top].from;
             depth = stack[top].depth;
             weight = stack[top].weight;
+            ray_type = RAY_REFRACT;
 #else
             break;
 #endif

@@ -2,6 +2,7 @@
 //! renders; a CPU reference in f64 (and f32) checks it pixel by pixel.
 
 pub mod accel;
+pub mod bench;
 pub mod condition;
 pub mod cpu;
 pub mod gpu;

@@ -1,9 +1,10 @@
 //! What a render counts, as the SPD's procedure counts it (docs/spd.md):
 //! every eye ray and those that hit, every reflection and refraction ray
 //! spawned, every shadow ray cast; and the work they cost, ray/primitive
-//! tests by kind and BVH nodes visited. Both renderers count the same
-//! events at the same places (src/cpu/trace.rs and shaders/trace.glsl,
-//! and so on); the GPU keeps them in a buffer of [`Counter::WORDS`] words.
+//! tests by kind and BVH nodes visited, by the type of the ray that did it.
+//! Both renderers count the same events at the same places
+//! (src/cpu/trace.rs and shaders/trace.glsl, and so on); the GPU keeps them
+//! in a buffer of [`Counter::SLOTS`] 64-bit slots (shaders/count.glsl).
 
 use std::collections::BTreeMap;
 
@@ -11,7 +12,37 @@ use serde::Serialize;
 
 use crate::prim::KINDS;
 
-/// One counted event.
+/// The types of ray, in the order of their slots.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RayType {
+    #[default]
+    Eye,
+    Reflect,
+    Refract,
+    Shadow,
+}
+
+impl RayType {
+    pub const ALL: [RayType; 4] = [
+        RayType::Eye,
+        RayType::Reflect,
+        RayType::Refract,
+        RayType::Shadow,
+    ];
+
+    /// Its name in `--stats` and, upper-cased with `RAY_`, in GLSL.
+    pub fn name(self) -> &'static str {
+        match self {
+            RayType::Eye => "eye",
+            RayType::Reflect => "reflect",
+            RayType::Refract => "refract",
+            RayType::Shadow => "shadow",
+        }
+    }
+}
+
+/// One counted event. Tests and node visits count against the ray type
+/// the renderer last declared ([`Tally::ray_type`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Counter {
     Eye,
@@ -26,30 +57,32 @@ pub enum Counter {
 }
 
 impl Counter {
-    /// The counters, one per slot of the GPU's buffer, with their names in
-    /// GLSL (shaders/count.glsl).
-    pub const NAMED: [(Counter, &'static str); 6] = [
+    /// The ray counters, one slot each, with their names in GLSL.
+    pub const RAYS: [(Counter, &'static str); 5] = [
         (Counter::Eye, "COUNT_EYE"),
         (Counter::EyeHit, "COUNT_EYE_HIT"),
         (Counter::Reflect, "COUNT_REFLECT"),
         (Counter::Refract, "COUNT_REFRACT"),
         (Counter::Shadow, "COUNT_SHADOW"),
-        (Counter::Node, "COUNT_NODE"),
     ];
-    /// Where the per-kind test counts start.
-    pub const TESTS: usize = Self::NAMED.len();
+    /// Where the work of each ray type starts: its node visits, then its
+    /// tests by kind.
+    pub const WORK: usize = Self::RAYS.len();
+    /// Slots of one ray type's work.
+    pub const PER_TYPE: usize = 1 + KINDS.len();
     /// Slots in all.
-    pub const SLOTS: usize = Self::TESTS + KINDS.len();
+    pub const SLOTS: usize = Self::WORK + RayType::ALL.len() * Self::PER_TYPE;
 
-    fn slot(self) -> usize {
+    fn slot(self, as_type: RayType) -> usize {
+        let work = Self::WORK + as_type as usize * Self::PER_TYPE;
         match self {
             Counter::Eye => 0,
             Counter::EyeHit => 1,
             Counter::Reflect => 2,
             Counter::Refract => 3,
             Counter::Shadow => 4,
-            Counter::Node => 5,
-            Counter::Test(k) => Self::TESTS + k as usize,
+            Counter::Node => work,
+            Counter::Test(k) => work + 1 + k as usize,
         }
     }
 }
@@ -58,12 +91,16 @@ impl Counter {
 /// nothing at no cost.
 pub trait Tally: Default + Send {
     fn count(&mut self, c: Counter);
+    /// The type of the ray whose tests and node visits follow.
+    fn ray_type(&mut self, t: RayType);
     fn merge(self, other: Self) -> Self;
 }
 
 impl Tally for () {
     #[inline(always)]
     fn count(&mut self, _: Counter) {}
+    #[inline(always)]
+    fn ray_type(&mut self, _: RayType) {}
     fn merge(self, _: Self) -> Self {}
 }
 
@@ -71,20 +108,24 @@ impl Tally for () {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Counts {
     slots: [u64; Counter::SLOTS],
+    current: RayType,
 }
 
 impl Default for Counts {
     fn default() -> Self {
-        Self {
-            slots: [0; Counter::SLOTS],
-        }
+        Self::from_slots([0; Counter::SLOTS])
     }
 }
 
 impl Tally for Counts {
     #[inline(always)]
     fn count(&mut self, c: Counter) {
-        self.slots[c.slot()] += 1;
+        self.slots[c.slot(self.current)] += 1;
+    }
+
+    #[inline(always)]
+    fn ray_type(&mut self, t: RayType) {
+        self.current = t;
     }
 
     fn merge(mut self, other: Self) -> Self {
@@ -95,14 +136,46 @@ impl Tally for Counts {
     }
 }
 
+/// One ray type's work.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Work {
+    /// The rays of this type.
+    pub rays: u64,
+    /// Tests by kind, under each kind's key, and `bvh_nodes`.
+    pub tests: BTreeMap<&'static str, u64>,
+}
+
+impl Work {
+    pub fn tests_total(&self) -> u64 {
+        self.tests
+            .iter()
+            .filter(|(k, _)| **k != "bvh_nodes")
+            .map(|(_, n)| n)
+            .sum()
+    }
+
+    pub fn nodes(&self) -> u64 {
+        self.tests["bvh_nodes"]
+    }
+}
+
 impl Counts {
     /// From the slots in [`Counter`]'s order (the GPU's buffer).
     pub fn from_slots(slots: [u64; Counter::SLOTS]) -> Self {
-        Self { slots }
+        Self {
+            slots,
+            current: RayType::Eye,
+        }
     }
 
+    /// A ray counter, or a test or node counter summed over the ray types.
     pub fn get(&self, c: Counter) -> u64 {
-        self.slots[c.slot()]
+        match c {
+            Counter::Node | Counter::Test(_) => {
+                RayType::ALL.iter().map(|t| self.slots[c.slot(*t)]).sum()
+            }
+            _ => self.slots[c.slot(RayType::Eye)],
+        }
     }
 
     pub fn rays(&self) -> RayCounts {
@@ -115,30 +188,68 @@ impl Counts {
         }
     }
 
-    /// The tests by kind, under each kind's key, and the BVH nodes visited.
+    /// The tests by kind, under each kind's key, and the BVH nodes visited,
+    /// of every ray.
     pub fn tests(&self) -> BTreeMap<&'static str, u64> {
-        let mut m: BTreeMap<&'static str, u64> = KINDS
-            .iter()
-            .enumerate()
-            .map(|(k, kind)| (kind.key, self.get(Counter::Test(k as u32))))
-            .collect();
-        m.insert("bvh_nodes", self.get(Counter::Node));
-        m
+        tests_by(|c| self.get(c))
     }
 
-    /// Each counter's name (as in `--stats`) and value, for comparisons.
-    pub fn named(&self) -> Vec<(&'static str, u64)> {
+    /// The work of each ray type.
+    pub fn by_ray(&self) -> BTreeMap<&'static str, Work> {
+        let rays = self.rays();
+        RayType::ALL
+            .iter()
+            .map(|t| {
+                let n = match t {
+                    RayType::Eye => rays.eye,
+                    RayType::Reflect => rays.reflect,
+                    RayType::Refract => rays.refract,
+                    RayType::Shadow => rays.shadow,
+                };
+                let tests = tests_by(|c| self.slots[c.slot(*t)]);
+                (t.name(), Work { rays: n, tests })
+            })
+            .collect()
+    }
+
+    /// The rays and the tests of every ray (as `--stats` has them at its
+    /// top level), each by name, for comparisons.
+    pub fn named(&self) -> Vec<(String, u64)> {
         let r = self.rays();
-        let mut v = vec![
+        let mut v: Vec<(String, u64)> = [
             ("eye", r.eye),
             ("eye_hit", r.eye_hit),
             ("reflect", r.reflect),
             ("refract", r.refract),
             ("shadow", r.shadow),
-        ];
-        v.extend(self.tests());
+        ]
+        .map(|(k, n)| (k.to_owned(), n))
+        .into();
+        v.extend(self.tests().into_iter().map(|(k, n)| (k.to_owned(), n)));
         v
     }
+
+    /// Each ray type's tests and node visits by name (`shadow.spheres`).
+    pub fn named_by_ray(&self) -> Vec<(String, u64)> {
+        self.by_ray()
+            .into_iter()
+            .flat_map(|(t, work)| {
+                work.tests
+                    .into_iter()
+                    .map(move |(k, n)| (format!("{t}.{k}"), n))
+            })
+            .collect()
+    }
+}
+
+fn tests_by(get: impl Fn(Counter) -> u64) -> BTreeMap<&'static str, u64> {
+    let mut m: BTreeMap<&'static str, u64> = KINDS
+        .iter()
+        .enumerate()
+        .map(|(k, kind)| (kind.key, get(Counter::Test(k as u32))))
+        .collect();
+    m.insert("bvh_nodes", get(Counter::Node));
+    m
 }
 
 /// The rays of a render, as `--stats` writes them.

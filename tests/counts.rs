@@ -26,16 +26,22 @@ fn cpu_counts<R: Real>(scene: &Scene) -> Counts {
 }
 
 /// The counters of `a` that differ from `b`'s by more than 0.1 %, or where
-/// one is 0 and the other not.
+/// one is 0 and the other not: the rays and the tests of every ray, and
+/// (to 0.5 %) each ray type's tests, which are smaller counts: balls'
+/// reflection rays' triangle tests differ by 0.14 % between the GPU and
+/// CPU f64, 68 of 49,534.
 fn disagreements(a: &Counts, b: &Counts) -> Vec<String> {
-    a.named()
-        .into_iter()
-        .zip(b.named())
-        .filter(|((_, x), (_, y))| {
-            let (x, y) = (*x as f64, *y as f64);
-            (x - y).abs() > 1e-3 * x.max(y) || (x == 0.0) != (y == 0.0)
-        })
-        .map(|((name, x), (_, y))| format!("{name} {x} against {y}"))
+    let off = |x: Vec<(String, u64)>, y: Vec<(String, u64)>, bound: f64| {
+        x.into_iter()
+            .zip(y)
+            .filter(move |((_, x), (_, y))| {
+                let (x, y) = (*x as f64, *y as f64);
+                (x - y).abs() > bound * x.max(y) || (x == 0.0) != (y == 0.0)
+            })
+            .map(|((name, x), (_, y))| format!("{name} {x} against {y}"))
+    };
+    off(a.named(), b.named(), 1e-3)
+        .chain(off(a.named_by_ray(), b.named_by_ray(), 5e-3))
         .collect()
 }
 

@@ -157,7 +157,8 @@ fn errors_name_the_nff_file_and_line() {
 /// light at its centre. Every eye ray hits, each hit reflects until the
 /// depth ends, and every hit casts one shadow ray (the light is always in
 /// front): the counts are known exactly, and every one of those rays tests
-/// the one sphere once (one sphere takes no BVH). With corner sampling
+/// the one sphere once (one sphere takes no BVH), which `by_ray` puts down
+/// to the ray's type. With corner sampling
 /// there are (w+1)×(h+1) eye rays.
 #[test]
 fn stats_count_the_ray_tree() {
@@ -195,6 +196,12 @@ fn stats_count_the_ray_tree() {
         assert_eq!(rays["shadow"], eye * 4, "{backend}");
         let tests = &json["tests"];
         assert_eq!(tests["spheres"], eye * (1 + 3 + 4), "{backend}: {json}");
+        // Each ray type tests the sphere once a ray.
+        for (ray, n) in [("eye", 1), ("reflect", 3), ("refract", 0), ("shadow", 4)] {
+            let work = &json["by_ray"][ray];
+            assert_eq!(work["rays"], eye * n, "{backend} {ray}: {json}");
+            assert_eq!(work["tests"]["spheres"], eye * n, "{backend} {ray}: {json}");
+        }
         for none in ["triangles", "cylinders", "planes", "bvh_nodes"] {
             assert_eq!(tests[none], 0, "{backend}: {json}");
         }

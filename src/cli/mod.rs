@@ -1,6 +1,7 @@
 //! Command-line parsing and dispatch. Every failure a user can cause comes
 //! back as an error with context; `main` prints it and exits 2.
 
+mod bench;
 mod compare;
 mod convert;
 mod diff;
@@ -52,6 +53,8 @@ enum Command {
     Watch(watch::WatchArgs),
     /// Write an NFF scene (the SPD's format) as a TOML scene that renders the same image.
     Convert(convert::ConvertArgs),
+    /// Time each scene on both renderers, with its rays, tests and node visits by ray type, against the device's ceiling.
+    Bench(bench::BenchArgs),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -262,5 +265,6 @@ pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Shader(a) => shader::run(&a),
         Command::Watch(a) => watch::run(&a),
         Command::Convert(a) => convert::run(&a),
+        Command::Bench(a) => bench::run(&a),
     }
 }

@@ -9,7 +9,7 @@ use clap::Args;
 use glint::accel::Accel;
 use glint::raster::{io, Image};
 use glint::scene::Scene;
-use glint::stats::{Counts, RayCounts};
+use glint::stats::{Counts, RayCounts, Work};
 use glint::{cpu, gpu};
 
 use super::{progress, Backend, DeviceArgs, Precision, SceneArgs};
@@ -42,6 +42,8 @@ struct Stats {
     rays: RayCounts,
     /// Ray/primitive tests by kind, and `bvh_nodes`: BVH nodes visited.
     tests: std::collections::BTreeMap<&'static str, u64>,
+    /// The same by the type of ray that cost them, with the rays of each type.
+    by_ray: std::collections::BTreeMap<&'static str, Work>,
     seconds: StatsSeconds,
 }
 
@@ -50,6 +52,7 @@ impl Stats {
         Self {
             rays: counts.rays(),
             tests: counts.tests(),
+            by_ray: counts.by_ray(),
             seconds: StatsSeconds {
                 input,
                 setup,

@@ -53,6 +53,7 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
             let sources = compile::Sources {
                 dirs: include.clone(),
                 main: Some(file.clone()),
+                main_builtin: None,
                 generated: Variant::generic().generated(),
             };
             let defines = define
@@ -87,6 +88,7 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
             let sources = compile::Sources {
                 dirs: options.include_dirs.clone(),
                 main: options.main_shader.clone(),
+                main_builtin: None,
                 generated: variant.generated(),
             };
             let compiled = compile::compile(&sources, &defines)?;

@@ -8,7 +8,7 @@ use super::ray::Ray;
 use super::real::{Real, Vec3};
 use super::world::{MaterialR, World};
 use crate::prim::PrimId;
-use crate::stats::{Counter, Tally};
+use crate::stats::{Counter, RayType, Tally};
 
 /// x^n with the scene format's conventions: x^0 = 1 (also for x = 0), and 0 for x <= 0
 /// otherwise; GLSL's pow leaves both undefined.
@@ -77,6 +77,7 @@ pub fn shade<R: Real, T: Tally>(
         // front of the surface (and here, lit at all).
         let shadowed = direct && w.shadows && {
             tally.count(Counter::Shadow);
+            tally.ray_type(RayType::Shadow);
             occluded(w, &Ray { origin: p, dir: l }, from, dist, tally)
         };
         if direct && !shadowed {

@@ -8,7 +8,7 @@ use super::real::{Real, Vec3};
 use super::shade::shade;
 use super::world::World;
 use crate::prim::PrimId;
-use crate::stats::{Counter, Tally};
+use crate::stats::{Counter, RayType, Tally};
 
 /// A refraction ray waiting to be traced.
 struct Branch<R> {
@@ -42,10 +42,12 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
     let mut ray = primary;
     let mut from = PrimId::NONE;
     let mut depth = 1;
+    let mut ray_type = RayType::Eye;
     let mut stack: Vec<Branch<R>> = Vec::new();
     loop {
         // Whether this path goes on with the reflection ray.
         let mut follow = false;
+        tally.ray_type(ray_type);
         match intersect_scene(w, &ray, from, R::infinity(), tally) {
             None => color += w.background * weight,
             Some(hit) => {
@@ -103,6 +105,7 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
                     };
                     from = hit.prim;
                     depth += 1;
+                    ray_type = RayType::Reflect;
                 }
             }
         }
@@ -111,6 +114,7 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
                 break;
             };
             (ray, from, depth, weight) = (b.ray, b.from, b.depth, b.weight);
+            ray_type = RayType::Refract;
         }
     }
     color

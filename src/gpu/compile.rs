@@ -30,6 +30,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("trace.glsl", include_str!("../../shaders/trace.glsl")),
     ("bvh.glsl", include_str!("../../shaders/bvh.glsl")),
     ("budget.glsl", include_str!("../../shaders/budget.glsl")),
+    ("ceiling.comp", include_str!("../../shaders/ceiling.comp")),
 ];
 
 /// The built-in files with each kind's include (`prim/sphere.glsl`).
@@ -50,6 +51,9 @@ pub struct Sources {
     pub dirs: Vec<PathBuf>,
     /// Replaces main.comp.
     pub main: Option<PathBuf>,
+    /// A built-in file that replaces main.comp (`ceiling.comp`), where
+    /// `main` is None.
+    pub main_builtin: Option<String>,
     /// The variant's generated files (`Variant::generated`), by name.
     pub generated: Vec<(String, String)>,
 }
@@ -84,9 +88,11 @@ impl Sources {
             Some(path) => std::fs::read_to_string(path)
                 .map(|text| (path.display().to_string(), text))
                 .map_err(|e| GpuError::Shader(format!("{}: {e}", path.display()))),
-            None => self
-                .find("main.comp")
-                .ok_or_else(|| GpuError::Shader("main.comp not found".into())),
+            None => {
+                let name = self.main_builtin.as_deref().unwrap_or("main.comp");
+                self.find(name)
+                    .ok_or_else(|| GpuError::Shader(format!("{name} not found")))
+            }
         }
     }
 

@@ -18,7 +18,7 @@ use super::variant::{Block, Variant};
 use super::WORKGROUP;
 use crate::accel::bvh::node;
 use crate::prim::{KindInfo, KINDS};
-use crate::stats::Counter;
+use crate::stats::{Counter, RayType};
 
 /// The generated files' names, as `#include` names them.
 pub const INTERFACE: &str = "interface.glsl";
@@ -73,14 +73,19 @@ impl Variant {
         for (i, kind) in KINDS.iter().enumerate() {
             let _ = writeln!(s, "const uint KIND_{} = {i}u;", kind.upper());
         }
-        // The counters' slots (src/stats.rs): each a (low, high) pair of words.
-        for (i, (_, name)) in Counter::NAMED.iter().enumerate() {
+        // The counters' slots (src/stats.rs): each a (low, high) pair of
+        // words; then each ray type's work, its node visits and its tests.
+        for (i, (_, name)) in Counter::RAYS.iter().enumerate() {
             let _ = writeln!(s, "const uint {name} = {i}u;");
+        }
+        for (i, t) in RayType::ALL.iter().enumerate() {
+            let _ = writeln!(s, "const uint RAY_{} = {i}u;", t.name().to_uppercase());
         }
         let _ = writeln!(
             s,
-            "const uint COUNT_TESTS = {}u;\nconst uint COUNT_SLOTS = {}u;",
-            Counter::TESTS,
+            "const uint COUNT_WORK = {}u;\nconst uint COUNT_PER_TYPE = {}u;\nconst uint COUNT_SLOTS = {}u;",
+            Counter::WORK,
+            Counter::PER_TYPE,
             Counter::SLOTS
         );
         // Counts and features for the generic shader: a variant defines them.

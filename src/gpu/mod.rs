@@ -71,6 +71,9 @@ pub struct GpuOptions {
     pub include_dirs: Vec<PathBuf>,
     /// A main shader to use instead of main.comp.
     pub main_shader: Option<PathBuf>,
+    /// A built-in shader to use instead of main.comp (`glint bench` runs
+    /// `ceiling.comp`).
+    pub main_builtin: Option<String>,
     /// Defines added after the variant's own (-D NAME=VALUE).
     pub defines: Vec<(String, Option<String>)>,
     /// The settings of `Renderer::render`; `render_with` takes others.
@@ -252,6 +255,7 @@ impl Renderer {
             sources: compile::Sources {
                 dirs: opts.include_dirs.clone(),
                 main: opts.main_shader.clone(),
+                main_builtin: opts.main_builtin.clone(),
                 generated: Vec::new(),
             },
             defines: opts.defines.clone(),

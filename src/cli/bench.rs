@@ -1,0 +1,173 @@
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::Args;
+use serde_json::json;
+
+use glint::bench::{self, Ceiling};
+use glint::cpu;
+use glint::gpu::Renderer;
+use glint::scene::{Overrides, Scene};
+use glint::stats::Counts;
+
+use super::{progress, DeviceArgs};
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Scene files [default: scenes/*.toml and scenes/spd/*.nff]
+    scenes: Vec<PathBuf>,
+    /// Timed renders of each scene on each renderer (after a warm-up on the GPU); medians.
+    #[arg(long, default_value_t = 3)]
+    runs: usize,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    device: DeviceArgs,
+}
+
+struct Row {
+    scene: PathBuf,
+    gpu_s: f64,
+    cpu_s: f64,
+    counts: Counts,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn default_scenes() -> anyhow::Result<Vec<PathBuf>> {
+    let mut v = super::scene_files("scenes")?;
+    let mut spd: Vec<PathBuf> = std::fs::read_dir("scenes/spd")
+        .map(|r| r.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    spd.retain(|p| glint::scene::is_nff(p));
+    spd.sort();
+    v.extend(spd);
+    Ok(v)
+}
+
+pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
+    anyhow::ensure!(a.runs >= 1, "--runs {}: at least 1", a.runs);
+    let scenes = if a.scenes.is_empty() {
+        default_scenes()?
+    } else {
+        a.scenes.clone()
+    };
+    let options = a.device.options()?;
+    let ceiling = bench::ceiling(&options, 512, a.runs)?;
+    let mut renderer = Renderer::new(&options)?;
+    let accel = a.device.accel.into();
+    let bar = progress::bar(scenes.len() as u64, "scenes");
+    let mut rows = Vec::new();
+    for path in &scenes {
+        let scene = Scene::load(path, &Overrides::default())?;
+        bar.set_message(path.display().to_string());
+        renderer.prepare_for(&scene)?;
+        super::exit_on_timeout(renderer.render(&scene, &|_| {}))?;
+        let mut gpu = Vec::new();
+        for _ in 0..a.runs {
+            gpu.push(
+                super::exit_on_timeout(renderer.render(&scene, &|_| {}))?
+                    .1
+                    .total_s(),
+            );
+        }
+        let mut cpu = Vec::new();
+        for _ in 0..a.runs {
+            let t = Instant::now();
+            cpu::render_rows::<f32>(&scene, accel, &|_| {});
+            cpu.push(t.elapsed().as_secs_f64());
+        }
+        let counts = super::exit_on_timeout(renderer.render_counted(&scene, &|_| {}))?.2;
+        rows.push(Row {
+            scene: path.clone(),
+            gpu_s: median(gpu),
+            cpu_s: median(cpu),
+            counts,
+        });
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let info = renderer.device_info();
+    if a.json {
+        let scenes: Vec<_> = rows
+            .iter()
+            .map(|r| {
+                json!({
+                    "scene": r.scene,
+                    "gpu_f32_s": r.gpu_s,
+                    "cpu_f32_s": r.cpu_s,
+                    "rays": r.counts.rays(),
+                    "tests": r.counts.tests(),
+                    "by_ray": r.counts.by_ray(),
+                })
+            })
+            .collect();
+        println!(
+            "{}",
+            json!({
+                "device": info,
+                "cpu_threads": rayon::current_num_threads(),
+                "runs": a.runs,
+                "intersect": format!("{:?}", options.settings.intersect).to_lowercase(),
+                "ceiling": { "tests": ceiling.tests, "seconds": ceiling.seconds, "tests_per_s": ceiling.tests_per_s() },
+                "scenes": scenes,
+            })
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
+    let forms = format!("{:?}", options.settings.intersect).to_lowercase();
+    print_table(&rows, &ceiling, &info.name, &forms, a.runs);
+    Ok(ExitCode::SUCCESS)
+}
+
+fn print_table(rows: &[Row], ceiling: &Ceiling, device: &str, forms: &str, runs: usize) {
+    println!(
+        "device {device}, CPU {} threads; medians of {runs}; GPU f32 with its warm-up apart",
+        rayon::current_num_threads()
+    );
+    println!(
+        "ceiling: {:.2} G {forms} ray-sphere tests/s with no memory traffic ({:.2e} tests in {:.3} s)",
+        ceiling.tests_per_s() / 1e9,
+        ceiling.tests as f64,
+        ceiling.seconds
+    );
+    println!(
+        "{:<22} {:>9} {:>9} {:>8} {:>10} {:>9} {:>9} {:>8}  per ray type: rays, tests/ray, nodes/ray",
+        "scene", "GPU f32", "CPU f32", "GPU/CPU", "rays", "Mrays/s", "Mtests/s", "ceiling"
+    );
+    for r in rows {
+        let work = r.counts.by_ray();
+        let rays: u64 = work.values().map(|w| w.rays).sum();
+        let tests: u64 = work.values().map(|w| w.tests_total()).sum();
+        let tests_per_s = tests as f64 / r.gpu_s;
+        let per_type: Vec<String> = work
+            .iter()
+            .filter(|(_, w)| w.rays > 0)
+            .map(|(t, w)| {
+                format!(
+                    "{t} {} {:.1} {:.1}",
+                    w.rays,
+                    w.tests_total() as f64 / w.rays as f64,
+                    w.nodes() as f64 / w.rays as f64
+                )
+            })
+            .collect();
+        println!(
+            "{:<22} {:>8.3}s {:>8.3}s {:>8.2} {:>10} {:>9.2} {:>9.1} {:>7.1}%  {}",
+            r.scene.file_name().unwrap_or_default().to_string_lossy(),
+            r.gpu_s,
+            r.cpu_s,
+            r.gpu_s / r.cpu_s,
+            rays,
+            rays as f64 / r.gpu_s / 1e6,
+            tests_per_s / 1e6,
+            100.0 * tests_per_s / ceiling.tests_per_s(),
+            per_type.join("; ")
+        );
+    }
+}
