@@ -24,6 +24,7 @@ use crate::cpu;
 use crate::raster::diff::{figures, figures_where, pixel_errors, ErrorFigures, Tolerance};
 use crate::raster::Image;
 use crate::scene::Scene;
+use crate::stability::{peak, scaled};
 
 /// Perturbed renders of the reference (and then the f32 one). On the SPD
 /// without the f32 trial, 4 trials leave 0.21 % of balls' pixels (at
@@ -36,11 +37,20 @@ pub const TRIALS: u32 = 8;
 /// roundings' worth.
 pub const MOVE: f64 = 2.0 / 16_777_216.0;
 
+/// The unit errors are measured in: 1, or the reference's peak where that
+/// is above 1. 1/255 of 1 is one 8-bit level of a displayable image; a
+/// scene lit at 1e15 is judged as one lit at 1 (as `glint stability`
+/// judges every scene).
+pub fn unit(reference: &Image) -> f64 {
+    peak(reference).max(1.0)
+}
+
 /// Pixels an f32 renderer cannot be held to, by index; `reference` is the
-/// f64 image of `scene`.
+/// f64 image of `scene`, and errors count in units of `unit`.
 pub fn ill_conditioned(
     scene: &Scene,
     reference: &Image,
+    unit: f64,
     accel: Accel,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Vec<bool> {
@@ -53,7 +63,7 @@ pub fn ill_conditioned(
         };
         let errors = pixel_errors(&moved, reference).expect("the same size");
         for (flag, e) in ill.iter_mut().zip(errors) {
-            *flag |= e > 1.0 / 255.0;
+            *flag |= e / unit > 1.0 / 255.0;
         }
     }
     ill
@@ -164,6 +174,8 @@ impl Conditioned {
 /// What `glint compare` concludes of an f32 image against the f64 reference.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Judgement {
+    /// The unit of the figures ([`unit`]).
+    pub unit: f64,
     /// Over every pixel.
     pub error: ErrorFigures,
     /// Over the well-conditioned pixels, where the whole image fails.
@@ -179,8 +191,8 @@ impl Judgement {
 }
 
 /// Holds `img` to `tolerance` against `reference`, the f64 image of
-/// `scene`: over every pixel, and where that fails, over the
-/// well-conditioned ones (`progress(rows)` as the trials render).
+/// `scene`, in units of [`unit`]: over every pixel, and where that fails,
+/// over the well-conditioned ones (`progress(rows)` as the trials render).
 pub fn judge(
     scene: &Scene,
     img: &Image,
@@ -189,18 +201,22 @@ pub fn judge(
     accel: Accel,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Judgement {
-    let error = figures(img, reference).expect("the same size");
+    let unit = unit(reference);
+    let (img_u, reference_u) = (&scaled(img, unit), &scaled(reference, unit));
+    let error = figures(img_u, reference_u).expect("the same size");
     let violations = tolerance.violations(&error);
     if violations.is_empty() {
         return Judgement {
+            unit,
             error,
             conditioned: None,
             violations,
         };
     }
-    let ill = ill_conditioned(scene, reference, accel, progress);
-    let c = Conditioned::of(img, reference, &ill, tolerance);
+    let ill = ill_conditioned(scene, reference, unit, accel, progress);
+    let c = Conditioned::of(img_u, reference_u, &ill, tolerance);
     Judgement {
+        unit,
         error,
         violations: c.violations.clone(),
         conditioned: Some(c),

@@ -70,3 +70,35 @@ fn a_gpu_image_perturbed_fails() {
         .violations(&figures(&g, &r).unwrap())
         .is_empty());
 }
+
+/// A scene lit at 1e15 is judged in units of its peak: the GPU's image
+/// passes, where an absolute 1/255 would fail nearly every pixel, and 1 % of
+/// its pixels off by 4/255 of the peak fails.
+#[test]
+fn a_bright_scene_is_judged_relative_to_its_peak() {
+    use glint::accel::Accel;
+    use glint::condition;
+    use glint::scene::{Overrides, Scene};
+    let path = common::repo().join("scenes/extreme/intensity-1e15.toml");
+    let scene = Scene::load(&path, &Overrides::default()).unwrap();
+    let reference = cpu::render::<f64>(&scene);
+    let image = common::render_gpu(&scene);
+    let judge = |img: &Image| {
+        condition::judge(
+            &scene,
+            img,
+            &reference,
+            &Tolerance::default(),
+            Accel::Auto,
+            &|_| {},
+        )
+    };
+    let j = judge(&image);
+    assert!(j.pass() && j.unit > 1e15, "{j:?}");
+    assert!(figures(&image, &reference).unwrap().frac_over_1_255 > 0.5);
+    let mut perturbed = image.clone();
+    for p in perturbed.pixels.iter_mut().step_by(100) {
+        p[1] += (4.0 / 255.0 * j.unit) as f32;
+    }
+    assert!(!judge(&perturbed).pass());
+}

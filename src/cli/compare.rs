@@ -4,9 +4,9 @@ use std::process::ExitCode;
 use clap::Args;
 use serde_json::json;
 
-use glint::condition;
 use glint::raster::diff::{self, ErrorFigures, Tolerance};
 use glint::raster::io;
+use glint::{condition, stability};
 
 use super::render::{render_cpu_timed, render_gpu_timed};
 use super::{DeviceArgs, Precision, SceneArgs};
@@ -66,7 +66,11 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     let (reference, cpu32_image, cpu64, cpu32) =
         (cpu64.image, cpu32.image, cpu64.times, cpu32.times);
     let (cpu64_s, cpu32_s) = (cpu64.render_s, cpu32.render_s);
-    let cpu32_err = diff::figures(&cpu32_image, &reference)?;
+    let unit = condition::unit(&reference);
+    let cpu32_err = diff::figures(
+        &stability::scaled(&cpu32_image, unit),
+        &stability::scaled(&reference, unit),
+    )?;
     let tolerance = Tolerance::default();
     let bar = super::progress::bar(
         u64::from(scene.height) * u64::from(condition::TRIALS + 1),
@@ -104,6 +108,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             },
             "cpu_f32": { "seconds": cpu32_s, "setup_s": cpu32.setup_s, "error": cpu32_err },
             "cpu_f64": { "seconds": cpu64_s, "setup_s": cpu64.setup_s },
+            "unit": unit,
             "tolerance": tolerance,
             "conditioned": conditioned,
             "pass": violations.is_empty(),
@@ -145,6 +150,11 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             cpu32_s / gpu_times.total_s()
         );
         println!("cpu f64    {cpu64_s:.3} s  ({threads} threads)  reference");
+        if unit > 1.0 {
+            println!(
+                "unit       {unit:.3e}: the reference's peak, which the errors are relative to"
+            );
+        }
         println!("gpu error  {}", format_figures(&gpu_err));
         println!("cpu32 err  {}", format_figures(&cpu32_err));
         if let Some(c) = &conditioned {
