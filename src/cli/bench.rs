@@ -8,6 +8,7 @@ use serde_json::json;
 use glint::bench::{self, Ceiling};
 use glint::cpu;
 use glint::gpu::Renderer;
+use glint::report::median;
 use glint::scene::{Overrides, Scene};
 use glint::stats::Counts;
 
@@ -34,19 +35,9 @@ struct Row {
     counts: Counts,
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
 fn default_scenes() -> anyhow::Result<Vec<PathBuf>> {
     let mut v = super::scene_files("scenes")?;
-    let mut spd: Vec<PathBuf> = std::fs::read_dir("scenes/spd")
-        .map(|r| r.filter_map(|e| e.ok().map(|e| e.path())).collect())
-        .unwrap_or_default();
-    spd.retain(|p| glint::scene::is_nff(p));
-    spd.sort();
-    v.extend(spd);
+    v.extend(super::scene_files("scenes/spd")?);
     Ok(v)
 }
 
@@ -85,8 +76,8 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
         let counts = super::exit_on_timeout(renderer.render_counted(&scene, &|_| {}))?.2;
         rows.push(Row {
             scene: path.clone(),
-            gpu_s: median(gpu),
-            cpu_s: median(cpu),
+            gpu_s: median(&mut gpu),
+            cpu_s: median(&mut cpu),
             counts,
         });
         bar.inc(1);

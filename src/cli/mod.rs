@@ -1,6 +1,7 @@
 //! Command-line parsing and dispatch. Every failure a user can cause comes
 //! back as an error with context; `main` prints it and exits 2.
 
+mod assemble;
 mod bench;
 mod compare;
 mod convert;
@@ -11,6 +12,7 @@ mod render;
 mod report;
 mod shader;
 mod stability;
+mod tile;
 mod watch;
 
 use std::path::PathBuf;
@@ -53,6 +55,8 @@ enum Command {
     Watch(watch::WatchArgs),
     /// Write an NFF scene (the SPD's format) as a TOML scene that renders the same image.
     Convert(convert::ConvertArgs),
+    /// Put tiles of one render (render --tile or --region) together, checking that they are one whole render.
+    Assemble(assemble::AssembleArgs),
     /// Time each scene on both renderers, with its rays, tests and node visits by ray type, against the device's ceiling.
     Bench(bench::BenchArgs),
 }
@@ -208,7 +212,7 @@ pub fn exit_on_timeout<T>(r: Result<T, glint::gpu::GpuError>) -> Result<T, glint
     r
 }
 
-/// The scene files in `dir`, sorted; for commands that default to a
+/// The scene files (TOML or NFF) in `dir`, sorted; for commands that default to a
 /// directory of the repository.
 pub fn scene_files(dir: &str) -> anyhow::Result<Vec<PathBuf>> {
     use anyhow::Context;
@@ -217,7 +221,7 @@ pub fn scene_files(dir: &str) -> anyhow::Result<Vec<PathBuf>> {
             format!("cannot list {dir}/ (name scene files, or run from the repository)")
         })?
         .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml") || glint::scene::is_nff(p))
         .collect();
     v.sort();
     Ok(v)
@@ -266,5 +270,6 @@ pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Watch(a) => watch::run(&a),
         Command::Convert(a) => convert::run(&a),
         Command::Bench(a) => bench::run(&a),
+        Command::Assemble(a) => assemble::run(&a),
     }
 }

@@ -10,8 +10,10 @@ use glint::accel::Accel;
 use glint::raster::{io, Image};
 use glint::scene::Scene;
 use glint::stats::{Counts, RayCounts, Work};
+use glint::tiles;
 use glint::{cpu, gpu};
 
+use super::tile::{self, TileArgs};
 use super::{progress, Backend, DeviceArgs, Precision, SceneArgs};
 
 #[derive(Args)]
@@ -32,6 +34,8 @@ pub struct RenderArgs {
     /// Write the rays cast, the tests they cost and the times to FILE as JSON (docs/spd.md).
     #[arg(long, value_name = "FILE")]
     stats: Option<PathBuf>,
+    #[command(flatten)]
+    tiles: TileArgs,
     #[command(flatten)]
     device: DeviceArgs,
 }
@@ -83,6 +87,9 @@ impl RenderArgs {
     fn outputs(&self, image: &Path) -> Vec<PathBuf> {
         let mut v = vec![image.to_owned()];
         v.extend(self.stats.clone());
+        if self.tiles.is_set() {
+            v.push(tiles::sidecar_path(image));
+        }
         v
     }
 }
@@ -97,6 +104,14 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     if a.stats.as_ref() == Some(&output) {
         anyhow::bail!("--stats names the image's own file {}", output.display());
     }
+    if a.tiles.is_set() {
+        anyhow::ensure!(
+            matches!(io::Format::of(&output)?, io::Format::Exr | io::Format::Pfm),
+            "{}: a tile is written as .exr or .pfm (a PNG would round it)",
+            output.display()
+        );
+        anyhow::ensure!(a.stats.is_none(), "--stats counts whole renders, not tiles");
+    }
     for out in a.outputs(&output) {
         io::refuse_input(&out, &a.inputs())?;
         io::check_target(&out, a.force)?;
@@ -104,6 +119,9 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     let loading = Instant::now();
     let scene = a.scene.load()?;
     let input_s = loading.elapsed().as_secs_f64();
+    if a.tiles.is_set() {
+        return render_tile(a, &output, &scene);
+    }
     let count = a.stats.is_some();
     let (image, label, seconds, stats) = match (a.backend, a.precision) {
         (Backend::Gpu, p) => {
@@ -130,25 +148,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
             (r.image, r.label, trace, stats)
         }
     };
-    // glint's own shading stays finite for every scene it accepts; a shader
-    // of the user's may not, and such an image is not written.
-    let nonfinite = image
-        .pixels
-        .iter()
-        .flatten()
-        .filter(|c| !c.is_finite())
-        .count();
-    if let Some(i) = image
-        .pixels
-        .iter()
-        .position(|p| p.iter().any(|c| !c.is_finite()))
-    {
-        anyhow::bail!(
-            "the render has {nonfinite} non-finite values, the first at pixel ({}, {}); the image is not written",
-            i % image.width as usize,
-            i / image.width as usize
-        );
-    }
+    refuse_nonfinite(&image)?;
     io::write_forced(&output, &image, scene.srgb, a.force)
         .with_context(|| "cannot write the image")?;
     if let (Some(path), Some(stats)) = (&a.stats, &stats) {
@@ -169,6 +169,102 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// glint's own shading stays finite for every scene it accepts; a shader
+/// of the user's may not, and such an image is not written.
+fn refuse_nonfinite(image: &Image) -> anyhow::Result<()> {
+    let nonfinite = image
+        .pixels
+        .iter()
+        .flatten()
+        .filter(|c| !c.is_finite())
+        .count();
+    if let Some(i) = image
+        .pixels
+        .iter()
+        .position(|p| p.iter().any(|c| !c.is_finite()))
+    {
+        anyhow::bail!(
+            "the render has {nonfinite} non-finite values, the first at pixel ({}, {}); the image is not written",
+            i % image.width as usize,
+            i / image.width as usize
+        );
+    }
+    Ok(())
+}
+
+/// `--tile` or `--region`: the region's pixels, bit for bit those of the
+/// whole render, and the sidecar that says which render they belong to.
+fn render_tile(a: &RenderArgs, output: &Path, scene: &Scene) -> anyhow::Result<ExitCode> {
+    let (region, tile) = a.tiles.resolve(scene.width, scene.height)?;
+    let start = Instant::now();
+    let (image, label, sidecar) = match a.backend {
+        Backend::Gpu => {
+            let precision = a.precision.unwrap_or(Precision::F32);
+            let options = gpu_options(&a.device, precision)?;
+            let mut renderer = gpu::Renderer::new(&options)?;
+            let bar = progress::bar(region.pixel_count(), "gpu tile");
+            let (image, _) =
+                super::exit_on_timeout(renderer.render_region(scene, region, &|n| bar.inc(n)))?;
+            bar.finish_and_clear();
+            let device = renderer.device_info().name.clone();
+            let name = format!("{precision:?}").to_lowercase();
+            let sidecar = tile::sidecar(
+                &a.scene.scene,
+                scene,
+                &name,
+                Some((&options, &device)),
+                region,
+                tile,
+            );
+            (image, format!("GPU {name} on {device}"), sidecar)
+        }
+        Backend::Cpu => {
+            let precision = a.precision.unwrap_or(Precision::F64);
+            let accel = a.device.accel.into();
+            let bar = progress::bar(u64::from(region.height), "cpu tile");
+            let progress = |n| bar.inc(n);
+            let image = match precision {
+                Precision::F32 => cpu::render_region::<f32>(scene, accel, region, &progress),
+                Precision::F64 => cpu::render_region::<f64>(scene, accel, region, &progress),
+            };
+            bar.finish_and_clear();
+            let name = format!("{precision:?}").to_lowercase();
+            let sidecar = tile::sidecar(&a.scene.scene, scene, &name, None, region, tile);
+            (image, format!("CPU {name}"), sidecar)
+        }
+    };
+    let seconds = start.elapsed().as_secs_f64();
+    refuse_nonfinite(&image)?;
+    io::write_forced(output, &image, scene.srgb, a.force)
+        .with_context(|| "cannot write the tile")?;
+    let json = serde_json::to_string_pretty(&sidecar)?;
+    io::write_atomic(&tiles::sidecar_path(output), a.force, |out, p| {
+        writeln!(out, "{json}").map_err(io::io_err(p))
+    })
+    .with_context(|| "cannot write the tile's sidecar")?;
+    eprintln!(
+        "rendered region {},{},{},{} of {}x{} with {label} in {seconds:.3} s -> {}",
+        region.x,
+        region.y,
+        region.width,
+        region.height,
+        scene.width,
+        scene.height,
+        output.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The GPU options of `device` for a render in `precision`.
+fn gpu_options(device: &DeviceArgs, precision: Precision) -> anyhow::Result<gpu::GpuOptions> {
+    let mut options = device.options()?;
+    options.settings.precision = match precision {
+        Precision::F32 => gpu::Precision::F32,
+        Precision::F64 => gpu::Precision::F64,
+    };
+    Ok(options)
+}
+
 /// A GPU render, with the renderer (for its device) and the setup times
 /// of the scene's variant.
 pub struct GpuRender {
@@ -187,11 +283,7 @@ pub fn render_gpu_timed(
     precision: Precision,
     count: bool,
 ) -> anyhow::Result<GpuRender> {
-    let mut options = device.options()?;
-    options.settings.precision = match precision {
-        Precision::F32 => gpu::Precision::F32,
-        Precision::F64 => gpu::Precision::F64,
-    };
+    let options = gpu_options(device, precision)?;
     let mut renderer = gpu::Renderer::new(&options)?;
     let setup = if count {
         gpu::SetupTimes {

@@ -13,6 +13,7 @@ pub mod world;
 use rayon::prelude::*;
 
 use crate::accel::Accel;
+use crate::raster::region::Region;
 use crate::raster::Image;
 use crate::scene::Scene;
 
@@ -32,9 +33,20 @@ pub fn render_rows<R: Real>(scene: &Scene, accel: Accel, progress: &(dyn Fn(u64)
     render_world(&World::<R>::new(scene, accel), progress)
 }
 
+/// The pixels of `region` of `scene`'s image (which must hold it): bit
+/// for bit those of the whole render (docs/scale-out.md).
+pub fn render_region<R: Real>(
+    scene: &Scene,
+    accel: Accel,
+    region: Region,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Image {
+    render_tallied::<R, ()>(&World::<R>::new(scene, accel), Some(region), progress).0
+}
+
 /// Renders a prepared world (tests use it to alter the BVH).
 pub fn render_world<R: Real>(world: &World<R>, progress: &(dyn Fn(u64) + Sync)) -> Image {
-    render_tallied::<R, ()>(world, progress).0
+    render_tallied::<R, ()>(world, None, progress).0
 }
 
 /// As [`render_world`], with the rays it cast and the tests they cost.
@@ -42,22 +54,32 @@ pub fn render_counted<R: Real>(
     world: &World<R>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> (Image, Counts) {
-    render_tallied(world, progress)
+    render_tallied(world, None, progress)
 }
 
+/// Renders `region` of the world's image (None: all of it).
 fn render_tallied<R: Real, T: Tally>(
     world: &World<R>,
+    region: Option<Region>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> (Image, T) {
-    let (width, height, samples) = (world.width, world.height, world.samples);
+    // The pixels traced: the region's corners where the world samples them.
+    let traced = match region {
+        Some(r) if world.corners => r.corners(),
+        Some(r) => r,
+        None => Region::whole(world.width, world.height),
+    };
+    let (width, height, samples) = (traced.width, traced.height, world.samples);
     let inv = R::one() / R::of(f64::from(samples * samples));
     let mut pixels = vec![[0.0f32; 3]; width as usize * height as usize];
     let counts = pixels
         .par_chunks_mut(width as usize)
         .enumerate()
-        .map(|(y, row)| {
+        .map(|(row_index, row)| {
             let mut counts = T::default();
-            for (x, px) in row.iter_mut().enumerate() {
+            let y = traced.y as usize + row_index;
+            for (column, px) in row.iter_mut().enumerate() {
+                let x = traced.x as usize + column;
                 let mut sum = real::Vec3::zero();
                 for j in 0..samples {
                     for i in 0..samples {

@@ -13,6 +13,7 @@ use glslang::{
 };
 
 use super::error::GpuError;
+use crate::fnv::Fnv;
 
 /// The built-in shader files, by the name `#include` uses.
 pub const BUILTIN: &[(&str, &str)] = &[
@@ -185,32 +186,9 @@ pub fn reserved_define(name: &str) -> bool {
         || name.ends_with("_BINDING")
 }
 
-/// FNV-1a: a stable hash for cache keys (std's hasher may change between
-/// Rust versions, which would only cost a recompile, but this costs nothing).
-struct Fnv(u64);
-
-impl Default for Fnv {
-    fn default() -> Self {
-        Fnv(0xcbf2_9ce4_8422_2325)
-    }
-}
-
-impl Hasher for Fnv {
-    fn write(&mut self, bytes: &[u8]) {
-        for b in bytes {
-            self.0 = (self.0 ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3);
-        }
-        // Separates consecutive writes, so that ("ab", "c") and ("a", "bc") differ.
-        self.0 = (self.0 ^ 0xff).wrapping_mul(0x0100_0000_01b3);
-    }
-    fn finish(&self) -> u64 {
-        self.0
-    }
-}
-
 /// The cache key of one compile.
 pub fn cache_key(fingerprint: u64, defines: &Defines) -> String {
-    let mut h = Fnv(fingerprint);
+    let mut h = Fnv::from_state(fingerprint);
     for (name, value) in defines {
         h.write(name.as_bytes());
         h.write(value.as_deref().unwrap_or("").as_bytes());

@@ -17,6 +17,7 @@ use ash::vk as raw;
 use glam::UVec4;
 
 use crate::accel::Accel;
+use crate::raster::region::Region;
 use crate::raster::Image;
 use crate::scene::Scene;
 use crate::stats::{Counter, Counts};
@@ -436,7 +437,26 @@ impl Renderer {
         settings: &RenderSettings,
         progress: &dyn Fn(u64),
     ) -> Result<(Image, RenderTimes), GpuError> {
-        let (image, times, _) = self.render_maybe_counted(scene, settings, false, progress)?;
+        let whole = Region::whole(scene.width, scene.height);
+        let (image, times, _) =
+            self.render_maybe_counted(scene, settings, whole, false, progress)?;
+        Ok((image, times))
+    }
+
+    /// The pixels of `region` of `scene`'s image, with the renderer's
+    /// settings: bit for bit those of the whole render (docs/scale-out.md).
+    pub fn render_region(
+        &mut self,
+        scene: &Scene,
+        region: Region,
+        progress: &dyn Fn(u64),
+    ) -> Result<(Image, RenderTimes), GpuError> {
+        let region = region
+            .within(scene.width, scene.height)
+            .map_err(|e| GpuError::Unsupported(e.to_string()))?;
+        let settings = self.settings;
+        let (image, times, _) =
+            self.render_maybe_counted(scene, &settings, region, false, progress)?;
         Ok((image, times))
     }
 
@@ -448,14 +468,18 @@ impl Renderer {
         progress: &dyn Fn(u64),
     ) -> Result<(Image, RenderTimes, Counts), GpuError> {
         let settings = self.settings;
-        let (image, times, counts) = self.render_maybe_counted(scene, &settings, true, progress)?;
+        let whole = Region::whole(scene.width, scene.height);
+        let (image, times, counts) =
+            self.render_maybe_counted(scene, &settings, whole, true, progress)?;
         Ok((image, times, counts.expect("a counting render counts")))
     }
 
+    /// Renders `region` of `scene` (inside it), counting where `count`.
     fn render_maybe_counted(
         &mut self,
         scene: &Scene,
         settings: &RenderSettings,
+        region: Region,
         count: bool,
         progress: &dyn Fn(u64),
     ) -> Result<(Image, RenderTimes, Option<Counts>), GpuError> {
@@ -464,7 +488,7 @@ impl Renderer {
         }
         if let Some(grid) = scene.corner_grid() {
             let (image, times, counts) =
-                self.render_maybe_counted(&grid, settings, count, progress)?;
+                self.render_maybe_counted(&grid, settings, region.corners(), count, progress)?;
             return Ok((image.corner_mean(), times, counts));
         }
         if settings.precision == Precision::F64 && !self.device.info.shader_float64 {
@@ -529,11 +553,13 @@ impl Renderer {
         times.upload_s = layout_s + secs(t0.elapsed());
         times.bvh_s = up.bvh_s;
 
-        let (width, height) = (scene.width, scene.height);
-        let mut pixels = vec![[0.0f32; 3]; scene.pixel_count() as usize];
-        for y0 in (0..height).step_by(tile_h as usize) {
-            for x0 in (0..width).step_by(tile_w as usize) {
-                let (w, h) = (tile_w.min(width - x0), tile_h.min(height - y0));
+        // Dispatches over the region, in the image's own pixel coordinates.
+        let (width, height) = (region.width, region.height);
+        let (x_end, y_end) = (region.x + width, region.y + height);
+        let mut pixels = vec![[0.0f32; 3]; region.pixel_count() as usize];
+        for y0 in (region.y..y_end).step_by(tile_h as usize) {
+            for x0 in (region.x..x_end).step_by(tile_w as usize) {
+                let (w, h) = (tile_w.min(x_end - x0), tile_h.min(y_end - y0));
                 let t1 = Instant::now();
                 let timeout = self.timeout.unwrap_or_else(|| {
                     tile_timeout(scene, u64::from(w) * u64::from(h), variant.bvh_layouts > 0)
@@ -575,7 +601,9 @@ impl Renderer {
                     });
                 }
                 for (row, src) in tile.chunks_exact(w as usize).enumerate() {
-                    let start = (y0 as usize + row) * width as usize + x0 as usize;
+                    let start = (y0 - region.y) as usize * width as usize
+                        + row * width as usize
+                        + (x0 - region.x) as usize;
                     for (dst, s) in pixels[start..start + w as usize].iter_mut().zip(src) {
                         *dst = [s[0], s[1], s[2]];
                     }

@@ -3,6 +3,7 @@
 pub mod diff;
 pub mod io;
 pub mod partial;
+pub mod region;
 
 /// A linear RGB image, rows top to bottom.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,0 +1,72 @@
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::Context;
+use clap::Args;
+
+use glint::raster::io;
+use glint::tiles::{self, Tile};
+
+#[derive(Args)]
+pub struct AssembleArgs {
+    /// Tiles (EXR or PFM, each with its sidecar TILE.json), or directories of them.
+    #[arg(required = true)]
+    tiles: Vec<PathBuf>,
+    /// The whole image: .png, .pfm or .exr.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Replace a read-only output file too.
+    #[arg(long)]
+    force: bool,
+}
+
+/// The tile files named, a directory standing for every EXR and PFM in it.
+fn tile_files(args: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    for a in args {
+        if a.is_dir() {
+            let mut found: Vec<PathBuf> = std::fs::read_dir(a)
+                .with_context(|| format!("cannot list {}", a.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| matches!(io::Format::of(p), Ok(io::Format::Exr | io::Format::Pfm)))
+                .collect();
+            found.sort();
+            files.extend(found);
+        } else {
+            files.push(a.clone());
+        }
+    }
+    Ok(files)
+}
+
+pub fn run(a: &AssembleArgs) -> anyhow::Result<ExitCode> {
+    io::Format::of(&a.output)?;
+    let files = tile_files(&a.tiles)?;
+    let inputs: Vec<PathBuf> = files
+        .iter()
+        .flat_map(|f| [f.clone(), tiles::sidecar_path(f)])
+        .collect();
+    io::refuse_input(
+        &a.output,
+        &inputs.iter().map(PathBuf::as_path).collect::<Vec<&Path>>(),
+    )?;
+    io::check_target(&a.output, a.force)?;
+    let tiles: Vec<Tile> = files
+        .iter()
+        .map(|f| tiles::read_tile(f))
+        .collect::<Result<_, _>>()?;
+    let (image, whole) = tiles::assemble(&tiles)?;
+    io::write_forced(&a.output, &image, whole.srgb, a.force)
+        .with_context(|| "cannot write the image")?;
+    eprintln!(
+        "assembled {} tiles of {} ({}x{}, {} {}) -> {}",
+        tiles.len(),
+        whole.scene,
+        whole.width,
+        whole.height,
+        whole.render.backend,
+        whole.render.precision,
+        a.output.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}

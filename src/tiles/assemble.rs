@@ -1,0 +1,223 @@
+//! `glint assemble`: a set of tiles checked to be one whole render, and put
+//! together.
+
+use std::path::{Path, PathBuf};
+
+use super::{sidecar_path, Sidecar};
+use crate::raster::io::{self, Format};
+use crate::raster::region::Region;
+use crate::raster::Image;
+
+/// A tile as read from its files.
+#[derive(Debug, Clone)]
+pub struct Tile {
+    pub path: PathBuf,
+    pub sidecar: Sidecar,
+    pub image: Image,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum TileError {
+    #[error("{0}: a tile is an EXR or PFM file (a PNG rounds its values)")]
+    NotFloat(PathBuf),
+    #[error("{tile}: no sidecar {sidecar}: {err}")]
+    NoSidecar {
+        tile: PathBuf,
+        sidecar: PathBuf,
+        err: std::io::Error,
+    },
+    #[error("{0}: not a glint tile sidecar: {1}")]
+    BadSidecar(PathBuf, String),
+    #[error("{0}: {1}")]
+    Image(PathBuf, String),
+    #[error("{tile}: holds {got_w}x{got_h} pixels where its sidecar's region is {want_w}x{want_h}: a partial tile")]
+    Partial {
+        tile: PathBuf,
+        got_w: u32,
+        got_h: u32,
+        want_w: u32,
+        want_h: u32,
+    },
+    #[error("{tile}: its region {x},{y},{w},{h} is not inside the {iw}x{ih} image")]
+    Outside {
+        tile: PathBuf,
+        x: u32,
+        y: u32,
+        w: u32,
+        h: u32,
+        iw: u32,
+        ih: u32,
+    },
+    #[error("{tile} is not of the render of {first}: its {field} is {got}, not {want}")]
+    Mismatch {
+        tile: PathBuf,
+        first: PathBuf,
+        field: String,
+        got: String,
+        want: String,
+    },
+    #[error("{a} and {b} are the same tile (region {x},{y},{w},{h})")]
+    Duplicate {
+        a: PathBuf,
+        b: PathBuf,
+        x: u32,
+        y: u32,
+        w: u32,
+        h: u32,
+    },
+    #[error("{a} and {b} overlap in row {y}")]
+    Overlap { a: PathBuf, b: PathBuf, y: u32 },
+    #[error("no tile holds pixel ({x}, {y}) of the {w}x{h} image: a tile is missing")]
+    Gap { x: u32, y: u32, w: u32, h: u32 },
+    #[error("no tiles given")]
+    NoTiles,
+}
+
+/// Reads a tile and its sidecar, and checks that its image is its region.
+pub fn read_tile(path: &Path) -> Result<Tile, TileError> {
+    match Format::of(path) {
+        Ok(Format::Exr | Format::Pfm) => {}
+        _ => return Err(TileError::NotFloat(path.to_owned())),
+    }
+    let sidecar = sidecar_path(path);
+    let text = std::fs::read_to_string(&sidecar).map_err(|err| TileError::NoSidecar {
+        tile: path.to_owned(),
+        sidecar: sidecar.clone(),
+        err,
+    })?;
+    let sidecar: Sidecar =
+        serde_json::from_str(&text).map_err(|e| TileError::BadSidecar(sidecar, e.to_string()))?;
+    let image = io::read(path).map_err(|e| TileError::Image(path.to_owned(), e.to_string()))?;
+    let r = sidecar.region;
+    if (image.width, image.height) != (r.width, r.height) {
+        return Err(TileError::Partial {
+            tile: path.to_owned(),
+            got_w: image.width,
+            got_h: image.height,
+            want_w: r.width,
+            want_h: r.height,
+        });
+    }
+    if r.within(sidecar.width, sidecar.height).is_err() {
+        return Err(TileError::Outside {
+            tile: path.to_owned(),
+            x: r.x,
+            y: r.y,
+            w: r.width,
+            h: r.height,
+            iw: sidecar.width,
+            ih: sidecar.height,
+        });
+    }
+    Ok(Tile {
+        path: path.to_owned(),
+        sidecar,
+        image,
+    })
+}
+
+/// The whole image from `tiles`, and the sidecar of the whole render
+/// (region: all of it), once they are checked to be one render's tiles:
+/// the same scene and settings, every pixel held by exactly one tile.
+pub fn assemble(tiles: &[Tile]) -> Result<(Image, Sidecar), TileError> {
+    let first = tiles.first().ok_or(TileError::NoTiles)?;
+    let key = |s: &Sidecar| {
+        let mut v = serde_json::to_value(s).expect("a sidecar serializes");
+        let map = v.as_object_mut().expect("an object");
+        map.remove("region");
+        map.remove("tile");
+        v
+    };
+    let want = key(&first.sidecar);
+    for t in &tiles[1..] {
+        let got = key(&t.sidecar);
+        if got != want {
+            let (g, w) = (got.as_object().unwrap(), want.as_object().unwrap());
+            let field = w
+                .keys()
+                .find(|k| g.get(*k) != w.get(*k))
+                .cloned()
+                .unwrap_or_default();
+            return Err(TileError::Mismatch {
+                tile: t.path.clone(),
+                first: first.path.clone(),
+                got: g.get(&field).map(|v| v.to_string()).unwrap_or_default(),
+                want: w.get(&field).map(|v| v.to_string()).unwrap_or_default(),
+                field,
+            });
+        }
+    }
+    let (width, height) = (first.sidecar.width, first.sidecar.height);
+    check_cover(tiles, width, height)?;
+    let mut pixels = vec![[0.0f32; 3]; width as usize * height as usize];
+    for t in tiles {
+        let r = t.sidecar.region;
+        for (row, src) in t.image.pixels.chunks_exact(r.width as usize).enumerate() {
+            let start = (r.y as usize + row) * width as usize + r.x as usize;
+            pixels[start..start + r.width as usize].copy_from_slice(src);
+        }
+    }
+    let whole = Sidecar {
+        region: Region::whole(width, height),
+        tile: None,
+        ..first.sidecar.clone()
+    };
+    Ok((Image::new(width, height, pixels), whole))
+}
+
+/// Every pixel of the `width`×`height` image in exactly one tile: no
+/// duplicate, no overlap, no gap.
+fn check_cover(tiles: &[Tile], width: u32, height: u32) -> Result<(), TileError> {
+    let mut by_region: Vec<(&Region, &Path)> = tiles
+        .iter()
+        .map(|t| (&t.sidecar.region, t.path.as_path()))
+        .collect();
+    by_region.sort_by_key(|(r, _)| (r.y, r.x, r.height, r.width));
+    for pair in by_region.windows(2) {
+        if pair[0].0 == pair[1].0 {
+            let r = pair[0].0;
+            return Err(TileError::Duplicate {
+                a: pair[0].1.to_owned(),
+                b: pair[1].1.to_owned(),
+                x: r.x,
+                y: r.y,
+                w: r.width,
+                h: r.height,
+            });
+        }
+    }
+    // Row by row, the tiles that cross it, left to right, must meet end to end.
+    for y in 0..height {
+        let mut row: Vec<(&Region, &Path)> = by_region
+            .iter()
+            .copied()
+            .filter(|(r, _)| r.y <= y && y < r.y + r.height)
+            .collect();
+        row.sort_by_key(|(r, _)| r.x);
+        let mut x = 0;
+        let mut last: Option<&Path> = None;
+        for (r, path) in row {
+            if r.x < x {
+                return Err(TileError::Overlap {
+                    a: last.expect("a tile before").to_owned(),
+                    b: path.to_owned(),
+                    y,
+                });
+            }
+            if r.x > x {
+                break;
+            }
+            x = r.x + r.width;
+            last = Some(path);
+        }
+        if x < width {
+            return Err(TileError::Gap {
+                x,
+                y,
+                w: width,
+                h: height,
+            });
+        }
+    }
+    Ok(())
+}

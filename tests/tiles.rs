@@ -1,0 +1,243 @@
+//! Tiles and `glint assemble` (docs/scale-out.md): the tiles of a render put
+//! together are the whole render, bit for bit, on the GPU and the CPU; a
+//! missing, duplicated, mismatched or partial tile is named, and nothing is
+//! written.
+
+mod common;
+
+use std::path::Path;
+
+use glint::accel::Accel;
+use glint::cpu;
+use glint::raster::region::Region;
+use glint::raster::{io, Image};
+use glint::scene::{Overrides, Scene};
+
+fn load(path: &str) -> Scene {
+    let o = Overrides {
+        width: Some(67),
+        height: Some(130),
+        ..Overrides::default()
+    };
+    Scene::load(&common::repo().join(path), &o).unwrap()
+}
+
+/// The regions' images put together in their places.
+fn put_together(scene: &Scene, parts: &[(Region, Image)]) -> Image {
+    let mut pixels = vec![[f32::NAN; 3]; (scene.width * scene.height) as usize];
+    for (r, img) in parts {
+        for y in 0..r.height {
+            for x in 0..r.width {
+                pixels[((r.y + y) * scene.width + r.x + x) as usize] = img.get(x, y);
+            }
+        }
+    }
+    Image::new(scene.width, scene.height, pixels)
+}
+
+/// Bit for bit: the same bits in every channel (NaN would differ from itself).
+fn same_bits(a: &Image, b: &Image) -> bool {
+    a.pixels.len() == b.pixels.len()
+        && a.pixels
+            .iter()
+            .zip(&b.pixels)
+            .all(|(p, q)| (0..3).all(|c| p[c].to_bits() == q[c].to_bits()))
+}
+
+const SCENES: [&str; 2] = ["scenes/seed-fig5.toml", "scenes/spd/mount.nff"];
+
+#[test]
+fn gpu_tiles_are_the_whole_render_bit_for_bit() {
+    let mut gpu = common::gpu();
+    for path in SCENES {
+        let scene = load(path);
+        let whole = gpu.render(&scene, &|_| {}).unwrap().0;
+        for n in [1, 3, 7, 16] {
+            let parts: Vec<(Region, Image)> = (0..n)
+                .map(|i| {
+                    let r = Region::tile(i, n, scene.width, scene.height).unwrap();
+                    (r, gpu.render_region(&scene, r, &|_| {}).unwrap().0)
+                })
+                .collect();
+            assert!(
+                same_bits(&put_together(&scene, &parts), &whole),
+                "{path} {n}"
+            );
+        }
+        // An explicit region that is not a band, with corners on odd pixels.
+        let r = Region {
+            x: 13,
+            y: 29,
+            width: 31,
+            height: 17,
+        };
+        let part = gpu.render_region(&scene, r, &|_| {}).unwrap().0;
+        for y in 0..r.height {
+            for x in 0..r.width {
+                assert_eq!(part.get(x, y), whole.get(r.x + x, r.y + y), "{path}");
+            }
+        }
+    }
+}
+
+#[test]
+fn cpu_tiles_are_the_whole_render_bit_for_bit() {
+    for path in SCENES {
+        let scene = load(path);
+        let whole64 = cpu::render::<f64>(&scene);
+        let whole32 = cpu::render::<f32>(&scene);
+        for n in [1, 3, 7, 16] {
+            let tiles = |f: &dyn Fn(Region) -> Image| -> Image {
+                let parts: Vec<(Region, Image)> = (0..n)
+                    .map(|i| {
+                        let r = Region::tile(i, n, scene.width, scene.height).unwrap();
+                        (r, f(r))
+                    })
+                    .collect();
+                put_together(&scene, &parts)
+            };
+            let t64 = tiles(&|r| cpu::render_region::<f64>(&scene, Accel::Auto, r, &|_| {}));
+            let t32 = tiles(&|r| cpu::render_region::<f32>(&scene, Accel::Auto, r, &|_| {}));
+            assert!(same_bits(&t64, &whole64), "{path} {n} f64");
+            assert!(same_bits(&t32, &whole32), "{path} {n} f32");
+        }
+    }
+    // The check can fail: tiles of another scene are not these bits.
+    let a = load(SCENES[0]);
+    let b = cpu::render::<f64>(&load(SCENES[1]));
+    assert!(!same_bits(&cpu::render::<f64>(&a), &b));
+}
+
+fn glint_in(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> std::process::Output {
+    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_glint"));
+    c.current_dir(dir).args(args).env("GLINT_VALIDATION", "1");
+    for var in ["SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"] {
+        c.env_remove(var);
+    }
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.output().unwrap()
+}
+
+fn ok(o: &std::process::Output) {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+fn fails_with(o: &std::process::Output, words: &str) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains(words), "{words}: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+/// Through the binary, as a farm runs it: tiles by index and from the
+/// engine's variables, assembled, equal the whole render; each way a set of
+/// tiles can be wrong is one error naming the tile, with no image written.
+#[test]
+fn render_tile_and_assemble_through_the_binary() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = common::repo().join("scenes/spd/tetra.nff");
+    let scene = scene.to_str().unwrap();
+    let size = ["--width", "67", "--height", "130"];
+    let render = |out: &str, extra: &[&str], env: &[(&str, &str)]| {
+        let mut args = vec!["render", scene, "-o", out];
+        args.extend(size);
+        args.extend(extra);
+        glint_in(d, &args, env)
+    };
+    ok(&render("whole.pfm", &[], &[]));
+    std::fs::create_dir(d.join("tiles")).unwrap();
+    ok(&render("tiles/0.exr", &["--tile", "0/3"], &[]));
+    ok(&render(
+        "tiles/1.exr",
+        &["--tile", "auto/3"],
+        &[("SLURM_ARRAY_TASK_ID", "1")],
+    ));
+    ok(&render(
+        "tiles/2.exr",
+        &["--tile", "auto/3"],
+        &[("JOB_COMPLETION_INDEX", "2")],
+    ));
+    ok(&glint_in(d, &["assemble", "tiles", "-o", "out.pfm"], &[]));
+    let read = |p: &str| io::read(&d.join(p)).unwrap();
+    assert!(same_bits(&read("out.pfm"), &read("whole.pfm")));
+
+    let assemble = |tiles: &[&str], out: &str| {
+        let mut args = vec!["assemble"];
+        args.extend(tiles);
+        args.extend(["-o", out]);
+        glint_in(d, &args, &[])
+    };
+    let no_output = |out: &str| assert!(!d.join(out).exists(), "{out} was written");
+    // A missing tile.
+    fails_with(
+        &assemble(&["tiles/0.exr", "tiles/2.exr"], "a.pfm"),
+        "a tile is missing",
+    );
+    no_output("a.pfm");
+    // A duplicate.
+    std::fs::copy(d.join("tiles/0.exr"), d.join("copy.exr")).unwrap();
+    std::fs::copy(d.join("tiles/0.exr.json"), d.join("copy.exr.json")).unwrap();
+    fails_with(
+        &assemble(
+            &["tiles/0.exr", "copy.exr", "tiles/1.exr", "tiles/2.exr"],
+            "b.pfm",
+        ),
+        "are the same tile",
+    );
+    no_output("b.pfm");
+    // A tile of another render: other overrides change the scene's hash.
+    let mut args = vec![
+        "render",
+        scene,
+        "-o",
+        "other.exr",
+        "--tile",
+        "1/3",
+        "--max-depth",
+        "2",
+    ];
+    args.extend(size);
+    ok(&glint_in(d, &args, &[]));
+    fails_with(
+        &assemble(&["tiles/0.exr", "other.exr", "tiles/2.exr"], "c.pfm"),
+        "other.exr is not of the render of tiles/0.exr: its scene_hash",
+    );
+    no_output("c.pfm");
+    // A partial tile: its image is not its sidecar's region.
+    let half = read("tiles/1.exr");
+    let cut = Image::new(
+        half.width,
+        half.height / 2,
+        half.pixels[..(half.width * (half.height / 2)) as usize].to_vec(),
+    );
+    io::write(&d.join("tiles/1.exr"), &cut, false).unwrap();
+    fails_with(&assemble(&["tiles"], "d.pfm"), "a partial tile");
+    no_output("d.pfm");
+    // A tile without its sidecar.
+    std::fs::remove_file(d.join("tiles/2.exr.json")).unwrap();
+    fails_with(
+        &assemble(&["tiles/0.exr", "tiles/2.exr"], "e.pfm"),
+        "no sidecar",
+    );
+    // Tiles are floats; auto needs an index.
+    fails_with(
+        &render("t.png", &["--tile", "0/3"], &[]),
+        "a tile is written as .exr or .pfm",
+    );
+    fails_with(
+        &render("t.exr", &["--tile", "auto/3"], &[]),
+        "SLURM_ARRAY_TASK_ID (Slurm job arrays) or JOB_COMPLETION_INDEX",
+    );
+    fails_with(
+        &render("t.exr", &["--tile", "3/3"], &[]),
+        "index must be below",
+    );
+    fails_with(
+        &render("t.exr", &["--region", "60,0,10,10"], &[]),
+        "not inside",
+    );
+    assert!(!d.join("t.exr").exists() && !d.join("t.png").exists());
+}
