@@ -174,7 +174,7 @@ fn render_tile_and_assemble_through_the_binary() {
     // A missing tile.
     fails_with(
         &assemble(&["tiles/0.exr", "tiles/2.exr"], "a.pfm"),
-        "a tile is missing",
+        "tile 1/3 of the 67x130 image is missing",
     );
     no_output("a.pfm");
     // A duplicate.
@@ -216,6 +216,14 @@ fn render_tile_and_assemble_through_the_binary() {
     io::write(&d.join("tiles/1.exr"), &cut, false).unwrap();
     fails_with(&assemble(&["tiles"], "d.pfm"), "a partial tile");
     no_output("d.pfm");
+    // Pieces that are not an I/N split: the first pixel no tile holds.
+    let mut args = vec!["render", scene, "-o", "r.exr", "--region", "0,0,67,100"];
+    args.extend(size);
+    ok(&glint_in(d, &args, &[]));
+    fails_with(
+        &assemble(&["r.exr"], "f.pfm"),
+        "no tile holds pixel (0, 100)",
+    );
     // A tile without its sidecar.
     std::fs::remove_file(d.join("tiles/2.exr.json")).unwrap();
     fails_with(

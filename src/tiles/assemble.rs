@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use super::{sidecar_path, Sidecar};
 use crate::raster::io::{self, Format};
-use crate::raster::region::Region;
+use crate::raster::region::{Region, RegionError};
 use crate::raster::Image;
 
 /// A tile as read from its files.
@@ -38,16 +38,8 @@ pub enum TileError {
         want_w: u32,
         want_h: u32,
     },
-    #[error("{tile}: its region {x},{y},{w},{h} is not inside the {iw}x{ih} image")]
-    Outside {
-        tile: PathBuf,
-        x: u32,
-        y: u32,
-        w: u32,
-        h: u32,
-        iw: u32,
-        ih: u32,
-    },
+    #[error("{0}: {1}")]
+    Outside(PathBuf, RegionError),
     #[error("{tile} is not of the render of {first}: its {field} is {got}, not {want}")]
     Mismatch {
         tile: PathBuf,
@@ -69,6 +61,13 @@ pub enum TileError {
     Overlap { a: PathBuf, b: PathBuf, y: u32 },
     #[error("no tile holds pixel ({x}, {y}) of the {w}x{h} image: a tile is missing")]
     Gap { x: u32, y: u32, w: u32, h: u32 },
+    #[error("tile {missing} of the {w}x{h} image is missing (rerun it with --tile I/{n})")]
+    Missing {
+        missing: String,
+        n: u32,
+        w: u32,
+        h: u32,
+    },
     #[error("no tiles given")]
     NoTiles,
 }
@@ -98,17 +97,8 @@ pub fn read_tile(path: &Path) -> Result<Tile, TileError> {
             want_h: r.height,
         });
     }
-    if r.within(sidecar.width, sidecar.height).is_err() {
-        return Err(TileError::Outside {
-            tile: path.to_owned(),
-            x: r.x,
-            y: r.y,
-            w: r.width,
-            h: r.height,
-            iw: sidecar.width,
-            ih: sidecar.height,
-        });
-    }
+    r.within(sidecar.width, sidecar.height)
+        .map_err(|e| TileError::Outside(path.to_owned(), e))?;
     Ok(Tile {
         path: path.to_owned(),
         sidecar,
@@ -148,7 +138,19 @@ pub fn assemble(tiles: &[Tile]) -> Result<(Image, Sidecar), TileError> {
         }
     }
     let (width, height) = (first.sidecar.width, first.sidecar.height);
-    check_cover(tiles, width, height)?;
+    check_cover(tiles, width, height).map_err(|e| match (e, split_of(tiles)) {
+        (TileError::Gap { w, h, .. }, Some((n, present))) => TileError::Missing {
+            missing: (0..n)
+                .filter(|i| !present.contains(i))
+                .map(|i| format!("{i}/{n}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            n,
+            w,
+            h,
+        },
+        (e, _) => e,
+    })?;
     let mut pixels = vec![[0.0f32; 3]; width as usize * height as usize];
     for t in tiles {
         let r = t.sidecar.region;
@@ -163,6 +165,21 @@ pub fn assemble(tiles: &[Tile]) -> Result<(Image, Sidecar), TileError> {
         ..first.sidecar.clone()
     };
     Ok((Image::new(width, height, pixels), whole))
+}
+
+/// Where every tile is tile I of one N: N and the indices present.
+fn split_of(tiles: &[Tile]) -> Option<(u32, Vec<u32>)> {
+    let parse = |t: &Tile| -> Option<(u32, u32)> {
+        let (i, n) = t.sidecar.tile.as_deref()?.split_once('/')?;
+        Some((i.parse().ok()?, n.parse().ok()?))
+    };
+    let split: Option<Vec<(u32, u32)>> = tiles.iter().map(parse).collect();
+    let split = split?;
+    let n = split.first()?.1;
+    split
+        .iter()
+        .all(|(_, m)| *m == n)
+        .then(|| (n, split.iter().map(|(i, _)| *i).collect()))
 }
 
 /// Every pixel of the `width`×`height` image in exactly one tile: no
