@@ -42,3 +42,18 @@ fn bench_reports_times_and_counts() {
         .sum();
     assert_eq!(tests, 4 * eye, "{json}");
 }
+
+/// Timestamp queries time the dispatches on the device, where its queue
+/// writes them (lavapipe's does): less than the host's dispatch time, which
+/// also holds the submission, the output's fill and the wait.
+#[test]
+fn timestamps_time_the_dispatches_on_the_device() {
+    let mut gpu = common::gpu();
+    let scene = common::scene(common::SMALL);
+    let has = gpu.device_info().timestamps.is_some();
+    let (_, times) = gpu.render(&scene, &|_| {}).unwrap();
+    match times.device_dispatch_s {
+        Some(s) => assert!(s > 0.0 && s <= times.dispatch_s, "{times:?}"),
+        None => assert!(!has, "{times:?}"),
+    }
+}

@@ -138,10 +138,13 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             setup.device_s, setup.compile_s, setup.pipeline_s, gpu_times.bvh_s
         );
         println!(
-            "gpu f32    {:.3} s  (upload {:.3}, dispatch {:.3}, readback {:.3}; the first render took {:.3} s)",
+            "gpu f32    {:.3} s  (upload {:.3}, dispatch {:.3}{}, readback {:.3}; the first render took {:.3} s)",
             gpu_times.total_s(),
             gpu_times.upload_s,
             gpu_times.dispatch_s,
+            gpu_times
+                .device_dispatch_s
+                .map_or(String::new(), |s| format!(" of which {s:.3} on the device")),
             gpu_times.readback_s,
             first.total_s()
         );

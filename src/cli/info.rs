@@ -42,6 +42,13 @@ pub fn run(a: &InfoArgs) -> anyhow::Result<ExitCode> {
             d.compute_queue_family
                 .map_or("none".into(), |q| format!("family {q}"))
         );
+        println!(
+            "   timestamps        {}",
+            d.timestamps
+                .map_or("none on the compute queue".to_owned(), |(period, bits)| {
+                    format!("{bits} bits, {period} ns a tick")
+                })
+        );
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -30,6 +30,7 @@ use vk::device::{Device, DeviceInfo};
 use vk::instance::Instance;
 use vk::pipeline::ComputePipeline;
 use vk::pipeline_cache::PipelineCache;
+use vk::query::Timestamps;
 
 /// Rays per dispatch at most: small enough that no single dispatch runs long
 /// enough to trip a desktop GPU's watchdog, large enough to fill one.
@@ -142,6 +143,10 @@ pub struct RenderTimes {
     pub upload_s: f64,
     pub dispatch_s: f64,
     pub readback_s: f64,
+    /// The dispatches' own time on the device, from timestamp queries;
+    /// None where its queue writes none. `dispatch_s` also holds the
+    /// submission, the fill of the output and the wait.
+    pub device_dispatch_s: Option<f64>,
 }
 
 impl RenderTimes {
@@ -157,6 +162,8 @@ pub struct Renderer {
     /// that an edited shader file makes a new pipeline (`glint watch`).
     pipelines: HashMap<(Variant, u64), ComputePipeline>,
     pipeline_cache: PipelineCache,
+    /// Where the device's queue writes timestamps.
+    timestamps: Option<Timestamps>,
     commands: OneShot,
     device: Device,
     instance: Instance,
@@ -242,6 +249,7 @@ impl Renderer {
         let instance = Instance::new(opts.validate)?;
         let device = Device::open(&instance, opts.device.as_deref())?;
         let commands = OneShot::new(&device)?;
+        let timestamps = Timestamps::new(&device)?;
         let cache_file = opts
             .cache_dir
             .as_ref()
@@ -250,6 +258,7 @@ impl Renderer {
         let renderer = Self {
             pipelines: HashMap::new(),
             pipeline_cache,
+            timestamps,
             commands,
             device,
             instance,
@@ -506,6 +515,7 @@ impl Renderer {
 
         let mut times = RenderTimes {
             setup,
+            device_dispatch_s: self.timestamps.as_ref().map(|_| 0.0),
             ..RenderTimes::default()
         };
         let t0 = Instant::now();
@@ -565,7 +575,7 @@ impl Renderer {
                     tile_timeout(scene, u64::from(w) * u64::from(h), variant.bvh_layouts > 0)
                 });
                 let rect = TileRect(UVec4::new(x0, y0, w, h));
-                match self.dispatch(pipeline, out.raw, rect, timeout) {
+                let on_device = match self.dispatch(pipeline, out.raw, rect, timeout) {
                     Err(GpuError::Vk {
                         result: raw::Result::TIMEOUT,
                         ..
@@ -582,6 +592,9 @@ impl Renderer {
                         });
                     }
                     other => other?,
+                };
+                if let (Some(total), Some(s)) = (&mut times.device_dispatch_s, on_device) {
+                    *total += s;
                 }
                 let t2 = Instant::now();
                 let tile: &[[f32; 4]] = out.read(w as usize * h as usize);
@@ -628,13 +641,15 @@ impl Renderer {
         Ok((Image::new(width, height, pixels), times, counts))
     }
 
+    /// Runs the pipeline over `rect`, into `out`; the dispatch's own time on
+    /// the device, where it writes timestamps.
     fn dispatch(
         &self,
         p: &ComputePipeline,
         out: raw::Buffer,
         rect: TileRect,
         timeout: Duration,
-    ) -> Result<(), GpuError> {
+    ) -> Result<Option<f64>, GpuError> {
         let groups = |n: u32| n.div_ceil(WORKGROUP);
         self.commands.run(timeout, |dev, cb| unsafe {
             // Every output word starts as a NaN, so a pixel the shader never
@@ -668,7 +683,14 @@ impl Renderer {
                 0,
                 bytemuck::bytes_of(&rect),
             );
+            // From when the fill is done to when the dispatch is.
+            if let Some(t) = &self.timestamps {
+                t.begin(cb, raw::PipelineStageFlags::TRANSFER);
+            }
             dev.cmd_dispatch(cb, groups(rect.0.z), groups(rect.0.w), 1);
+            if let Some(t) = &self.timestamps {
+                t.end(cb, raw::PipelineStageFlags::COMPUTE_SHADER);
+            }
             // Make the shader's writes visible to the host's read of the mapping.
             let barrier = raw::MemoryBarrier::default()
                 .src_access_mask(raw::AccessFlags::SHADER_WRITE)
@@ -682,7 +704,11 @@ impl Renderer {
                 &[],
                 &[],
             );
-        })
+        })?;
+        self.timestamps
+            .as_ref()
+            .map(Timestamps::seconds)
+            .transpose()
     }
 }
 

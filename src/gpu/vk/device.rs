@@ -21,6 +21,9 @@ pub struct DeviceInfo {
     pub max_compute_work_group_count: [u32; 3],
     pub max_compute_work_group_invocations: u32,
     pub compute_queue_family: Option<u32>,
+    /// Nanoseconds a timestamp tick, and the ticks' valid bits, where the
+    /// compute queue writes timestamps.
+    pub timestamps: Option<(f32, u32)>,
 }
 
 impl DeviceInfo {
@@ -82,6 +85,10 @@ pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
             _ => ("other", 4),
         };
         let limits = props.limits;
+        let timestamps = compute_queue_family
+            .map(|f| families[f as usize].timestamp_valid_bits)
+            .filter(|bits| *bits > 0)
+            .map(|bits| (limits.timestamp_period, bits));
         out.push(Candidate {
             physical,
             rank,
@@ -101,6 +108,7 @@ pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
                 max_compute_work_group_count: limits.max_compute_work_group_count,
                 max_compute_work_group_invocations: limits.max_compute_work_group_invocations,
                 compute_queue_family,
+                timestamps,
             },
         });
     }

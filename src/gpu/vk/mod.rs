@@ -7,3 +7,4 @@ pub mod device;
 pub mod instance;
 pub mod pipeline;
 pub mod pipeline_cache;
+pub mod query;

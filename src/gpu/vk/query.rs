@@ -1,0 +1,83 @@
+//! Timestamp queries: the device's own time for a span of commands.
+
+use ash::vk;
+
+use super::device::Device;
+use crate::gpu::error::{GpuError, VkContext};
+
+/// Two timestamps, around the commands to be timed.
+pub struct Timestamps {
+    pub pool: vk::QueryPool,
+    /// Nanoseconds a tick.
+    period_ns: f64,
+    /// The ticks' valid bits.
+    mask: u64,
+    device: ash::Device,
+}
+
+impl Timestamps {
+    /// None where the device's compute queue writes no timestamps.
+    pub fn new(device: &Device) -> Result<Option<Self>, GpuError> {
+        let Some((period, bits)) = device.info.timestamps else {
+            return Ok(None);
+        };
+        let info = vk::QueryPoolCreateInfo::default()
+            .query_type(vk::QueryType::TIMESTAMP)
+            .query_count(2);
+        let pool =
+            unsafe { device.raw.create_query_pool(&info, None) }.doing("vkCreateQueryPool")?;
+        Ok(Some(Self {
+            pool,
+            period_ns: f64::from(period),
+            mask: if bits >= 64 {
+                u64::MAX
+            } else {
+                (1u64 << bits) - 1
+            },
+            device: device.raw.clone(),
+        }))
+    }
+
+    /// Records the reset and the first timestamp: once the commands before
+    /// have passed `after`.
+    ///
+    /// # Safety
+    /// `cb` is in the recording state, outside a render pass.
+    pub unsafe fn begin(&self, cb: vk::CommandBuffer, after: vk::PipelineStageFlags) {
+        self.device.cmd_reset_query_pool(cb, self.pool, 0, 2);
+        self.device.cmd_write_timestamp(cb, after, self.pool, 0);
+    }
+
+    /// Records the second timestamp: once the commands before have passed
+    /// `after`.
+    ///
+    /// # Safety
+    /// As [`Timestamps::begin`], which this command buffer recorded first.
+    pub unsafe fn end(&self, cb: vk::CommandBuffer, after: vk::PipelineStageFlags) {
+        self.device.cmd_write_timestamp(cb, after, self.pool, 1);
+    }
+
+    /// The seconds between the two, once the command buffer has finished.
+    pub fn seconds(&self) -> Result<f64, GpuError> {
+        let mut ticks = [0u64; 2];
+        // SAFETY: both queries were written by a submission the caller
+        // waited on; WAIT makes the read block until they are available.
+        unsafe {
+            self.device.get_query_pool_results(
+                self.pool,
+                0,
+                &mut ticks,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .doing("vkGetQueryPoolResults")?;
+        let span = ticks[1].wrapping_sub(ticks[0]) & self.mask;
+        Ok(span as f64 * self.period_ns * 1e-9)
+    }
+}
+
+impl Drop for Timestamps {
+    fn drop(&mut self) {
+        unsafe { self.device.destroy_query_pool(self.pool, None) };
+    }
+}
