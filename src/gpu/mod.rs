@@ -86,14 +86,20 @@ pub struct GpuOptions {
     /// The longest wait for one tile; None: derived from the tile's work
     /// (`tile_timeout`).
     pub timeout: Option<Duration>,
+    /// Upload the scene through a staging buffer into device-local memory
+    /// the host does not map. None: where the device has such memory (a
+    /// discrete GPU); GLINT_STAGE_UPLOADS=1 or 0 sets it.
+    pub stage_uploads: Option<bool>,
 }
 
 impl GpuOptions {
     /// Validation is also switched on by GLINT_VALIDATION=1 (the tests set it).
     pub fn from_env(device: Option<String>) -> Self {
         let validate = std::env::var("GLINT_VALIDATION").is_ok_and(|v| v == "1");
+        let stage_uploads = std::env::var("GLINT_STAGE_UPLOADS").ok().map(|v| v == "1");
         Self {
             device,
+            stage_uploads,
             validate,
             ..Self::default()
         }
@@ -162,6 +168,10 @@ pub struct Renderer {
     /// that an edited shader file makes a new pipeline (`glint watch`).
     pipelines: HashMap<(Variant, u64), ComputePipeline>,
     pipeline_cache: PipelineCache,
+    /// The last render's buffers, which the next render of the same scene
+    /// with the same pipeline uses again (`watch`, `report`, `compare`'s
+    /// second render).
+    resident: Option<Resident>,
     /// Where the device's queue writes timestamps.
     timestamps: Option<Timestamps>,
     commands: OneShot,
@@ -175,11 +185,22 @@ pub struct Renderer {
     /// Seconds spent opening the device.
     device_s: f64,
     timeout: Option<Duration>,
+    /// Whether scene buffers are device-local, filled through staging.
+    stage_uploads: bool,
     /// A wait timed out: the device may still run that work.
     lost: bool,
     /// The last scene laid out, so that `variant_for`, `prepare_for` and
     /// `render` of one scene build its uploads (and its BVH) once.
     laid_out: std::cell::RefCell<Option<LaidOut>>,
+}
+
+/// Buffers bound to a pipeline's descriptor set, and what they hold.
+struct Resident {
+    pipeline: (Variant, u64),
+    uploads: std::rc::Rc<Uploads>,
+    tile: (u32, u32),
+    /// In the variant's binding order; the output tile last.
+    buffers: Vec<Buffer>,
 }
 
 /// A scene's uploads and what they were built from.
@@ -250,6 +271,7 @@ impl Renderer {
         let device = Device::open(&instance, opts.device.as_deref())?;
         let commands = OneShot::new(&device)?;
         let timestamps = Timestamps::new(&device)?;
+        let device_has_private_memory = device.has_private_memory();
         let cache_file = opts
             .cache_dir
             .as_ref()
@@ -258,6 +280,7 @@ impl Renderer {
         let renderer = Self {
             pipelines: HashMap::new(),
             pipeline_cache,
+            resident: None,
             timestamps,
             commands,
             device,
@@ -273,6 +296,7 @@ impl Renderer {
             settings: opts.settings,
             device_s: secs(t0.elapsed()),
             timeout: opts.timeout,
+            stage_uploads: opts.stage_uploads.unwrap_or(device_has_private_memory),
             lost: false,
             laid_out: std::cell::RefCell::new(None),
         };
@@ -511,55 +535,39 @@ impl Renderer {
         let (up, layout_s) = self.uploads(scene, settings);
         let (variant, defines) = self.variant_of(scene, settings, &up, count);
         let (key, setup) = self.prepare(&variant, &defines)?;
-        let pipeline = &self.pipelines[&key];
-
         let mut times = RenderTimes {
             setup,
             device_dispatch_s: self.timestamps.as_ref().map(|_| 0.0),
             ..RenderTimes::default()
         };
         let t0 = Instant::now();
-        let usage = variant.scene_buffer_usage();
         up.check_storage_range(self.device.info.max_storage_buffer_range)
             .map_err(GpuError::Unsupported)?;
-        let d = &self.device;
         let (tile_w, tile_h) = self.tile_size(scene);
-        let out_bytes = u64::from(tile_w) * u64::from(tile_h) * 16;
-        // Only the buffers this variant's shader declares.
-        let mut buffers = Vec::new();
-        for (block, _, _) in variant.bindings() {
-            buffers.push(match block {
-                Block::Globals => Buffer::with_data(
-                    d,
-                    &up.globals,
-                    raw::BufferUsageFlags::UNIFORM_BUFFER,
-                    "the uniform block",
-                )?,
-                Block::Kind(k) => Buffer::with_data(d, &up.kinds[k].bytes, usage, block.name())?,
-                Block::Materials => Buffer::with_data(d, &up.materials.bytes, usage, "materials")?,
-                Block::Lights => Buffer::with_data(d, &up.lights.bytes, usage, "lights")?,
-                Block::Nodes => Buffer::with_data(
-                    d,
-                    &up.nodes.as_ref().expect("a BVH variant has nodes").bytes,
-                    usage,
-                    "BVH nodes",
-                )?,
-                Block::Counts => Buffer::with_data(
-                    d,
-                    &[0u32; 2 * Counter::SLOTS],
-                    raw::BufferUsageFlags::STORAGE_BUFFER,
-                    "the counters",
-                )?,
-                Block::Pixels => Buffer::new(
-                    d,
-                    out_bytes,
-                    raw::BufferUsageFlags::STORAGE_BUFFER | raw::BufferUsageFlags::TRANSFER_DST,
-                    "the output tile",
-                )?,
+        let reuse = self.resident.as_ref().is_some_and(|r| {
+            r.pipeline == key && r.tile == (tile_w, tile_h) && std::rc::Rc::ptr_eq(&r.uploads, &up)
+        });
+        if reuse {
+            if let Some(at) = variant.binding_of(Block::Counts) {
+                let buffers = &self.resident.as_ref().expect("reused").buffers;
+                buffers[at].write(&[0u32; 2 * Counter::SLOTS]);
+            }
+        } else {
+            // The old buffers go first: the device is idle between renders.
+            self.resident = None;
+            let buffers = self.scene_buffers(&variant, &up, (tile_w, tile_h))?;
+            self.pipelines[&key].bind(&buffers.iter().collect::<Vec<_>>());
+            self.resident = Some(Resident {
+                pipeline: key.clone(),
+                uploads: up.clone(),
+                tile: (tile_w, tile_h),
+                buffers,
             });
         }
-        pipeline.bind(&buffers.iter().collect::<Vec<_>>());
+        let pipeline = &self.pipelines[&key];
+        let buffers = &self.resident.as_ref().expect("set above").buffers;
         let out = buffers.last().expect("the output binding is last");
+
         times.upload_s = layout_s + secs(t0.elapsed());
         times.bvh_s = up.bvh_s;
 
@@ -581,7 +589,7 @@ impl Renderer {
                         ..
                     }) => {
                         // The GPU may still read and write these: never free them.
-                        std::mem::forget(buffers);
+                        std::mem::forget(self.resident.take());
                         self.lost = true;
                         return Err(GpuError::Timeout {
                             x: x0,
@@ -627,18 +635,65 @@ impl Renderer {
             }
         }
         self.check_validation()?;
-        let counts = variant.count.then(|| {
-            let at = variant
-                .bindings()
-                .iter()
-                .position(|(b, _, _)| *b == Block::Counts)
-                .expect("a counting variant binds its counters");
+        let counts = variant.binding_of(Block::Counts).map(|at| {
             let words: &[[u32; 2]] = buffers[at].read(Counter::SLOTS);
             Counts::from_slots(std::array::from_fn(|i| {
                 u64::from(words[i][1]) << 32 | u64::from(words[i][0])
             }))
         });
         Ok((Image::new(width, height, pixels), times, counts))
+    }
+
+    /// The buffers of `variant`'s bindings, in order, holding `up` (the
+    /// output tile last, of `tile` pixels); only those its shader declares.
+    fn scene_buffers(
+        &self,
+        variant: &Variant,
+        up: &Uploads,
+        tile: (u32, u32),
+    ) -> Result<Vec<Buffer>, GpuError> {
+        let d = &self.device;
+        let usage = variant.scene_buffer_usage();
+        let out_bytes = u64::from(tile.0) * u64::from(tile.1) * 16;
+        // What the shader only reads: device-local through staging, or mapped.
+        let scene = |bytes: &[u8], usage, what| {
+            if self.stage_uploads {
+                Buffer::staged(d, &self.commands, bytes, usage, what)
+            } else {
+                Buffer::with_data(d, bytes, usage, what)
+            }
+        };
+        let mut buffers = Vec::new();
+        for (block, _, _) in variant.bindings() {
+            buffers.push(match block {
+                Block::Globals => scene(
+                    bytemuck::cast_slice(&up.globals),
+                    raw::BufferUsageFlags::UNIFORM_BUFFER,
+                    "the uniform block",
+                )?,
+                Block::Kind(k) => scene(&up.kinds[k].bytes, usage, block.name())?,
+                Block::Materials => scene(&up.materials.bytes, usage, "materials")?,
+                Block::Lights => scene(&up.lights.bytes, usage, "lights")?,
+                Block::Nodes => scene(
+                    &up.nodes.as_ref().expect("a BVH variant has nodes").bytes,
+                    usage,
+                    "BVH nodes",
+                )?,
+                Block::Counts => Buffer::with_data(
+                    d,
+                    &[0u32; 2 * Counter::SLOTS],
+                    raw::BufferUsageFlags::STORAGE_BUFFER,
+                    "the counters",
+                )?,
+                Block::Pixels => Buffer::new(
+                    d,
+                    out_bytes,
+                    raw::BufferUsageFlags::STORAGE_BUFFER | raw::BufferUsageFlags::TRANSFER_DST,
+                    "the output tile",
+                )?,
+            });
+        }
+        Ok(buffers)
     }
 
     /// Runs the pipeline over `rect`, into `out`; the dispatch's own time on

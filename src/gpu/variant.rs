@@ -268,6 +268,11 @@ impl Variant {
             .collect()
     }
 
+    /// The place of `block` among the bindings, where the shader declares it.
+    pub fn binding_of(&self, block: Block) -> Option<usize> {
+        self.bindings().iter().position(|(b, _, _)| *b == block)
+    }
+
     /// (binding, descriptor type) for the descriptor set layout.
     pub fn descriptor_layout(&self) -> Vec<(u32, vk::DescriptorType)> {
         self.bindings()

@@ -183,12 +183,31 @@ impl Device {
 
     /// A memory type allowed by `type_bits` with all of `flags`.
     pub fn memory_type(&self, type_bits: u32, flags: vk::MemoryPropertyFlags) -> Option<u32> {
+        self.memory_type_without(type_bits, flags, vk::MemoryPropertyFlags::empty())
+    }
+
+    /// A memory type with `flags` and none of `without`.
+    pub fn memory_type_without(
+        &self,
+        type_bits: u32,
+        flags: vk::MemoryPropertyFlags,
+        without: vk::MemoryPropertyFlags,
+    ) -> Option<u32> {
         (0..self.memory.memory_type_count).find(|&i| {
-            type_bits & (1 << i) != 0
-                && self.memory.memory_types[i as usize]
-                    .property_flags
-                    .contains(flags)
+            let f = self.memory.memory_types[i as usize].property_flags;
+            type_bits & (1 << i) != 0 && f.contains(flags) && !f.intersects(without)
         })
+    }
+
+    /// Whether the device has memory of its own that the host cannot map
+    /// (a discrete GPU's), which staged uploads are for.
+    pub fn has_private_memory(&self) -> bool {
+        self.memory_type_without(
+            !0,
+            vk::MemoryPropertyFlags::DEVICE_LOCAL,
+            vk::MemoryPropertyFlags::HOST_VISIBLE,
+        )
+        .is_some()
     }
 }
 
