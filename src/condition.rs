@@ -1,5 +1,5 @@
-//! Which pixels an f32 renderer can be held to (docs/correctness.md,
-//! Conditioning).
+//! Which pixels an f32 renderer can be held to (README, Accuracy;
+//! docs/spd.md, GPU against the reference).
 //!
 //! The robust forms are backward stable: the f32 image is, to a few
 //! roundings, the exact image of a scene moved by a few units in the last
@@ -10,12 +10,21 @@
 //! reproduce the f64 value there, and the CPU's own f32 does not either.
 //!
 //! The f64 reference finds them by experiment, as Monte Carlo arithmetic
-//! does (Parker, Pierce and Eggert, 2000): it renders the scene again
-//! [`TRIALS`] times with every eye ray's direction moved at random by
-//! [`MOVE`] of its length (the camera's screen vectors, each moved apart),
-//! which moves every hit point of every path by as much as f32 rounds it,
-//! camera-relative coordinates being of the size of the distance from the
-//! eye. A pixel that any trial changes by more than 1/255 is ill-conditioned.
+//! does (Parker, Pierce and Eggert, 2000). It renders the scene again
+//! [`TRIALS`] times, in camera-relative coordinates, with the eye rays'
+//! directions (the camera's screen vectors, each moved apart) and every
+//! primitive moved at random by [`MOVE`] of their size: as much as f32
+//! rounds a hit point (camera-relative coordinates are of the size of the
+//! distance from the eye) and a primitive's coordinates. One more trial is
+//! the CPU's own f32 render: the same code as the reference, so whatever it
+//! changes, rounding changed, and it samples f32's roundings as no random
+//! move does (in balls, three bounces between small spheres can push a path
+//! across a shadow's edge along the one direction f32 rounds it, which 16
+//! random moves missed). A pixel that any trial changes by more than 1/255
+//! is ill-conditioned.
+//!
+//! `glint compare` holds an image to the tolerance over every pixel, and
+//! only where that fails, over the well-conditioned ones ([`judge`]).
 
 use glam::DVec3;
 
@@ -26,10 +35,10 @@ use crate::raster::Image;
 use crate::scene::Scene;
 use crate::stability::{peak, scaled};
 
-/// Perturbed renders of the reference (and then the f32 one). On the SPD
-/// without the f32 trial, 4 trials leave 0.21 % of balls' pixels (at
-/// 512×512) off and unexplained, 8 leave 0.06 %, 16 leave 0.002 % but
-/// call 7 % of it ill-conditioned (docs/correctness.md).
+/// Perturbed renders of the reference (and then the f32 one). Without the
+/// f32 trial, on balls at 512×512, 4 trials of 2 ulp leave 0.21 % of its
+/// pixels off and unexplained and 8 leave 0.06 %; 16 of 4 ulp leave 0.002 %
+/// but call 7.1 % of it ill-conditioned (docs/spd.md).
 pub const TRIALS: u32 = 8;
 
 /// How far a trial moves the eye rays and each primitive, relative to
