@@ -5,6 +5,7 @@ pub mod accel;
 pub mod bench;
 pub mod condition;
 pub mod cpu;
+pub mod files;
 pub mod fnv;
 pub mod gpu;
 pub mod prim;

@@ -15,7 +15,7 @@ mod stability;
 mod tile;
 mod watch;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -216,15 +216,9 @@ pub fn exit_on_timeout<T>(r: Result<T, glint::gpu::GpuError>) -> Result<T, glint
 /// directory of the repository.
 pub fn scene_files(dir: &str) -> anyhow::Result<Vec<PathBuf>> {
     use anyhow::Context;
-    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
-        .with_context(|| {
-            format!("cannot list {dir}/ (name scene files, or run from the repository)")
-        })?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "toml") || glint::scene::is_nff(p))
-        .collect();
-    v.sort();
-    Ok(v)
+    glint::files::sorted(Path::new(dir), glint::files::is_scene).with_context(|| {
+        format!("cannot list {dir}/ (name scene files, or run from the repository)")
+    })
 }
 
 /// NAME or NAME=VALUE, NAME a C identifier.

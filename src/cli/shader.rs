@@ -108,12 +108,7 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
                 .collect();
             std::fs::write(&glsl, format!("{header}{}", compiled.preprocessed))
                 .with_context(|| format!("cannot write {}", glsl.display()))?;
-            let bytes: Vec<u8> = compiled
-                .spirv
-                .iter()
-                .flat_map(|w| w.to_le_bytes())
-                .collect();
-            std::fs::write(&spv, bytes)
+            std::fs::write(&spv, compile::spirv_bytes(&compiled.spirv))
                 .with_context(|| format!("cannot write {}", spv.display()))?;
             println!("{}\n{}", glsl.display(), spv.display());
             Ok(ExitCode::SUCCESS)

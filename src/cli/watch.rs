@@ -25,13 +25,7 @@ pub struct WatchArgs {
 fn stamp(scene: &Path, device: &DeviceArgs) -> Vec<(PathBuf, Option<SystemTime>, u64)> {
     let mut files = vec![scene.to_owned()];
     files.extend(device.shader.iter().cloned());
-    for dir in &device.include {
-        if let Ok(entries) = std::fs::read_dir(dir) {
-            let mut e: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
-            e.sort();
-            files.extend(e);
-        }
-    }
+    files.extend(glint::files::in_dirs(&device.include));
     files
         .into_iter()
         .map(|f| {

@@ -112,13 +112,7 @@ impl Sources {
             h.write(text.as_bytes());
         }
         let mut files: Vec<PathBuf> = self.main.iter().cloned().collect();
-        for dir in &self.dirs {
-            let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
-                .map(|r| r.filter_map(|e| e.ok().map(|e| e.path())).collect())
-                .unwrap_or_default();
-            entries.sort();
-            files.extend(entries);
-        }
+        files.extend(crate::files::in_dirs(&self.dirs));
         for f in files {
             h.write(f.display().to_string().as_bytes());
             h.write(&std::fs::read(&f).unwrap_or_default());
@@ -277,13 +271,17 @@ pub fn compile_cached(
     // A cache that cannot be written is only a slower next start.
     if std::fs::create_dir_all(dir).is_ok() {
         if let Ok(tmp) = tempfile::NamedTempFile::new_in(dir) {
-            let bytes: Vec<u8> = spirv.iter().flat_map(|w| w.to_le_bytes()).collect();
-            if std::fs::write(tmp.path(), bytes).is_ok() {
+            if std::fs::write(tmp.path(), spirv_bytes(&spirv)).is_ok() {
                 let _ = tmp.persist(&file);
             }
         }
     }
     Ok((spirv, false))
+}
+
+/// SPIR-V words as the bytes of a .spv file (little-endian).
+pub fn spirv_bytes(words: &[u32]) -> Vec<u8> {
+    words.iter().flat_map(|w| w.to_le_bytes()).collect()
 }
 
 /// glslang's log as `file:line: error: message` lines, the main file named

@@ -70,13 +70,10 @@ pub fn repo() -> PathBuf {
 
 /// The scene files directly in `dir` (relative to the repository), sorted.
 pub fn scene_files(dir: &str) -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(repo().join(dir))
-        .expect("scene directory")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    v.sort();
-    v
+    glint::files::sorted(&repo().join(dir), |p| {
+        p.extension().is_some_and(|e| e == "toml")
+    })
+    .expect("scene directory")
 }
 
 /// A small scene with spheres, a plane, every light type and reflection.
