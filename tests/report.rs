@@ -131,3 +131,33 @@ fn gpu_f64_is_far_closer_to_the_reference_than_f32() {
     assert!(e64.rmse < 1e-6 && e64.max_abs < 1e-4, "{e64:?}");
     assert!(e64.rmse < e32.rmse / 3.0, "f64 {e64:?} against f32 {e32:?}");
 }
+
+/// A scene whose name holds a comma and quotes: the CSV quotes the field
+/// (it reads back as the name, every row with every column) and the page
+/// escapes it.
+#[test]
+fn names_with_commas_and_quotes_survive_the_csv_and_the_page() {
+    let dir = tempfile::tempdir().unwrap();
+    let name = "fig,3 \"q\"";
+    let scene = dir.path().join(format!("{name}.toml"));
+    std::fs::copy(common::repo().join("scenes/seed-fig3.toml"), &scene).unwrap();
+    let out = dir.path().join("out");
+    let o = common::glint(&[
+        "report",
+        scene.to_str().unwrap(),
+        "--quick",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut reader = csv::Reader::from_path(out.join("report.csv")).unwrap();
+    let columns = reader.headers().unwrap().len();
+    let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.unwrap()).collect();
+    assert!(!rows.is_empty());
+    for row in &rows {
+        assert_eq!(row.len(), columns);
+        assert_eq!(&row[0], name);
+    }
+    let html = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(html.contains("fig,3 &quot;q&quot;") && !html.contains(name));
+}

@@ -105,12 +105,10 @@ impl GpuOptions {
         }
     }
 
+    /// The platform's cache directory with `glint` in it: on Linux
     /// $XDG_CACHE_HOME/glint, or ~/.cache/glint.
     pub fn default_cache_dir() -> Option<PathBuf> {
-        let base = std::env::var_os("XDG_CACHE_HOME")
-            .map(PathBuf::from)
-            .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))?;
-        Some(base.join("glint"))
+        directories::BaseDirs::new().map(|d| d.cache_dir().join("glint"))
     }
 }
 

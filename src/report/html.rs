@@ -5,15 +5,8 @@
 use std::fmt::Write;
 use std::path::Path;
 
-use super::{tables, Report, ROW_HEADERS};
+use super::{escape, tables, Report, ROW_HEADERS};
 use crate::raster::{diff, io};
-
-fn escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
 
 /// A file-name-safe form of a scene's name.
 fn slug(name: &str) -> String {

@@ -165,6 +165,14 @@ pub fn machine() -> Machine {
     }
 }
 
+/// `s` as text or an attribute value of HTML or SVG.
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
 /// The median of `v` (the upper one of an even count), sorting it.
 pub fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);

@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use super::{Measurement, Report};
+use super::{escape, Measurement, Report};
 
 const W: f64 = 900.0;
 const H: f64 = 600.0;
@@ -71,12 +71,6 @@ fn marker(shape: usize, x: f64, y: f64, fill: &str, title: &str) -> String {
         1 => "rect",
         _ => "polygon",
     })
-}
-
-fn escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
 }
 
 pub fn plot(r: &Report) -> String {

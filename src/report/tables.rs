@@ -8,43 +8,50 @@ fn opt(v: Option<f64>) -> String {
     v.map_or_else(String::new, |v| format!("{v:.6}"))
 }
 
+/// One row a measurement, quoted where a field needs it (a scene's name
+/// may hold a comma or a quote).
 pub fn csv(r: &Report) -> String {
-    let mut out = String::from(
-        "scene,variant,backend,precision,intersect,max_depth,samples,width,height,median_s,upload_s,dispatch_s,readback_s,rays_per_s,compile_s,pipeline_s,max_abs,rmse,psnr_db,frac_over_1_255,nonfinite,flip_mean,pareto\n",
-    );
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let header = "scene,variant,backend,precision,intersect,max_depth,samples,width,height,median_s,upload_s,dispatch_s,readback_s,rays_per_s,compile_s,pipeline_s,max_abs,rmse,psnr_db,frac_over_1_255,nonfinite,flip_mean,pareto";
+    w.write_record(header.split(','))
+        .expect("writing to memory");
     for s in &r.scenes {
         for m in &s.measurements {
             let e = &m.error;
-            let _ = writeln!(
-                out,
-                "{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{:.0},{},{},{:e},{:e},{},{:e},{},{:e},{}",
-                s.name,
-                m.variant,
-                m.backend,
-                m.precision,
-                m.intersect.map_or(String::new(), |i| format!("{i:?}").to_lowercase()),
-                m.max_depth,
-                m.samples,
-                s.width,
-                s.height,
-                m.time.median_s,
+            let record = [
+                s.name.clone(),
+                m.variant.to_string(),
+                m.backend.to_string(),
+                m.precision.to_string(),
+                m.intersect
+                    .map_or(String::new(), |i| format!("{i:?}").to_lowercase()),
+                m.max_depth.to_string(),
+                m.samples.to_string(),
+                s.width.to_string(),
+                s.height.to_string(),
+                format!("{:.6}", m.time.median_s),
                 opt(m.time.upload_s),
                 opt(m.time.dispatch_s),
                 opt(m.time.readback_s),
-                m.time.rays_per_s,
+                format!("{:.0}", m.time.rays_per_s),
                 opt(m.setup.map(|x| x.compile_s)),
                 opt(m.setup.map(|x| x.pipeline_s)),
-                e.max_abs,
-                e.rmse,
-                if e.psnr_db.is_finite() { format!("{:.2}", e.psnr_db) } else { "inf".into() },
-                e.frac_over_1_255,
-                e.nonfinite,
-                m.flip_mean,
-                m.pareto
-            );
+                format!("{:e}", e.max_abs),
+                format!("{:e}", e.rmse),
+                if e.psnr_db.is_finite() {
+                    format!("{:.2}", e.psnr_db)
+                } else {
+                    "inf".into()
+                },
+                format!("{:e}", e.frac_over_1_255),
+                e.nonfinite.to_string(),
+                format!("{:e}", m.flip_mean),
+                m.pareto.to_string(),
+            ];
+            w.write_record(&record).expect("writing to memory");
         }
     }
-    out
+    String::from_utf8(w.into_inner().expect("writing to memory")).expect("UTF-8 fields")
 }
 
 pub fn json(r: &Report) -> String {
