@@ -1,6 +1,8 @@
 //! glint: a headless Whitted-style ray tracer. A Vulkan compute shader
 //! renders; a CPU reference in f64 (and f32) checks it pixel by pixel.
 
+#![warn(clippy::undocumented_unsafe_blocks, clippy::missing_safety_doc)]
+
 pub mod accel;
 pub mod bench;
 pub mod condition;

@@ -11,6 +11,7 @@ pub mod vk;
 
 use std::collections::HashMap;
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use ash::vk as raw;
@@ -25,7 +26,7 @@ pub use error::GpuError;
 use layout::{TileRect, Uploads};
 use variant::{Block, Variant};
 use vk::buffer::Buffer;
-use vk::command::OneShot;
+use vk::command::{Completed, OneShot};
 use vk::device::{Device, DeviceInfo};
 use vk::instance::Instance;
 use vk::pipeline::ComputePipeline;
@@ -159,11 +160,14 @@ impl RenderTimes {
     }
 }
 
-/// Field order is drop order: the pipelines, their cache and the commands go
-/// before the device, the device before the instance.
+/// Field order is drop order: the pipelines and the buffers bound to them,
+/// the pipeline cache and the commands go before the renderer's `Arc` of the
+/// device. Each holds its own `Arc` as well, so the device (and after it the
+/// instance) is destroyed after the last of them whatever the order.
 pub struct Renderer {
     /// Keyed by the variant and the fingerprint of the shader sources, so
-    /// that an edited shader file makes a new pipeline (`glint watch`).
+    /// that an edited shader file makes a new pipeline (`glint watch`),
+    /// which replaces the variant's old one.
     pipelines: HashMap<(Variant, u64), ComputePipeline>,
     pipeline_cache: PipelineCache,
     /// The last render's buffers, which the next render of the same scene
@@ -173,8 +177,7 @@ pub struct Renderer {
     /// Where the device's queue writes timestamps.
     timestamps: Option<Timestamps>,
     commands: OneShot,
-    device: Device,
-    instance: Instance,
+    device: Arc<Device>,
     sources: compile::Sources,
     defines: Vec<(String, Option<String>)>,
     cache_dir: Option<PathBuf>,
@@ -185,8 +188,6 @@ pub struct Renderer {
     timeout: Option<Duration>,
     /// Whether scene buffers are device-local, filled through staging.
     stage_uploads: bool,
-    /// A wait timed out: the device may still run that work.
-    lost: bool,
     /// The last scene laid out, so that `variant_for`, `prepare_for` and
     /// `render` of one scene build its uploads (and its BVH) once.
     laid_out: std::cell::RefCell<Option<LaidOut>>,
@@ -236,7 +237,7 @@ pub fn tile_timeout(scene: &Scene, pixels: u64, bvh: bool) -> Duration {
 
 impl Drop for Renderer {
     fn drop(&mut self) {
-        if self.lost {
+        if self.device.hung() {
             // A timed-out dispatch may still be running: let it end before
             // its pipeline, command buffer and device are destroyed (its
             // buffers were leaked when it timed out).
@@ -266,7 +267,7 @@ impl Renderer {
         }
         let t0 = Instant::now();
         let instance = Instance::new(opts.validate)?;
-        let device = Device::open(&instance, opts.device.as_deref())?;
+        let device = Device::open(instance, opts.device.as_deref())?;
         let commands = OneShot::new(&device)?;
         let timestamps = Timestamps::new(&device)?;
         let device_has_private_memory = device.has_private_memory();
@@ -274,7 +275,7 @@ impl Renderer {
             .cache_dir
             .as_ref()
             .map(|d| d.join(format!("pipelines-{}.bin", device.info.cache_id())));
-        let pipeline_cache = PipelineCache::new(&device.raw, cache_file.as_deref())?;
+        let pipeline_cache = PipelineCache::new(&device, cache_file.as_deref())?;
         let renderer = Self {
             pipelines: HashMap::new(),
             pipeline_cache,
@@ -282,7 +283,6 @@ impl Renderer {
             timestamps,
             commands,
             device,
-            instance,
             sources: compile::Sources {
                 dirs: opts.include_dirs.clone(),
                 main: opts.main_shader.clone(),
@@ -295,7 +295,6 @@ impl Renderer {
             device_s: secs(t0.elapsed()),
             timeout: opts.timeout,
             stage_uploads: opts.stage_uploads.unwrap_or(device_has_private_memory),
-            lost: false,
             laid_out: std::cell::RefCell::new(None),
         };
         renderer.check_validation()?;
@@ -317,7 +316,7 @@ impl Renderer {
     }
 
     fn check_validation(&self) -> Result<(), GpuError> {
-        let messages = self.instance.take_messages();
+        let messages = self.device.instance().take_messages();
         if messages.is_empty() {
             Ok(())
         } else {
@@ -420,7 +419,7 @@ impl Renderer {
         let t1 = Instant::now();
         let push_bytes = std::mem::size_of::<TileRect>() as u32;
         let pipeline = ComputePipeline::new(
-            &self.device.raw,
+            &self.device,
             &spirv,
             &variant.descriptor_layout(),
             push_bytes,
@@ -429,6 +428,13 @@ impl Renderer {
         setup.compile_s = secs(t1 - t0);
         setup.pipeline_s = secs(t1.elapsed());
         setup.spirv_cached = cached;
+        // An edit's pipeline replaces the variant's old one; the buffers
+        // bound to the old one's descriptor set go with it (the device is
+        // idle between renders).
+        if self.resident.as_ref().is_some_and(|r| r.pipeline.0 == key.0) {
+            self.resident = None;
+        }
+        self.pipelines.retain(|(v, _), _| *v != key.0);
         self.pipelines.insert(key.clone(), pipeline);
         self.check_validation()?;
         Ok((key, setup))
@@ -514,7 +520,7 @@ impl Renderer {
         count: bool,
         progress: &dyn Fn(u64),
     ) -> Result<(Image, RenderTimes, Option<Counts>), GpuError> {
-        if self.lost {
+        if self.device.hung() {
             return Err(GpuError::Lost);
         }
         if let Some(grid) = scene.corner_grid() {
@@ -545,16 +551,14 @@ impl Renderer {
         let reuse = self.resident.as_ref().is_some_and(|r| {
             r.pipeline == key && r.tile == (tile_w, tile_h) && std::rc::Rc::ptr_eq(&r.uploads, &up)
         });
-        if reuse {
-            if let Some(at) = variant.binding_of(Block::Counts) {
-                let buffers = &self.resident.as_ref().expect("reused").buffers;
-                buffers[at].write(&[0u32; 2 * Counter::SLOTS]);
-            }
-        } else {
+        if !reuse {
             // The old buffers go first: the device is idle between renders.
             self.resident = None;
             let buffers = self.scene_buffers(&variant, &up, (tile_w, tile_h))?;
-            self.pipelines[&key].bind(&buffers.iter().collect::<Vec<_>>());
+            // SAFETY: the device is idle between renders; the buffers are
+            // kept in `resident` until the set is bound again or the
+            // pipeline is dropped, or leaked where a dispatch timed out.
+            unsafe { self.pipelines[&key].bind(&buffers.iter().collect::<Vec<_>>()) };
             self.resident = Some(Resident {
                 pipeline: key.clone(),
                 uploads: up.clone(),
@@ -565,6 +569,10 @@ impl Renderer {
         let pipeline = &self.pipelines[&key];
         let buffers = &self.resident.as_ref().expect("set above").buffers;
         let out = buffers.last().expect("the output binding is last");
+        // The counters start at zero on the device, in the first dispatch.
+        let mut counters = variant.binding_of(Block::Counts).map(|at| buffers[at].raw);
+        // The last tile's token, for reading the counters.
+        let mut counted = None;
 
         times.upload_s = layout_s + secs(t0.elapsed());
         times.bvh_s = up.bvh_s;
@@ -581,14 +589,20 @@ impl Renderer {
                     tile_timeout(scene, u64::from(w) * u64::from(h), variant.bvh_layouts > 0)
                 });
                 let rect = TileRect(UVec4::new(x0, y0, w, h));
-                let on_device = match self.dispatch(pipeline, out.raw, rect, timeout) {
+                let job = Dispatch {
+                    pipeline,
+                    out: out.raw,
+                    zero: counters.take(),
+                    rect,
+                };
+                let done = dispatch(&mut self.commands, self.timestamps.as_ref(), &job, timeout);
+                let (done, on_device) = match done {
                     Err(GpuError::Vk {
                         result: raw::Result::TIMEOUT,
                         ..
                     }) => {
                         // The GPU may still read and write these: never free them.
                         std::mem::forget(self.resident.take());
-                        self.lost = true;
                         return Err(GpuError::Timeout {
                             x: x0,
                             y: y0,
@@ -603,7 +617,7 @@ impl Renderer {
                     *total += s;
                 }
                 let t2 = Instant::now();
-                let tile: &[[f32; 4]] = out.read(w as usize * h as usize);
+                let tile: &[[f32; 4]] = out.read(&done, w as usize * h as usize);
                 // Alpha 1: every loop of the invocation ran to its end
                 // (shaders/budget.glsl); 0: they were cut short; NaN, the
                 // fill below: the shader wrote nothing there.
@@ -630,33 +644,37 @@ impl Renderer {
                 times.dispatch_s += secs(t2 - t1);
                 times.readback_s += secs(t2.elapsed());
                 progress(u64::from(w) * u64::from(h));
+                counted = Some(done);
             }
         }
-        self.check_validation()?;
         let counts = variant.binding_of(Block::Counts).map(|at| {
-            let words: &[[u32; 2]] = buffers[at].read(Counter::SLOTS);
+            let done = counted.as_ref().expect("a region has at least one tile");
+            let words: &[[u32; 2]] = buffers[at].read(done, Counter::SLOTS);
             Counts::from_slots(std::array::from_fn(|i| {
                 u64::from(words[i][1]) << 32 | u64::from(words[i][0])
             }))
         });
+        self.check_validation()?;
         Ok((Image::new(width, height, pixels), times, counts))
     }
 
     /// The buffers of `variant`'s bindings, in order, holding `up` (the
     /// output tile last, of `tile` pixels); only those its shader declares.
     fn scene_buffers(
-        &self,
+        &mut self,
         variant: &Variant,
         up: &Uploads,
         tile: (u32, u32),
     ) -> Result<Vec<Buffer>, GpuError> {
         let d = &self.device;
+        let commands = &mut self.commands;
+        let stage_uploads = self.stage_uploads;
         let usage = variant.scene_buffer_usage();
         let out_bytes = u64::from(tile.0) * u64::from(tile.1) * 16;
         // What the shader only reads: device-local through staging, or mapped.
-        let scene = |bytes: &[u8], usage, what| {
-            if self.stage_uploads {
-                Buffer::staged(d, &self.commands, bytes, usage, what)
+        let mut scene = |bytes: &[u8], usage, what| {
+            if stage_uploads {
+                Buffer::staged(d, commands, bytes, usage, what)
             } else {
                 Buffer::with_data(d, bytes, usage, what)
             }
@@ -677,10 +695,10 @@ impl Renderer {
                     usage,
                     "BVH nodes",
                 )?,
-                Block::Counts => Buffer::with_data(
+                Block::Counts => Buffer::new(
                     d,
-                    &[0u32; 2 * Counter::SLOTS],
-                    raw::BufferUsageFlags::STORAGE_BUFFER,
+                    (2 * Counter::SLOTS * std::mem::size_of::<u32>()) as u64,
+                    raw::BufferUsageFlags::STORAGE_BUFFER | raw::BufferUsageFlags::TRANSFER_DST,
                     "the counters",
                 )?,
                 Block::Pixels => Buffer::new(
@@ -693,76 +711,97 @@ impl Renderer {
         }
         Ok(buffers)
     }
+}
 
-    /// Runs the pipeline over `rect`, into `out`; the dispatch's own time on
-    /// the device, where it writes timestamps.
-    fn dispatch(
-        &self,
-        p: &ComputePipeline,
-        out: raw::Buffer,
-        rect: TileRect,
-        timeout: Duration,
-    ) -> Result<Option<f64>, GpuError> {
-        let groups = |n: u32| n.div_ceil(WORKGROUP);
-        self.commands.run(timeout, |dev, cb| unsafe {
-            // Every output word starts as a NaN, so a pixel the shader never
-            // writes is seen, not read as whatever the memory held.
-            dev.cmd_fill_buffer(cb, out, 0, raw::WHOLE_SIZE, UNWRITTEN);
-            let filled = raw::MemoryBarrier::default()
-                .src_access_mask(raw::AccessFlags::TRANSFER_WRITE)
-                .dst_access_mask(raw::AccessFlags::SHADER_WRITE);
-            dev.cmd_pipeline_barrier(
-                cb,
-                raw::PipelineStageFlags::TRANSFER,
-                raw::PipelineStageFlags::COMPUTE_SHADER,
-                raw::DependencyFlags::empty(),
-                &[filled],
-                &[],
-                &[],
-            );
-            dev.cmd_bind_pipeline(cb, raw::PipelineBindPoint::COMPUTE, p.pipeline);
-            dev.cmd_bind_descriptor_sets(
-                cb,
-                raw::PipelineBindPoint::COMPUTE,
-                p.layout,
-                0,
-                &[p.set],
-                &[],
-            );
-            dev.cmd_push_constants(
-                cb,
-                p.layout,
-                raw::ShaderStageFlags::COMPUTE,
-                0,
-                bytemuck::bytes_of(&rect),
-            );
-            // From when the fill is done to when the dispatch is.
-            if let Some(t) = &self.timestamps {
-                t.begin(cb, raw::PipelineStageFlags::TRANSFER);
-            }
-            dev.cmd_dispatch(cb, groups(rect.0.z), groups(rect.0.w), 1);
-            if let Some(t) = &self.timestamps {
-                t.end(cb, raw::PipelineStageFlags::COMPUTE_SHADER);
-            }
-            // Make the shader's writes visible to the host's read of the mapping.
-            let barrier = raw::MemoryBarrier::default()
-                .src_access_mask(raw::AccessFlags::SHADER_WRITE)
-                .dst_access_mask(raw::AccessFlags::HOST_READ);
-            dev.cmd_pipeline_barrier(
-                cb,
-                raw::PipelineStageFlags::COMPUTE_SHADER,
-                raw::PipelineStageFlags::HOST,
-                raw::DependencyFlags::empty(),
-                &[barrier],
-                &[],
-                &[],
-            );
-        })?;
-        self.timestamps
-            .as_ref()
-            .map(Timestamps::seconds)
-            .transpose()
-    }
+/// One tile's dispatch: the pipeline (its set bound), its output buffer,
+/// the counters to zero first (the first tile of a counted render), and the
+/// tile.
+struct Dispatch<'a> {
+    pipeline: &'a ComputePipeline,
+    out: raw::Buffer,
+    zero: Option<raw::Buffer>,
+    rect: TileRect,
+}
+
+/// Runs `job` on `commands`, waiting at most `timeout`: the token that it
+/// finished, and the dispatch's own time on the device where it writes
+/// timestamps.
+fn dispatch<'c>(
+    commands: &'c mut OneShot,
+    timestamps: Option<&Timestamps>,
+    job: &Dispatch<'_>,
+    timeout: Duration,
+) -> Result<(Completed<'c>, Option<f64>), GpuError> {
+    let groups = |n: u32| n.div_ceil(WORKGROUP);
+    let Dispatch {
+        pipeline: p,
+        out,
+        zero,
+        rect,
+    } = *job;
+    // SAFETY: the pipeline, its set and the buffers bound to it are alive
+    // until `run` returns (the renderer holds them) and are leaked if the
+    // wait times out; the fills cover whole buffers; the command buffer is
+    // recording, outside a render pass (the contract of the timestamps).
+    let done = commands.run(timeout, |dev, cb| unsafe {
+        // Every output word starts as a NaN, so a pixel the shader never
+        // writes is seen, not read as whatever the memory held.
+        dev.cmd_fill_buffer(cb, out, 0, raw::WHOLE_SIZE, UNWRITTEN);
+        if let Some(counters) = zero {
+            dev.cmd_fill_buffer(cb, counters, 0, raw::WHOLE_SIZE, 0);
+        }
+        let filled = raw::MemoryBarrier::default()
+            .src_access_mask(raw::AccessFlags::TRANSFER_WRITE)
+            .dst_access_mask(raw::AccessFlags::SHADER_READ | raw::AccessFlags::SHADER_WRITE);
+        dev.cmd_pipeline_barrier(
+            cb,
+            raw::PipelineStageFlags::TRANSFER,
+            raw::PipelineStageFlags::COMPUTE_SHADER,
+            raw::DependencyFlags::empty(),
+            &[filled],
+            &[],
+            &[],
+        );
+        dev.cmd_bind_pipeline(cb, raw::PipelineBindPoint::COMPUTE, p.pipeline);
+        dev.cmd_bind_descriptor_sets(
+            cb,
+            raw::PipelineBindPoint::COMPUTE,
+            p.layout,
+            0,
+            &[p.set],
+            &[],
+        );
+        dev.cmd_push_constants(
+            cb,
+            p.layout,
+            raw::ShaderStageFlags::COMPUTE,
+            0,
+            bytemuck::bytes_of(&rect),
+        );
+        // From when the fill is done to when the dispatch is.
+        if let Some(t) = timestamps {
+            t.begin(cb, raw::PipelineStageFlags::TRANSFER);
+        }
+        dev.cmd_dispatch(cb, groups(rect.0.z), groups(rect.0.w), 1);
+        if let Some(t) = timestamps {
+            t.end(cb, raw::PipelineStageFlags::COMPUTE_SHADER);
+        }
+        // Make the shader's writes visible to the host's read of the mapping.
+        let barrier = raw::MemoryBarrier::default()
+            .src_access_mask(raw::AccessFlags::SHADER_WRITE)
+            .dst_access_mask(raw::AccessFlags::HOST_READ);
+        dev.cmd_pipeline_barrier(
+            cb,
+            raw::PipelineStageFlags::COMPUTE_SHADER,
+            raw::PipelineStageFlags::HOST,
+            raw::DependencyFlags::empty(),
+            &[barrier],
+            &[],
+            &[],
+        );
+    })?;
+    let on_device = timestamps.map(|t| t.seconds(&done)).transpose()?;
+    Ok((done, on_device))
 }
 
 /// Every Vulkan device, best first, for `glint info`.

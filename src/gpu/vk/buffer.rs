@@ -1,26 +1,29 @@
 //! Buffers: host-visible ones, mapped for their whole life, and
 //! device-local ones filled through a staging buffer.
 
+use std::sync::Arc;
+
 use ash::vk;
 
-use super::command::OneShot;
+use super::command::{Completed, OneShot};
 use super::device::Device;
 use crate::gpu::error::{GpuError, VkContext};
 
+/// A buffer and its own memory, which keeps its device alive.
 pub struct Buffer {
     pub raw: vk::Buffer,
     pub memory: vk::DeviceMemory,
     pub size: vk::DeviceSize,
     /// Null for a device-local buffer, which the host does not map.
     mapped: *mut u8,
-    device: ash::Device,
+    device: Arc<Device>,
 }
 
 impl Buffer {
     /// A buffer of `size` bytes (at least 16: Vulkan has no empty buffers),
     /// in memory the host can map; device-local where the device offers both.
     pub fn new(
-        device: &Device,
+        device: &Arc<Device>,
         size: vk::DeviceSize,
         usage: vk::BufferUsageFlags,
         what: &'static str,
@@ -32,7 +35,7 @@ impl Buffer {
     /// not map: a discrete GPU's own memory where it has memory the host
     /// cannot see, else any device-local memory. Filled by [`Buffer::staged`].
     pub fn device_local(
-        device: &Device,
+        device: &Arc<Device>,
         size: vk::DeviceSize,
         usage: vk::BufferUsageFlags,
         what: &'static str,
@@ -41,7 +44,7 @@ impl Buffer {
     }
 
     fn allocate(
-        device: &Device,
+        device: &Arc<Device>,
         size: vk::DeviceSize,
         usage: vk::BufferUsageFlags,
         what: &'static str,
@@ -53,7 +56,9 @@ impl Buffer {
             .size(size)
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
+        // SAFETY: a live device; size is non-zero.
         let raw = unsafe { raw_device.create_buffer(&info, None) }.doing("vkCreateBuffer")?;
+        // SAFETY: `raw` was made from this device just above.
         let needs = unsafe { raw_device.get_buffer_memory_requirements(raw) };
         let mapped_flags =
             vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT;
@@ -69,15 +74,18 @@ impl Buffer {
                 .or_else(|| device.memory_type(bits, local))
         };
         let Some(type_index) = type_index else {
+            // SAFETY: unused, unbound, and not handed out.
             unsafe { raw_device.destroy_buffer(raw, None) };
             return Err(GpuError::NoMemoryType(what));
         };
         let alloc = vk::MemoryAllocateInfo::default()
             .allocation_size(needs.size)
             .memory_type_index(type_index);
+        // SAFETY: a memory type index the device listed for this buffer.
         let memory = match unsafe { raw_device.allocate_memory(&alloc, None) } {
             Ok(m) => m,
             Err(result) => {
+                // SAFETY: unused, unbound, and not handed out.
                 unsafe { raw_device.destroy_buffer(raw, None) };
                 return Err(GpuError::Vk {
                     what: "vkAllocateMemory",
@@ -85,6 +93,8 @@ impl Buffer {
                 });
             }
         };
+        // SAFETY: fresh memory of the size and type the buffer needs, bound
+        // at offset 0; only host-visible memory is mapped.
         let mapped = unsafe {
             raw_device.bind_buffer_memory(raw, memory, 0).and_then(|_| {
                 if host {
@@ -100,9 +110,10 @@ impl Buffer {
                 memory,
                 size,
                 mapped: ptr.cast(),
-                device: raw_device.clone(),
+                device: device.clone(),
             }),
             Err(result) => {
+                // SAFETY: unused and not handed out; freeing memory unmaps it.
                 unsafe {
                     raw_device.destroy_buffer(raw, None);
                     raw_device.free_memory(memory, None);
@@ -117,22 +128,22 @@ impl Buffer {
 
     /// A buffer holding `data`.
     pub fn with_data<T: bytemuck::Pod>(
-        device: &Device,
+        device: &Arc<Device>,
         data: &[T],
         usage: vk::BufferUsageFlags,
         what: &'static str,
     ) -> Result<Self, GpuError> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
         let buffer = Self::new(device, bytes.len() as vk::DeviceSize, usage, what)?;
-        buffer.write(bytes);
+        buffer.fill(bytes);
         Ok(buffer)
     }
 
     /// A device-local buffer holding `data`, copied in through a staging
     /// buffer by one submission of `commands`, which this waits on.
     pub fn staged<T: bytemuck::Pod>(
-        device: &Device,
-        commands: &OneShot,
+        device: &Arc<Device>,
+        commands: &mut OneShot,
         data: &[T],
         usage: vk::BufferUsageFlags,
         what: &'static str,
@@ -147,7 +158,10 @@ impl Buffer {
         )?;
         let staging = Self::with_data(device, bytes, vk::BufferUsageFlags::TRANSFER_SRC, what)?;
         let copy = vk::BufferCopy::default().size(staging.size.min(buffer.size));
-        commands.run(std::time::Duration::from_secs(60), |d, cb| unsafe {
+        // SAFETY: both buffers are alive until `run` returns, which waits
+        // for the copy (on a timeout `staging` is leaked, below); the copy
+        // is within both.
+        let copied = commands.run(std::time::Duration::from_secs(60), |d, cb| unsafe {
             d.cmd_copy_buffer(cb, staging.raw, buffer.raw, &[copy]);
             // The copy is done before any shader reads the buffer.
             let barrier = vk::MemoryBarrier::default()
@@ -162,25 +176,41 @@ impl Buffer {
                 &[],
                 &[],
             );
-        })?;
-        Ok(buffer)
+        });
+        match copied {
+            Ok(_) => Ok(buffer),
+            Err(e) => {
+                if device.hung() {
+                    // The copy may still be reading and writing both.
+                    std::mem::forget(staging);
+                    std::mem::forget(buffer);
+                }
+                Err(e)
+            }
+        }
     }
 
-    /// Writes `data` at the start of the buffer, while the GPU does not use it.
-    pub fn write<T: bytemuck::Pod>(&self, data: &[T]) {
-        let bytes: &[u8] = bytemuck::cast_slice(data);
+    /// Writes `bytes` at the start of a buffer just made, which no
+    /// command has used yet. (A buffer the GPU has used is filled on the
+    /// device, by `vkCmdFillBuffer` or a copy, never from the host.)
+    fn fill(&self, bytes: &[u8]) {
         assert!(!self.mapped.is_null(), "write to a device-local buffer");
         assert!(
             bytes.len() as vk::DeviceSize <= self.size,
             "write past the end of a buffer"
         );
-        // SAFETY: the mapping covers `size` bytes; the caller waited on the
-        // fence of the last work that used the buffer.
+        // SAFETY: the mapping covers `size` bytes, and the buffer is new
+        // (private to `with_data`), so no GPU work can be using it.
         unsafe { std::ptr::copy_nonoverlapping(bytes.as_ptr(), self.mapped, bytes.len()) };
     }
 
-    /// The mapped contents, read after the GPU's writes were made visible.
-    pub fn read<T: bytemuck::Pod>(&self, count: usize) -> &[T] {
+    /// The first `count` values of the mapped contents, once the work that
+    /// wrote them has finished: `done` is the token of that work's
+    /// submission, and the slice lives no longer than it, so no later
+    /// submission can write under it. The work must also have made its
+    /// writes visible to the host (a barrier to `HOST_READ`).
+    pub fn read<'a, T: bytemuck::Pod>(&'a self, done: &Completed<'a>, count: usize) -> &'a [T] {
+        let _ = done;
         let bytes = count * std::mem::size_of::<T>();
         assert!(!self.mapped.is_null(), "read of a device-local buffer");
         assert!(
@@ -188,7 +218,9 @@ impl Buffer {
             "read past the end of a buffer"
         );
         // SAFETY: mapped for the buffer's life, coherent, aligned to at least
-        // minMemoryMapAlignment (>= 64), and the caller waited on the fence.
+        // minMemoryMapAlignment (>= 64, which any Pod's alignment divides),
+        // `bytes` within the mapping, and no GPU work is running that could
+        // write it (`done`, which this borrow outlives).
         let slice = unsafe { std::slice::from_raw_parts(self.mapped, bytes) };
         bytemuck::cast_slice(slice)
     }
@@ -196,12 +228,16 @@ impl Buffer {
 
 impl Drop for Buffer {
     fn drop(&mut self) {
+        let d = &self.device.raw;
+        // SAFETY: the device is alive (this holds it); no submission uses
+        // the buffer: each `OneShot::run` waits, and a buffer whose work
+        // timed out is leaked, never dropped.
         unsafe {
             if !self.mapped.is_null() {
-                self.device.unmap_memory(self.memory);
+                d.unmap_memory(self.memory);
             }
-            self.device.destroy_buffer(self.raw, None);
-            self.device.free_memory(self.memory, None);
+            d.destroy_buffer(self.raw, None);
+            d.free_memory(self.memory, None);
         }
     }
 }

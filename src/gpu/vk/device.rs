@@ -1,6 +1,8 @@
 //! Choosing a physical device and opening a logical one with a compute queue.
 
 use std::ffi::CStr;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 use ash::vk;
 use serde::Serialize;
@@ -57,16 +59,25 @@ fn version(v: u32) -> String {
 /// GPUs, virtual GPUs, then CPU implementations such as lavapipe.
 pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
     let raw = &instance.raw;
+    // SAFETY: `raw` is a live instance (borrowed for the call).
     let physicals =
         unsafe { raw.enumerate_physical_devices() }.doing("vkEnumeratePhysicalDevices")?;
     let mut out = Vec::new();
     for physical in physicals {
         let mut driver = vk::PhysicalDeviceDriverProperties::default();
         let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
+        // SAFETY: `physical` came from this instance; the chain is one
+        // properties struct the driver fills; Vulkan 1.1+ is required of the
+        // loader (the instance asked for 1.2).
         unsafe { raw.get_physical_device_properties2(physical, &mut props2) };
         let props = props2.properties;
-        let features = unsafe { raw.get_physical_device_features(physical) };
-        let families = unsafe { raw.get_physical_device_queue_family_properties(physical) };
+        // SAFETY: as above, queries of a handle from this instance.
+        let (features, families) = unsafe {
+            (
+                raw.get_physical_device_features(physical),
+                raw.get_physical_device_queue_family_properties(physical),
+            )
+        };
         let compute_queue_family = families
             .iter()
             .position(|f| f.queue_flags.contains(vk::QueueFlags::COMPUTE))
@@ -120,6 +131,9 @@ fn usable(c: &Candidate) -> bool {
     c.info.compute_queue_family.is_some() && c.api >= vk::API_VERSION_1_2
 }
 
+/// A logical device and its compute queue. Shared (`Arc`) by everything
+/// made from it, each of which keeps it alive: the device is destroyed
+/// after the last of them, and the instance after the device.
 pub struct Device {
     pub raw: ash::Device,
     pub physical: vk::PhysicalDevice,
@@ -127,13 +141,18 @@ pub struct Device {
     pub queue_family: u32,
     pub memory: vk::PhysicalDeviceMemoryProperties,
     pub info: DeviceInfo,
+    /// A wait on this device's work timed out: the work may still run, so
+    /// nothing more is submitted ([`Device::hung`]).
+    hung: AtomicBool,
+    /// Dropped after the device is destroyed (fields drop after `drop`).
+    instance: Arc<Instance>,
 }
 
 impl Device {
     /// Opens the best usable device, or the first whose name contains
     /// `wanted` (case-insensitive).
-    pub fn open(instance: &Instance, wanted: Option<&str>) -> Result<Self, GpuError> {
-        let all = candidates(instance)?;
+    pub fn open(instance: Arc<Instance>, wanted: Option<&str>) -> Result<Arc<Self>, GpuError> {
+        let all = candidates(&instance)?;
         let chosen = match wanted {
             Some(name) => {
                 let needle = name.to_lowercase();
@@ -163,22 +182,46 @@ impl Device {
         let info = vk::DeviceCreateInfo::default()
             .queue_create_infos(std::slice::from_ref(&queue_info))
             .enabled_features(&features);
+        // SAFETY: `chosen.physical` came from this instance; the create
+        // info asks for one queue of a family it has and only features it
+        // reported (shaderFloat64 where supported).
         let raw = unsafe { instance.raw.create_device(chosen.physical, &info, None) }
             .doing("vkCreateDevice")?;
+        // SAFETY: queue 0 of the family the device was created with.
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
+        // SAFETY: a query of a handle from this instance.
         let memory = unsafe {
             instance
                 .raw
                 .get_physical_device_memory_properties(chosen.physical)
         };
-        Ok(Self {
+        Ok(Arc::new(Self {
             raw,
             physical: chosen.physical,
             queue,
             queue_family,
             memory,
             info: chosen.info.clone(),
-        })
+            hung: AtomicBool::new(false),
+            instance,
+        }))
+    }
+
+    /// The instance the device was opened on.
+    pub fn instance(&self) -> &Instance {
+        &self.instance
+    }
+
+    /// Whether a wait on this device timed out. Its work may still be
+    /// running, so [`OneShot::run`](super::command::OneShot::run) submits
+    /// nothing more, and whatever that work used is never freed.
+    pub fn hung(&self) -> bool {
+        self.hung.load(Ordering::Acquire)
+    }
+
+    /// Marks the device hung ([`Device::hung`]).
+    pub(super) fn mark_hung(&self) {
+        self.hung.store(true, Ordering::Release);
     }
 
     /// A memory type allowed by `type_bits` with all of `flags`.
@@ -213,7 +256,9 @@ impl Device {
 
 impl Drop for Device {
     fn drop(&mut self) {
-        // SAFETY: the objects made from this device are dropped before it.
+        // SAFETY: every object made from this device holds an Arc of it, so
+        // all of them are gone; waiting for idle first lets work that timed
+        // out (a hung device) end before the device does.
         unsafe {
             let _ = self.raw.device_wait_idle();
             self.raw.destroy_device(None);

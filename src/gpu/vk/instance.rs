@@ -2,7 +2,7 @@
 //! that collects every message it sends when validation is on.
 
 use std::ffi::{c_void, CStr};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 use ash::{ext::debug_utils, vk};
 
@@ -15,6 +15,7 @@ const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 pub struct Messages(Mutex<Vec<String>>);
 
 impl Messages {
+    /// The messages so far, leaving none.
     pub fn take(&self) -> Vec<String> {
         std::mem::take(&mut *self.0.lock().unwrap_or_else(|e| e.into_inner()))
     }
@@ -27,6 +28,7 @@ struct Messenger {
     messages: Box<Messages>,
 }
 
+/// A Vulkan instance; devices opened on it hold an `Arc` of it.
 pub struct Instance {
     messenger: Option<Messenger>,
     pub raw: ash::Instance,
@@ -46,6 +48,7 @@ unsafe extern "system" fn on_message(
     let text = if data.p_message.is_null() {
         "(no message)".to_owned()
     } else {
+        // SAFETY: non-null, and a NUL-terminated string for the call's length.
         unsafe { CStr::from_ptr(data.p_message) }
             .to_string_lossy()
             .into_owned()
@@ -59,7 +62,10 @@ unsafe extern "system" fn on_message(
 }
 
 impl Instance {
-    pub fn new(validate: bool) -> Result<Self, GpuError> {
+    /// Loads the system's Vulkan loader and creates an instance, with the
+    /// validation layer and a messenger collecting its messages where
+    /// `validate`.
+    pub fn new(validate: bool) -> Result<Arc<Self>, GpuError> {
         // SAFETY: loading libvulkan runs its initialisers; it is the system loader.
         let entry = unsafe { ash::Entry::load() }.map_err(|e| GpuError::NoLoader(e.to_string()))?;
         let app = vk::ApplicationInfo::default()
@@ -71,6 +77,7 @@ impl Instance {
         let mut layers = Vec::new();
         let mut extensions = Vec::new();
         if validate {
+            // SAFETY: a query of the loaded loader.
             let available = unsafe { entry.enumerate_instance_layer_properties() }
                 .doing("vkEnumerateInstanceLayerProperties")?;
             let has_layer = available
@@ -105,6 +112,9 @@ impl Instance {
             // Chained too, so that instance creation and destruction are checked.
             info = info.push_next(&mut messenger_info);
         }
+        // SAFETY: the create info and every name and struct it points to
+        // live until the call returns; the layers and extensions asked for
+        // are ones the loader listed (validation is checked above).
         let raw = match unsafe { entry.create_instance(&info, None) } {
             Ok(raw) => raw,
             // The loader's answer when it finds no driver at all.
@@ -119,6 +129,8 @@ impl Instance {
 
         let messenger = if validate {
             let loader = debug_utils::Instance::new(&entry, &raw);
+            // SAFETY: the callback's user data is the boxed `Messages`, kept
+            // in the `Messenger` until after the messenger is destroyed.
             match unsafe { loader.create_debug_utils_messenger(&messenger_info, None) } {
                 Ok(handle) => Some(Messenger {
                     loader,
@@ -126,6 +138,7 @@ impl Instance {
                     messages,
                 }),
                 Err(result) => {
+                    // SAFETY: the instance was just made and has no children.
                     unsafe { raw.destroy_instance(None) };
                     return Err(GpuError::Vk {
                         what: "vkCreateDebugUtilsMessengerEXT",
@@ -136,11 +149,11 @@ impl Instance {
         } else {
             None
         };
-        Ok(Self {
+        Ok(Arc::new(Self {
             messenger,
             raw,
             entry,
-        })
+        }))
     }
 
     /// The validation messages since the last call; empty without validation.
@@ -150,6 +163,7 @@ impl Instance {
             .map_or_else(Vec::new, |m| m.messages.take())
     }
 
+    /// Whether the validation layer is on.
     pub fn validating(&self) -> bool {
         self.messenger.is_some()
     }
@@ -157,7 +171,8 @@ impl Instance {
 
 impl Drop for Instance {
     fn drop(&mut self) {
-        // SAFETY: every child object is gone (the device drops first).
+        // SAFETY: every child object is gone: a device holds an Arc of its
+        // instance, so the last device was destroyed before this runs.
         unsafe {
             if let Some(m) = self.messenger.take() {
                 m.loader.destroy_debug_utils_messenger(m.raw, None);

@@ -1,9 +1,12 @@
 //! The compute pipeline: shader module, descriptor layout, pipeline layout,
 //! pipeline, and the descriptor set that binds the scene's buffers.
 
+use std::sync::Arc;
+
 use ash::vk;
 
 use super::buffer::Buffer;
+use super::device::Device;
 use crate::gpu::error::{GpuError, VkContext};
 
 /// One descriptor set of buffers, at the given bindings and types.
@@ -14,12 +17,14 @@ pub struct ComputePipeline {
     pub pool: vk::DescriptorPool,
     pub set: vk::DescriptorSet,
     bindings: Vec<(u32, vk::DescriptorType)>,
-    device: ash::Device,
+    device: Arc<Device>,
 }
 
 impl ComputePipeline {
+    /// The pipeline of `spirv`'s `main`, with one descriptor set of
+    /// `bindings` and `push_constant_bytes` of push constants.
     pub fn new(
-        device: &ash::Device,
+        device: &Arc<Device>,
         spirv: &[u32],
         bindings: &[(u32, vk::DescriptorType)],
         push_constant_bytes: u32,
@@ -34,6 +39,7 @@ impl ComputePipeline {
             bindings: bindings.to_vec(),
             device: device.clone(),
         };
+        let device = &device.raw;
         // Built up field by field so that Drop frees whatever was made if a
         // later step fails.
         let layout_bindings: Vec<_> = bindings
@@ -47,6 +53,8 @@ impl ComputePipeline {
             })
             .collect();
         let set_info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings);
+        // SAFETY: a live device; the create infos below and what they point
+        // to live until each call returns.
         p.set_layout = unsafe { device.create_descriptor_set_layout(&set_info, None) }
             .doing("vkCreateDescriptorSetLayout")?;
 
@@ -58,10 +66,13 @@ impl ComputePipeline {
         let layout_info = vk::PipelineLayoutCreateInfo::default()
             .set_layouts(&set_layouts)
             .push_constant_ranges(&ranges);
+        // SAFETY: as above; the set layout was made just above.
         p.layout = unsafe { device.create_pipeline_layout(&layout_info, None) }
             .doing("vkCreatePipelineLayout")?;
 
         let module_info = vk::ShaderModuleCreateInfo::default().code(spirv);
+        // SAFETY: `spirv` is whole SPIR-V words from glslang (the driver
+        // validates the module; the validation layer checks it in tests).
         let module = unsafe { device.create_shader_module(&module_info, None) }
             .doing("vkCreateShaderModule")?;
         let stage = vk::PipelineShaderStageCreateInfo::default()
@@ -71,7 +82,10 @@ impl ComputePipeline {
         let info = vk::ComputePipelineCreateInfo::default()
             .stage(stage)
             .layout(p.layout);
+        // SAFETY: the module, layout and cache are live handles of this
+        // device; the module may be destroyed once the pipeline is created.
         let created = unsafe { device.create_compute_pipelines(cache, &[info], None) };
+        // SAFETY: as above.
         unsafe { device.destroy_shader_module(module, None) };
         p.pipeline = created.map_err(|(_, result)| GpuError::Vk {
             what: "vkCreateComputePipelines",
@@ -94,11 +108,13 @@ impl ComputePipeline {
         let pool_info = vk::DescriptorPoolCreateInfo::default()
             .max_sets(1)
             .pool_sizes(&sizes);
+        // SAFETY: a live device; the sizes cover the set's bindings.
         p.pool = unsafe { device.create_descriptor_pool(&pool_info, None) }
             .doing("vkCreateDescriptorPool")?;
         let alloc = vk::DescriptorSetAllocateInfo::default()
             .descriptor_pool(p.pool)
             .set_layouts(&set_layouts);
+        // SAFETY: the pool was sized for this one set.
         p.set = unsafe { device.allocate_descriptor_sets(&alloc) }
             .doing("vkAllocateDescriptorSets")?[0];
         Ok(p)
@@ -106,7 +122,12 @@ impl ComputePipeline {
 
     /// Points each binding at its buffer; `buffers` follows the order of
     /// the bindings given to `new`.
-    pub fn bind(&self, buffers: &[&Buffer]) {
+    ///
+    /// # Safety
+    /// The set is not in use by a pending submission, and the buffers
+    /// outlive every submission that uses the set until it is bound again
+    /// (the set refers to them by handle, not by Rust borrow).
+    pub unsafe fn bind(&self, buffers: &[&Buffer]) {
         assert_eq!(buffers.len(), self.bindings.len(), "one buffer per binding");
         let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
             .iter()
@@ -128,19 +149,24 @@ impl ComputePipeline {
                     .buffer_info(info)
             })
             .collect();
-        unsafe { self.device.update_descriptor_sets(&writes, &[]) };
+        // SAFETY: the caller's contract above; the set and buffers are live
+        // handles of this device.
+        unsafe { self.device.raw.update_descriptor_sets(&writes, &[]) };
     }
 }
 
 impl Drop for ComputePipeline {
     fn drop(&mut self) {
-        // Null handles are ignored by vkDestroy*, so a half-built pipeline frees cleanly.
+        let d = &self.device.raw;
+        // SAFETY: no submission uses the pipeline (each `OneShot::run` waits;
+        // a renderer whose wait timed out waits for idle before dropping its
+        // pipelines). Null handles are ignored by vkDestroy*, so a half-built
+        // pipeline frees cleanly.
         unsafe {
-            self.device.destroy_descriptor_pool(self.pool, None);
-            self.device.destroy_pipeline(self.pipeline, None);
-            self.device.destroy_pipeline_layout(self.layout, None);
-            self.device
-                .destroy_descriptor_set_layout(self.set_layout, None);
+            d.destroy_descriptor_pool(self.pool, None);
+            d.destroy_pipeline(self.pipeline, None);
+            d.destroy_pipeline_layout(self.layout, None);
+            d.destroy_descriptor_set_layout(self.set_layout, None);
         }
     }
 }

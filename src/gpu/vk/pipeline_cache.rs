@@ -4,23 +4,29 @@
 
 use std::path::{Path, PathBuf};
 
+use std::sync::Arc;
+
 use ash::vk;
 
+use super::device::Device;
 use crate::gpu::error::{GpuError, VkContext};
 
+/// A pipeline cache and the file it is saved to.
 pub struct PipelineCache {
     pub raw: vk::PipelineCache,
     file: Option<PathBuf>,
-    device: ash::Device,
+    device: Arc<Device>,
 }
 
 impl PipelineCache {
     /// A cache seeded from `file` where it exists; saved back on drop.
-    pub fn new(device: &ash::Device, file: Option<&Path>) -> Result<Self, GpuError> {
+    pub fn new(device: &Arc<Device>, file: Option<&Path>) -> Result<Self, GpuError> {
         let data = file.and_then(|f| std::fs::read(f).ok()).unwrap_or_default();
         let info = vk::PipelineCacheCreateInfo::default().initial_data(&data);
+        // SAFETY: a live device; initial data of any content is allowed (the
+        // driver checks its header and ignores data that is not its own).
         let raw =
-            unsafe { device.create_pipeline_cache(&info, None) }.doing("vkCreatePipelineCache")?;
+            unsafe { device.raw.create_pipeline_cache(&info, None) }.doing("vkCreatePipelineCache")?;
         Ok(Self {
             raw,
             file: file.map(Path::to_owned),
@@ -31,13 +37,16 @@ impl PipelineCache {
 
 impl Drop for PipelineCache {
     fn drop(&mut self) {
+        let d = &self.device.raw;
         if let Some(file) = &self.file {
-            if let Ok(data) = unsafe { self.device.get_pipeline_cache_data(self.raw) } {
+            // SAFETY: a live cache of a live device.
+            if let Ok(data) = unsafe { d.get_pipeline_cache_data(self.raw) } {
                 // A cache that cannot be written is only a slower next start.
                 let _ = file.parent().map(std::fs::create_dir_all);
                 let _ = std::fs::write(file, data);
             }
         }
-        unsafe { self.device.destroy_pipeline_cache(self.raw, None) };
+        // SAFETY: pipeline creation, the cache's only user, is synchronous.
+        unsafe { d.destroy_pipeline_cache(self.raw, None) };
     }
 }

@@ -1,7 +1,10 @@
 //! Timestamp queries: the device's own time for a span of commands.
 
+use std::sync::Arc;
+
 use ash::vk;
 
+use super::command::Completed;
 use super::device::Device;
 use crate::gpu::error::{GpuError, VkContext};
 
@@ -12,18 +15,19 @@ pub struct Timestamps {
     period_ns: f64,
     /// The ticks' valid bits.
     mask: u64,
-    device: ash::Device,
+    device: Arc<Device>,
 }
 
 impl Timestamps {
     /// None where the device's compute queue writes no timestamps.
-    pub fn new(device: &Device) -> Result<Option<Self>, GpuError> {
+    pub fn new(device: &Arc<Device>) -> Result<Option<Self>, GpuError> {
         let Some((period, bits)) = device.info.timestamps else {
             return Ok(None);
         };
         let info = vk::QueryPoolCreateInfo::default()
             .query_type(vk::QueryType::TIMESTAMP)
             .query_count(2);
+        // SAFETY: a live device whose compute queue writes timestamps.
         let pool =
             unsafe { device.raw.create_query_pool(&info, None) }.doing("vkCreateQueryPool")?;
         Ok(Some(Self {
@@ -34,7 +38,7 @@ impl Timestamps {
             } else {
                 (1u64 << bits) - 1
             },
-            device: device.raw.clone(),
+            device: device.clone(),
         }))
     }
 
@@ -44,8 +48,11 @@ impl Timestamps {
     /// # Safety
     /// `cb` is in the recording state, outside a render pass.
     pub unsafe fn begin(&self, cb: vk::CommandBuffer, after: vk::PipelineStageFlags) {
-        self.device.cmd_reset_query_pool(cb, self.pool, 0, 2);
-        self.device.cmd_write_timestamp(cb, after, self.pool, 0);
+        // SAFETY: the caller's contract; the pool holds both queries.
+        unsafe {
+            self.device.raw.cmd_reset_query_pool(cb, self.pool, 0, 2);
+            self.device.raw.cmd_write_timestamp(cb, after, self.pool, 0);
+        }
     }
 
     /// Records the second timestamp: once the commands before have passed
@@ -54,16 +61,19 @@ impl Timestamps {
     /// # Safety
     /// As [`Timestamps::begin`], which this command buffer recorded first.
     pub unsafe fn end(&self, cb: vk::CommandBuffer, after: vk::PipelineStageFlags) {
-        self.device.cmd_write_timestamp(cb, after, self.pool, 1);
+        // SAFETY: the caller's contract; query 1 was reset by `begin`.
+        unsafe { self.device.raw.cmd_write_timestamp(cb, after, self.pool, 1) };
     }
 
-    /// The seconds between the two, once the command buffer has finished.
-    pub fn seconds(&self) -> Result<f64, GpuError> {
+    /// The seconds between the two, once the submission that wrote them
+    /// has finished (`done`).
+    pub fn seconds(&self, done: &Completed<'_>) -> Result<f64, GpuError> {
+        let _ = done;
         let mut ticks = [0u64; 2];
-        // SAFETY: both queries were written by a submission the caller
-        // waited on; WAIT makes the read block until they are available.
+        // SAFETY: both queries were written by the submission `done` waited
+        // on; WAIT makes the read block until they are available.
         unsafe {
-            self.device.get_query_pool_results(
+            self.device.raw.get_query_pool_results(
                 self.pool,
                 0,
                 &mut ticks,
@@ -78,6 +88,8 @@ impl Timestamps {
 
 impl Drop for Timestamps {
     fn drop(&mut self) {
-        unsafe { self.device.destroy_query_pool(self.pool, None) };
+        // SAFETY: no submission that writes the pool is pending (each
+        // `OneShot::run` waits; a hung device is waited idle by its renderer).
+        unsafe { self.device.raw.destroy_query_pool(self.pool, None) };
     }
 }
