@@ -28,6 +28,7 @@
 
 use glam::DVec3;
 
+use crate::rng::Xorshift;
 use crate::accel::{bvh::Aabb, Accel};
 use crate::cpu;
 use crate::raster::diff::{figures, figures_where, pixel_errors, ErrorFigures, Tolerance};
@@ -104,26 +105,6 @@ fn perturbed(scene: &Scene, trial: u32) -> Scene {
         .prims
         .each_moved(|b| moved(DVec3::ZERO, b.as_ref().map_or(scale, largest)));
     s
-}
-
-/// xorshift64*: reproducible trials without a dependency.
-struct Xorshift(u64);
-
-impl Xorshift {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// A direction uniform on the sphere.
-    fn unit(&mut self) -> DVec3 {
-        let z = 2.0 * self.next() - 1.0;
-        let phi = std::f64::consts::TAU * self.next();
-        let r = (1.0 - z * z).sqrt();
-        DVec3::new(r * phi.cos(), r * phi.sin(), z)
-    }
 }
 
 /// At most this share of an image may be ill-conditioned for it to be held

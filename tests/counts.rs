@@ -8,7 +8,7 @@ mod common;
 use std::path::Path;
 
 use glint::accel::Accel;
-use glint::cpu::{self, world::World, Real};
+use glint::cpu::{self, Real};
 use glint::scene::{Overrides, Scene};
 use glint::stats::Counts;
 
@@ -22,7 +22,7 @@ fn load(path: &Path, size: Option<u32>) -> Scene {
 }
 
 fn cpu_counts<R: Real>(scene: &Scene) -> Counts {
-    cpu::render_counted(&World::<R>::new(scene, Accel::Auto), &|_| {}).1
+    cpu::render_counted::<R>(scene, Accel::Auto, &|_| {}).1
 }
 
 /// The counters of `a` that differ from `b`'s by more than 0.1 %, or where

@@ -128,14 +128,13 @@ ambient = [1.0, 1.0, 1.0]
 "#,
         EYE[0], EYE[1], EYE[2]
     ));
-    let world = cpu::world::World::<f64>::new(&scene, glint::accel::Accel::None);
+    let prepared = cpu::Prepared::<f64>::new(&scene, glint::accel::Accel::None);
     let eye = DVec3::from_array(EYE);
     let mut counts = [0usize; 2];
     for (what, image) in renders(&scene) {
         for y in 0..scene.height {
             for x in 0..scene.width {
-                let ray = cpu::ray::primary_ray(&world, x, y, 0, 0);
-                let d = DVec3::new(ray.dir.x, ray.dir.y, ray.dir.z);
+                let d = prepared.eye_ray_direction(x, y, 0, 0);
                 let h = (eye - d * eye.dot(d)).length();
                 let sin = h * IOR;
                 if (sin - 1.0).abs() < 1e-3 {

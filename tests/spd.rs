@@ -6,7 +6,7 @@ mod common;
 
 use glint::accel::Accel;
 use glint::condition::{self, Judgement};
-use glint::cpu::{self, world::World};
+use glint::cpu;
 use glint::raster::diff::Tolerance;
 use glint::scene::{Overrides, Scene};
 use glint::stats::RayCounts;
@@ -36,7 +36,7 @@ const PUBLISHED: &[(&str, [u64; 4])] = &[
 
 fn counts(name: &str) -> RayCounts {
     let scene = load(name, None);
-    cpu::render_counted(&World::<f64>::new(&scene, Accel::Auto), &|_| {})
+    cpu::render_counted::<f64>(&scene, Accel::Auto, &|_| {})
         .1
         .rays()
 }

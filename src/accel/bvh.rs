@@ -134,7 +134,9 @@ pub const OCTANTS: usize = 8;
 pub const OCTANT_BYTES_MAX: usize = 64 << 20;
 
 /// The layout a ray of direction (x, y, z) walks: bit k set where
-/// component k is negative (-0 counts as positive, as in the shader).
+/// component k is negative (-0 counts as positive, as in the shader). The
+/// walks compute it in their own arithmetic (cpu/intersect.rs, the shader).
+#[cfg(test)]
 pub fn octant(x: f64, y: f64, z: f64) -> usize {
     usize::from(x < 0.0) | usize::from(y < 0.0) << 1 | usize::from(z < 0.0) << 2
 }

@@ -5,7 +5,7 @@
 //! kind in `prim::KINDS`, then to the primitive that comes first in the
 //! scene file, whatever order a walk meets them in.
 
-pub mod bvh;
+pub(crate) mod bvh;
 
 use crate::scene::Scene;
 

@@ -349,13 +349,13 @@ pub fn render_cpu_timed(
         start: Instant,
         progress: &(dyn Fn(u64) + Sync),
     ) -> (Image, Option<Counts>, f64) {
-        let world = cpu::world::World::<R>::new(scene, accel);
+        let prepared = cpu::Prepared::<R>::new(scene, accel);
         let setup_s = start.elapsed().as_secs_f64();
         if count {
-            let (image, counts) = cpu::render_counted(&world, progress);
+            let (image, counts) = prepared.render_counted(progress);
             (image, Some(counts), setup_s)
         } else {
-            (cpu::render_world(&world, progress), None, setup_s)
+            (prepared.render(progress), None, setup_s)
         }
     }
     let progress = |n| bar.inc(n);

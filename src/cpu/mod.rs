@@ -2,13 +2,13 @@
 //! Shading) in f32 or f64, one function per stage of the shader (ray,
 //! intersect, shade, trace) so that a disagreement points at one stage.
 
-pub mod exact;
-pub mod intersect;
-pub mod ray;
-pub mod real;
-pub mod shade;
-pub mod trace;
-pub mod world;
+pub(crate) mod exact;
+pub(crate) mod intersect;
+pub(crate) mod ray;
+pub(crate) mod real;
+pub(crate) mod shade;
+pub(crate) mod trace;
+pub(crate) mod world;
 
 use rayon::prelude::*;
 
@@ -44,17 +44,61 @@ pub fn render_region<R: Real>(
     render_tallied::<R, ()>(&World::<R>::new(scene, accel), Some(region), progress).0
 }
 
+/// A scene laid out for the CPU reference in precision `R`: the primitives
+/// in `R`, the camera relative to the eye, and the BVH where `accel` takes
+/// one. Making it is a render's setup; each render of it is the trace.
+///
+/// ```no_run
+/// use glint::accel::Accel;
+/// use glint::cpu::Prepared;
+/// use glint::scene::{Overrides, Scene};
+///
+/// let scene = Scene::load("scenes/seed-fig5.toml".as_ref(), &Overrides::default())?;
+/// let prepared = Prepared::<f64>::new(&scene, Accel::Auto);
+/// let (image, counts) = prepared.render_counted(&|_rows| {});
+/// println!("{} shadow rays", counts.rays.shadow);
+/// # assert_eq!(image.width, scene.width);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct Prepared<R: Real>(World<R>);
+
+impl<R: Real> Prepared<R> {
+    /// Lays `scene` out, building the BVH where `accel` takes one.
+    pub fn new(scene: &Scene, accel: Accel) -> Self {
+        Self(World::new(scene, accel))
+    }
+
+    /// The image, calling `progress(rows_done)` as rows finish.
+    pub fn render(&self, progress: &(dyn Fn(u64) + Sync)) -> Image {
+        render_world(&self.0, progress)
+    }
+
+    /// The image, with the rays it cast and the tests they cost.
+    pub fn render_counted(&self, progress: &(dyn Fn(u64) + Sync)) -> (Image, Counts) {
+        render_tallied(&self.0, None, progress)
+    }
+
+    /// The direction of the eye ray through sample (i, j) of pixel (x, y),
+    /// as this precision computes it.
+    pub fn eye_ray_direction(&self, x: u32, y: u32, i: u32, j: u32) -> glam::DVec3 {
+        let d = ray::primary_ray(&self.0, x, y, i, j).dir;
+        glam::DVec3::new(d.x.to_f64(), d.y.to_f64(), d.z.to_f64())
+    }
+}
+
 /// Renders a prepared world (tests use it to alter the BVH).
-pub fn render_world<R: Real>(world: &World<R>, progress: &(dyn Fn(u64) + Sync)) -> Image {
+pub(crate) fn render_world<R: Real>(world: &World<R>, progress: &(dyn Fn(u64) + Sync)) -> Image {
     render_tallied::<R, ()>(world, None, progress).0
 }
 
-/// As [`render_world`], with the rays it cast and the tests they cost.
+/// As [`render_rows`], with the rays it cast and the tests they cost
+/// (`glint render --stats`).
 pub fn render_counted<R: Real>(
-    world: &World<R>,
+    scene: &Scene,
+    accel: Accel,
     progress: &(dyn Fn(u64) + Sync),
 ) -> (Image, Counts) {
-    render_tallied(world, None, progress)
+    Prepared::<R>::new(scene, accel).render_counted(progress)
 }
 
 /// Renders `region` of the world's image (None: all of it).
@@ -102,3 +146,6 @@ fn render_tallied<R: Real, T: Tally>(
     };
     (image, counts)
 }
+
+#[cfg(test)]
+mod bvh_tests;

@@ -11,6 +11,8 @@ pub trait Real: Float + Debug + Send + Sync + AddAssign + 'static {
     const SPLIT: f64;
     fn of(v: f64) -> Self;
     fn to_f32(self) -> f32;
+    /// The value in f64, exactly.
+    fn to_f64(self) -> f64;
 }
 
 impl Real for f32 {
@@ -21,6 +23,9 @@ impl Real for f32 {
     fn to_f32(self) -> f32 {
         self
     }
+    fn to_f64(self) -> f64 {
+        f64::from(self)
+    }
 }
 
 impl Real for f64 {
@@ -30,6 +35,9 @@ impl Real for f64 {
     }
     fn to_f32(self) -> f32 {
         self as f32
+    }
+    fn to_f64(self) -> f64 {
+        self
     }
 }
 

@@ -2,12 +2,12 @@
 //! Vulkan compute shader, one invocation per pixel, large images in tiles.
 
 pub mod compile;
-pub mod error;
-pub mod generated;
-pub mod interface;
-pub mod layout;
+mod error;
+pub(crate) mod generated;
+pub(crate) mod interface;
+pub(crate) mod layout;
 pub mod variant;
-pub mod vk;
+pub(crate) mod vk;
 
 use std::collections::HashMap;
 use std::path::PathBuf;

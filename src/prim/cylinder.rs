@@ -355,3 +355,7 @@ mod tests {
         assert_eq!(b.hi, DVec3::new(4.0, 2.0, 2.0));
     }
 }
+
+#[cfg(test)]
+#[path = "cylinder_tests.rs"]
+mod intersect_tests;

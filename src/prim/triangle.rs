@@ -248,3 +248,7 @@ impl<R: Real> Shape<R> for TriangleR<R> {
         self.material
     }
 }
+
+#[cfg(test)]
+#[path = "triangle_tests.rs"]
+mod intersect_tests;

@@ -2,7 +2,9 @@
 
 pub mod diff;
 pub mod io;
-pub mod partial;
+pub(crate) mod partial;
+
+pub use partial::remove_in_progress;
 pub mod region;
 
 /// A linear RGB image, rows top to bottom.

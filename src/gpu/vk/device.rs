@@ -136,7 +136,6 @@ fn usable(c: &Candidate) -> bool {
 /// after the last of them, and the instance after the device.
 pub struct Device {
     pub raw: ash::Device,
-    pub physical: vk::PhysicalDevice,
     pub queue: vk::Queue,
     pub queue_family: u32,
     pub memory: vk::PhysicalDeviceMemoryProperties,
@@ -197,7 +196,6 @@ impl Device {
         };
         Ok(Arc::new(Self {
             raw,
-            physical: chosen.physical,
             queue,
             queue_family,
             memory,

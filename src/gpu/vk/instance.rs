@@ -32,7 +32,8 @@ struct Messenger {
 pub struct Instance {
     messenger: Option<Messenger>,
     pub raw: ash::Instance,
-    pub entry: ash::Entry,
+    /// The loaded Vulkan library, which must outlive the instance.
+    _entry: ash::Entry,
 }
 
 unsafe extern "system" fn on_message(
@@ -152,7 +153,7 @@ impl Instance {
         Ok(Arc::new(Self {
             messenger,
             raw,
-            entry,
+            _entry: entry,
         }))
     }
 
@@ -163,10 +164,6 @@ impl Instance {
             .map_or_else(Vec::new, |m| m.messages.take())
     }
 
-    /// Whether the validation layer is on.
-    pub fn validating(&self) -> bool {
-        self.messenger.is_some()
-    }
 }
 
 impl Drop for Instance {
