@@ -14,11 +14,14 @@ pub const CEILING_TESTS: u64 = 8192;
 /// The ceiling: tests in one dispatch and the seconds it took.
 #[derive(Debug, Clone, Copy, serde::Serialize)]
 pub struct Ceiling {
+    /// Sphere tests the dispatch made.
     pub tests: u64,
+    /// Its time on the device (or the host's, where the queue has no timestamps).
     pub seconds: f64,
 }
 
 impl Ceiling {
+    /// The rate: the most tests a second this device makes.
     pub fn tests_per_s(&self) -> f64 {
         self.tests as f64 / self.seconds
     }

@@ -28,11 +28,11 @@
 
 use glam::DVec3;
 
-use crate::rng::Xorshift;
 use crate::accel::{bvh::Aabb, Accel};
 use crate::cpu;
 use crate::raster::diff::{figures, figures_where, pixel_errors, ErrorFigures, Tolerance};
 use crate::raster::Image;
+use crate::rng::Xorshift;
 use crate::scene::Scene;
 use crate::stability::{peak, scaled};
 
@@ -126,6 +126,8 @@ pub struct Conditioned {
 }
 
 impl Conditioned {
+    /// `img` against `reference`, with the pixels `ill` marks left out of
+    /// the figures, held to `tolerance`.
     pub fn of(img: &Image, reference: &Image, ill: &[bool], tolerance: &Tolerance) -> Self {
         let n = ill.len().max(1) as f64;
         let errors = pixel_errors(img, reference).expect("the same size");
@@ -164,7 +166,7 @@ impl Conditioned {
 /// What `glint compare` concludes of an f32 image against the f64 reference.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Judgement {
-    /// The unit of the figures ([`unit`]).
+    /// The unit of the figures ([`unit()`]).
     pub unit: f64,
     /// Over every pixel.
     pub error: ErrorFigures,
@@ -175,13 +177,14 @@ pub struct Judgement {
 }
 
 impl Judgement {
+    /// Whether the image is within the tolerance.
     pub fn pass(&self) -> bool {
         self.violations.is_empty()
     }
 }
 
 /// Holds `img` to `tolerance` against `reference`, the f64 image of
-/// `scene`, in units of [`unit`]: over every pixel, and where that fails,
+/// `scene`, in units of [`unit()`]: over every pixel, and where that fails,
 /// over the well-conditioned ones (`progress(rows)` as the trials render).
 pub fn judge(
     scene: &Scene,

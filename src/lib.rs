@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! glint: a headless Whitted-style ray tracer. A Vulkan compute shader
 //! renders; a CPU reference in f64 (and f32) checks it pixel by pixel.
 

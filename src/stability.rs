@@ -10,17 +10,23 @@ use crate::raster::diff::{figures, ErrorFigures, Tolerance};
 use crate::raster::Image;
 use crate::scene::Scene;
 
+/// One renderer's result on one extreme scene.
 #[derive(Debug, Clone, Serialize)]
 pub struct Row {
+    /// Which renderer: `gpu robust`, `gpu naive`, `cpu f32`.
     pub variant: &'static str,
+    /// Its error against the CPU f64 reference, relative to the reference's peak.
     pub error: ErrorFigures,
+    /// Whether it is within the tolerance.
     pub pass: bool,
 }
 
+/// Every renderer's result on one extreme scene.
 #[derive(Debug, Clone, Serialize)]
 pub struct SceneRows {
     /// The largest finite value of the reference; errors are relative to it.
     pub peak: f64,
+    /// One a renderer.
     pub rows: Vec<Row>,
 }
 

@@ -15,14 +15,19 @@ use crate::prim::KINDS;
 /// The types of ray, in the order of their slots.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum RayType {
+    /// From the eye through a pixel.
     #[default]
     Eye,
+    /// A mirror ray.
     Reflect,
+    /// A refraction ray.
     Refract,
+    /// Towards a light.
     Shadow,
 }
 
 impl RayType {
+    /// Every type, in slot order.
     pub const ALL: [RayType; 4] = [
         RayType::Eye,
         RayType::Reflect,
@@ -42,13 +47,18 @@ impl RayType {
 }
 
 /// One counted event. Tests and node visits count against the ray type
-/// the renderer last declared ([`Tally::ray_type`]).
+/// the renderer last declared (`Tally::ray_type`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Counter {
+    /// An eye ray cast.
     Eye,
+    /// An eye ray that met something.
     EyeHit,
+    /// A mirror ray cast.
     Reflect,
+    /// A refraction ray cast.
     Refract,
+    /// A shadow ray cast.
     Shadow,
     /// A BVH node visited.
     Node,
@@ -89,10 +99,12 @@ impl Counter {
 
 /// Where a renderer reports what it counts: [`Counts`], or `()` to count
 /// nothing at no cost.
-pub trait Tally: Default + Send {
+pub(crate) trait Tally: Default + Send {
+    /// One more of `c`.
     fn count(&mut self, c: Counter);
     /// The type of the ray whose tests and node visits follow.
     fn ray_type(&mut self, t: RayType);
+    /// Both tallies' counts together (rows rendered apart).
     fn merge(self, other: Self) -> Self;
 }
 
@@ -146,6 +158,7 @@ pub struct Work {
 }
 
 impl Work {
+    /// Tests of every kind, without the node visits.
     pub fn tests_total(&self) -> u64 {
         self.tests
             .iter()
@@ -154,6 +167,7 @@ impl Work {
             .sum()
     }
 
+    /// BVH node visits.
     pub fn nodes(&self) -> u64 {
         self.tests["bvh_nodes"]
     }
@@ -178,6 +192,7 @@ impl Counts {
         }
     }
 
+    /// The rays of each type.
     pub fn rays(&self) -> RayCounts {
         RayCounts {
             eye: self.get(Counter::Eye),
@@ -255,9 +270,14 @@ fn tests_by(get: impl Fn(Counter) -> u64) -> BTreeMap<&'static str, u64> {
 /// The rays of a render, as `--stats` writes them.
 #[derive(Debug, Default, Clone, Copy, PartialEq, Eq, Serialize)]
 pub struct RayCounts {
+    /// Eye rays.
     pub eye: u64,
+    /// Eye rays that met something.
     pub eye_hit: u64,
+    /// Mirror rays.
     pub reflect: u64,
+    /// Refraction rays.
     pub refract: u64,
+    /// Shadow rays.
     pub shadow: u64,
 }

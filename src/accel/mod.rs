@@ -14,12 +14,16 @@ use crate::scene::Scene;
 /// lavapipe, measured with spheres).
 pub const AUTO_MIN_BOUNDED: usize = 16;
 
+/// Which primitives each ray tests (scene management). The image is the
+/// same either way, bit for bit; only the time differs.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Accel {
     /// The BVH from `AUTO_MIN_BOUNDED` bounded primitives up, else the linear scan.
     #[default]
     Auto,
+    /// A BVH over the bounded primitives; the unbounded ones (planes) are
+    /// scanned.
     Bvh,
     /// Every ray tests every object.
     None,

@@ -46,4 +46,3 @@ fn leaf_order_does_not_matter() {
     }
     assert!(render_world(&world, &|_| {}) == reference);
 }
-

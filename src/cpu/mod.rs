@@ -48,15 +48,16 @@ pub fn render_region<R: Real>(
 /// in `R`, the camera relative to the eye, and the BVH where `accel` takes
 /// one. Making it is a render's setup; each render of it is the trace.
 ///
-/// ```no_run
+/// ```
 /// use glint::accel::Accel;
 /// use glint::cpu::Prepared;
 /// use glint::scene::{Overrides, Scene};
 ///
-/// let scene = Scene::load("scenes/seed-fig5.toml".as_ref(), &Overrides::default())?;
+/// let small = Overrides { width: Some(32), height: Some(24), ..Overrides::default() };
+/// let scene = Scene::load("scenes/seed-fig5.toml".as_ref(), &small)?;
 /// let prepared = Prepared::<f64>::new(&scene, Accel::Auto);
 /// let (image, counts) = prepared.render_counted(&|_rows| {});
-/// println!("{} shadow rays", counts.rays.shadow);
+/// println!("{} shadow rays", counts.rays().shadow);
 /// # assert_eq!(image.width, scene.width);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```

@@ -6,13 +6,23 @@ use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 
 use num_traits::Float;
 
-pub trait Real: Float + Debug + Send + Sync + AddAssign + 'static {
+/// The CPU reference's scalar: `f32` (the shader's precision) or `f64`
+/// (the oracle). Sealed: glint implements it for these two alone.
+pub trait Real: Float + Debug + Send + Sync + AddAssign + sealed::Sealed + 'static {
     /// Veltkamp's splitting constant, 2^ceil(p/2) + 1 for a p-bit significand.
     const SPLIT: f64;
+    /// `v`, rounded to this precision.
     fn of(v: f64) -> Self;
+    /// The value, rounded to f32.
     fn to_f32(self) -> f32;
     /// The value in f64, exactly.
     fn to_f64(self) -> f64;
+}
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for f32 {}
+    impl Sealed for f64 {}
 }
 
 impl Real for f32 {

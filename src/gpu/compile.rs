@@ -42,6 +42,7 @@ pub fn builtin() -> impl Iterator<Item = (String, &'static str)> {
         .chain(crate::prim::KINDS.iter().map(|k| (k.include(), k.glsl)))
 }
 
+/// Preprocessor defines: `-D NAME` (None) or `-D NAME=VALUE`.
 pub type Defines = [(String, Option<String>)];
 
 /// Finds shader files: the user's main file, then the user's directories in
@@ -49,6 +50,7 @@ pub type Defines = [(String, Option<String>)];
 /// (shaders/ and each kind's include, shaders/prim/).
 #[derive(Debug, Clone, Default)]
 pub struct Sources {
+    /// The user's include directories, searched in order before the built-in files.
     pub dirs: Vec<PathBuf>,
     /// Replaces main.comp.
     pub main: Option<PathBuf>,
@@ -192,7 +194,9 @@ pub fn cache_key(fingerprint: u64, defines: &Defines) -> String {
 
 /// A compiled shader, with the preprocessed text (`glint shader dump`).
 pub struct Compiled {
+    /// The SPIR-V words.
     pub spirv: Vec<u32>,
+    /// The source after glslang's preprocessor: every include and define resolved.
     pub preprocessed: String,
 }
 

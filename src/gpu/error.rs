@@ -4,48 +4,86 @@ const INSTALL_HINT: &str =
     "on Debian or Ubuntu run `sudo apt-get install libvulkan1 mesa-vulkan-drivers` \
      for lavapipe (Vulkan on the CPU), or render with --backend cpu";
 
+/// Why the GPU path could not render; each message says what to do.
 #[derive(Debug, thiserror::Error)]
 pub enum GpuError {
+    /// The Vulkan loader library is missing: the loader's own words.
     #[error("cannot load the Vulkan loader (libvulkan.so.1): {0}; {INSTALL_HINT}")]
     NoLoader(String),
+    /// No Vulkan 1.2 device with a compute queue.
     #[error("no Vulkan 1.2 device with a compute queue was found; {INSTALL_HINT}")]
     NoDevice,
+    /// No device's name contains the one asked for.
     #[error("no Vulkan device matches \"{wanted}\"; the devices are: {available}")]
-    NoMatchingDevice { wanted: String, available: String },
+    NoMatchingDevice {
+        /// What `--device` asked for.
+        wanted: String,
+        /// The devices there are, by name.
+        available: String,
+    },
+    /// Validation was asked for and the Khronos layer is not installed.
     #[error("validation was asked for but VK_LAYER_KHRONOS_validation is not installed (Debian: apt-get install vulkan-validationlayers)")]
     NoValidationLayer,
+    /// A Vulkan call failed.
     #[error("{what} failed: {result}")]
     Vk {
+        /// The Vulkan call.
         what: &'static str,
+        /// What it returned.
         result: vk::Result,
     },
+    /// The device has no memory of the kind one buffer (named) needs.
     #[error("no memory type for {0} on this device")]
     NoMemoryType(&'static str),
     /// glslang's errors, one a line: the first line says what and where.
     #[error("the shader does not compile: {0}")]
     Shader(String),
+    /// The validation layer spoke (with `GpuOptions::validate`): its messages.
     #[error("the Vulkan validation layer reported {} message(s):\n{}", .0.len(), .0.join("\n"))]
     Validation(Vec<String>),
+    /// The scene or settings ask for what this device or renderer cannot do.
     #[error("{0}")]
     Unsupported(String),
+    /// The driver cut the shader's loops short at a pixel: its image would be wrong.
     #[error("the shader's loops were cut short at pixel ({x}, {y}) of {device}: the scene needs more loop iterations per pixel than the driver allows (llvmpipe: about 65,535), so the image would be wrong; render with --accel bvh, fewer samples or a smaller max_depth, or with --backend cpu")]
-    LoopBudget { x: u32, y: u32, device: String },
+    LoopBudget {
+        /// The pixel's column.
+        x: u32,
+        /// The pixel's row.
+        y: u32,
+        /// The device's name.
+        device: String,
+    },
+    /// A tile did not finish in time; the renderer is then lost (`Lost`).
     #[error("the GPU did not finish the tile at ({x}, {y}), {w}x{h} pixels, within {seconds:.3} s; stopped (set another limit with --timeout SECONDS)")]
     Timeout {
+        /// The tile's left column.
         x: u32,
+        /// The tile's top row.
         y: u32,
+        /// The tile's width.
         w: u32,
+        /// The tile's height.
         h: u32,
+        /// The wait that ran out.
         seconds: f64,
     },
+    /// An earlier wait on this device timed out: nothing more is submitted to it.
     #[error("an earlier render on this renderer timed out; open a new one")]
     Lost,
+    /// A main shader left a pixel of its tile unwritten.
     #[error("the shader wrote nothing at pixel ({x}, {y}): a main shader must write every pixel of its tile, with alpha 1 (docs/shaders.md, The loop budget)")]
-    Unwritten { x: u32, y: u32 },
+    Unwritten {
+        /// The pixel's column.
+        x: u32,
+        /// The pixel's row.
+        y: u32,
+    },
 }
 
 /// Attaches what was being done to a raw Vulkan result.
-pub trait VkContext<T> {
+pub(crate) trait VkContext<T> {
+    /// The error of the call `what`, where the result is one.
     fn doing(self, what: &'static str) -> Result<T, GpuError>;
 }
 

@@ -27,7 +27,8 @@ use layout::{TileRect, Uploads};
 use variant::{Block, Variant};
 use vk::buffer::Buffer;
 use vk::command::{Completed, OneShot};
-use vk::device::{Device, DeviceInfo};
+use vk::device::Device;
+pub use vk::device::DeviceInfo;
 use vk::instance::Instance;
 use vk::pipeline::ComputePipeline;
 use vk::pipeline_cache::PipelineCache;
@@ -57,6 +58,7 @@ pub enum Intersect {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Precision {
+    /// Floats throughout, as the CPU reference's f32.
     #[default]
     F32,
     /// Doubles throughout, the scene uploaded in doubles; needs the device's
@@ -64,6 +66,8 @@ pub enum Precision {
     F64,
 }
 
+/// How a [`Renderer`] is made: the device, validation, the shader files and
+/// defines, the caches, and the settings of [`Renderer::render`].
 #[derive(Debug, Clone, Default)]
 pub struct GpuOptions {
     /// Pick the first device whose name contains this.
@@ -117,7 +121,9 @@ impl GpuOptions {
 /// takes one, `Renderer::render` the renderer's own (`GpuOptions::settings`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
 pub struct RenderSettings {
+    /// The intersection forms.
     pub intersect: Intersect,
+    /// The shader's arithmetic.
     pub precision: Precision,
     /// Which primitives each ray tests: every one, or through a BVH.
     pub accel: Accel,
@@ -130,9 +136,13 @@ pub struct RenderSettings {
 /// creating its pipeline; zero when the variant was already built.
 #[derive(Debug, Clone, Copy, Default, serde::Serialize)]
 pub struct SetupTimes {
+    /// Opening the device (the renderer's, once).
     pub device_s: f64,
+    /// Compiling the variant's shader, or reading its SPIR-V from the cache.
     pub compile_s: f64,
+    /// Creating its pipeline.
     pub pipeline_s: f64,
+    /// Whether the SPIR-V came from the cache.
     pub spirv_cached: bool,
 }
 
@@ -145,8 +155,11 @@ pub struct RenderTimes {
     pub setup: SetupTimes,
     /// Building the BVH: a setup cost, apart from the render's total.
     pub bvh_s: f64,
+    /// Laying the scene out (apart from the BVH) and uploading it.
     pub upload_s: f64,
+    /// The dispatches, with their submissions and waits.
     pub dispatch_s: f64,
+    /// Copying the tiles out of mapped memory into the image.
     pub readback_s: f64,
     /// The dispatches' own time on the device, from timestamp queries;
     /// None where its queue writes none. `dispatch_s` also holds the
@@ -155,11 +168,30 @@ pub struct RenderTimes {
 }
 
 impl RenderTimes {
+    /// Upload, dispatch and readback: the render, without its setup.
     pub fn total_s(&self) -> f64 {
         self.upload_s + self.dispatch_s + self.readback_s
     }
 }
 
+/// The GPU renderer: a Vulkan device, and the pipelines of the shader
+/// variants its scenes needed so far.
+///
+/// ```no_run
+/// use glint::gpu::{GpuOptions, Renderer};
+/// use glint::raster::{diff, io};
+/// use glint::scene::{Overrides, Scene};
+///
+/// let scene = Scene::load("scenes/seed-fig5.toml".as_ref(), &Overrides::default())?;
+/// let mut gpu = Renderer::new(&GpuOptions::from_env(None))?;
+/// let (image, times) = gpu.render(&scene, &|_pixels| {})?;
+/// let reference = glint::cpu::render::<f64>(&scene);
+/// let error = diff::figures(&image, &reference)?;
+/// println!("rmse {:.2e} in {:.3} s", error.rmse, times.total_s());
+/// io::write("out.png".as_ref(), &image, scene.srgb)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
 /// Field order is drop order: the pipelines and the buffers bound to them,
 /// the pipeline cache and the commands go before the renderer's `Arc` of the
 /// device. Each holds its own `Arc` as well, so the device (and after it the
@@ -254,6 +286,8 @@ fn secs(d: Duration) -> f64 {
 }
 
 impl Renderer {
+    /// Opens the device `opts` names (or the best one) and prepares to
+    /// render; no shader is compiled until a scene needs one.
     pub fn new(opts: &GpuOptions) -> Result<Self, GpuError> {
         if let Some((name, _)) = opts
             .defines
@@ -301,6 +335,7 @@ impl Renderer {
         Ok(renderer)
     }
 
+    /// What the renderer's device is and supports.
     pub fn device_info(&self) -> &DeviceInfo {
         &self.device.info
     }
@@ -431,7 +466,11 @@ impl Renderer {
         // An edit's pipeline replaces the variant's old one; the buffers
         // bound to the old one's descriptor set go with it (the device is
         // idle between renders).
-        if self.resident.as_ref().is_some_and(|r| r.pipeline.0 == key.0) {
+        if self
+            .resident
+            .as_ref()
+            .is_some_and(|r| r.pipeline.0 == key.0)
+        {
             self.resident = None;
         }
         self.pipelines.retain(|(v, _), _| *v != key.0);

@@ -22,14 +22,19 @@ const UNROLL_LIGHTS: usize = 16;
 /// The shader's blocks, in binding order (src/gpu/generated.rs declares them).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Block {
+    /// The uniform block: camera, settings, counts.
     Globals,
     /// One kind of primitive's array, by its place in `prim::KINDS`.
     Kind(usize),
+    /// The materials.
     Materials,
+    /// The lights.
     Lights,
+    /// The BVH's nodes.
     Nodes,
     /// The counters of `--stats` (src/stats.rs), where the variant counts.
     Counts,
+    /// The output tile the shader writes.
     Pixels,
 }
 
@@ -48,9 +53,13 @@ impl Block {
     }
 }
 
+/// A shader variant: what one scene and its settings compile the shader
+/// with (docs/shaders.md, Variants). Each is its own pipeline.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Variant {
+    /// The intersection forms.
     pub intersect: Intersect,
+    /// The shader's arithmetic.
     pub precision: Precision,
     /// The BVH's layouts (8, one per ray octant, or 1) where spheres are
     /// traced through it (shaders/bvh.glsl); 0: a linear scan.
@@ -66,9 +75,13 @@ pub struct Variant {
 pub struct Features {
     /// Primitives of each kind (`prim::KINDS`).
     pub kinds: Vec<usize>,
+    /// Lights.
     pub lights: usize,
+    /// Whether a point light is among them.
     pub point: bool,
+    /// Whether a directional light is among them.
     pub directional: bool,
+    /// Whether a spot light is among them.
     pub spot: bool,
     /// A point or spot light whose falloff is not [1, 0, 0].
     pub attenuation: bool,
@@ -78,10 +91,12 @@ pub struct Features {
     pub transmits: bool,
     /// Ray segments traced: 1 where no material reflects or transmits.
     pub max_depth: u32,
+    /// Samples a side of each pixel.
     pub samples: u32,
     /// The scene's arrays as uniform buffers of these lengths (each kind's,
     /// then materials, lights) where they fit; else storage buffers.
     pub uniform_slots: Option<Vec<usize>>,
+    /// Whether the light loop is unrolled (few lights).
     pub unroll: bool,
     /// BVH nodes per layout; 0 without a BVH.
     pub nodes: usize,
@@ -90,7 +105,8 @@ pub struct Features {
 }
 
 impl Features {
-    pub fn of(scene: &Scene, uploads: &Uploads, device: &DeviceInfo) -> Self {
+    /// What `scene`, laid out as `uploads`, needs on `device`.
+    pub(crate) fn of(scene: &Scene, uploads: &Uploads, device: &DeviceInfo) -> Self {
         let has = |k: LightKind| scene.lights.iter().any(|l| l.kind == k);
         let kinds = scene.prims.counts();
         let objects = !scene.prims.is_empty();
@@ -178,7 +194,10 @@ impl Features {
 }
 
 impl Variant {
-    pub fn for_scene(
+    /// The variant of `scene`, laid out as `uploads`, with these settings:
+    /// the generic shader where `generic`, the counting one where `count`.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn for_scene(
         scene: &Scene,
         uploads: &Uploads,
         intersect: Intersect,
@@ -208,6 +227,7 @@ impl Variant {
         }
     }
 
+    /// The defines that select this variant in the shader's source.
     pub fn defines(&self) -> Vec<(String, Option<String>)> {
         let mut d = Vec::new();
         if self.intersect == Intersect::Naive {
@@ -288,7 +308,9 @@ impl Variant {
             .is_some_and(|f| f.uniform_slots.is_some())
     }
 
-    pub fn scene_buffer_usage(&self) -> vk::BufferUsageFlags {
+    /// The usage of the scene's read-only buffers: uniform where they fit
+    /// the uniform block's range, else storage.
+    pub(crate) fn scene_buffer_usage(&self) -> vk::BufferUsageFlags {
         if self.in_uniforms() {
             vk::BufferUsageFlags::UNIFORM_BUFFER
         } else {

@@ -36,17 +36,21 @@ pub struct CylinderFile {
     pub material: String,
 }
 
+/// A cylinder or a cone (a truncated one, or with an apex of radius 0),
+/// open at both ends.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Cylinder {
     /// The axis' midpoint.
     pub center: DVec3,
     /// Unit, from base to apex.
     pub axis: DVec3,
+    /// Half the axis' length.
     pub half_length: f64,
     /// The radius at the centre: the mean of the two.
     pub radius: f64,
     /// The radius' growth per unit along the axis.
     pub slope: f64,
+    /// The index of its material in `Scene::materials`.
     pub material: u32,
 }
 

@@ -150,4 +150,3 @@ fn rays_along_the_axis_and_along_the_surface() {
     let t = cone.intersect(&r, false).expect("meets the opposite side");
     assert!((t - 2.0 * 2f64.sqrt()).abs() < 1e-12, "{t}");
 }
-

@@ -171,7 +171,10 @@ macro_rules! generate {
         /// The scene's primitives, a list for each kind.
         #[derive(Debug, Clone, PartialEq, Default)]
         pub struct Prims {
-            $(pub $key: Vec<$kind>,)*
+            $(
+                #[doc = concat!("The ", stringify!($key), ", in the file's order.")]
+                pub $key: Vec<$kind>,
+            )*
         }
 
         /// The scene file's arrays, a list of tables for each kind.
@@ -202,6 +205,7 @@ macro_rules! generate {
                 vec![$(self.$key.len(),)*]
             }
 
+            /// Primitives of every kind.
             pub fn len(&self) -> usize {
                 0 $(+ self.$key.len())*
             }
@@ -211,10 +215,12 @@ macro_rules! generate {
                 0 $(+ if <$kind as Kind>::BOUNDED { self.$key.len() } else { 0 })*
             }
 
+            /// Whether there are none.
             pub fn is_empty(&self) -> bool {
                 self.len() == 0
             }
 
+            /// Every primitive translated by `-origin`, in f64.
             pub fn relative_to(&self, origin: DVec3) -> Self {
                 Self {
                     $($key: self.$key.iter().map(|p| p.relative_to(origin)).collect(),)*
@@ -260,7 +266,8 @@ macro_rules! generate {
                 ),)*]
             }
 
-            pub fn cpu<R: Real>(&self) -> CpuPrims<R> {
+            /// The CPU reference's forms, in `R`.
+            pub(crate) fn cpu<R: Real>(&self) -> CpuPrims<R> {
                 CpuPrims {
                     $($key: self.$key.iter().map(|p| p.cpu()).collect(),)*
                 }

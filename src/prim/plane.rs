@@ -19,11 +19,14 @@ pub struct PlaneFile {
     pub material: String,
 }
 
+/// An infinite plane: the points p with (p − point) · normal = 0.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Plane {
+    /// A point on it.
     pub point: DVec3,
     /// Unit length.
     pub normal: DVec3,
+    /// The index of its material in `Scene::materials`.
     pub material: u32,
 }
 

@@ -23,10 +23,14 @@ pub struct SphereFile {
     pub material: String,
 }
 
+/// A sphere.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sphere {
+    /// Its centre.
     pub center: DVec3,
+    /// Its radius, > 0.
     pub radius: f64,
+    /// The index of its material in `Scene::materials`.
     pub material: u32,
 }
 

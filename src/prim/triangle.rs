@@ -30,14 +30,18 @@ pub struct TriangleFile {
     pub material: String,
 }
 
+/// A triangle, flat or with vertex normals (smooth); a mesh is its
+/// triangles placed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Triangle {
+    /// Its corners, counter-clockwise seen from the side its normal faces.
     pub vertices: [DVec3; 3],
     /// normalize((v1 − v0) × (v2 − v0)), from the file's coordinates (a
     /// camera-relative rebase leaves it as it is).
     pub normal: DVec3,
     /// Unit vertex normals, where the triangle is smooth.
     pub normals: Option<[DVec3; 3]>,
+    /// The index of its material in `Scene::materials`.
     pub material: u32,
 }
 

@@ -30,6 +30,8 @@ fn finite_or_null<S: serde::Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error
     }
 }
 
+/// Two images of different sizes: the first's width and height, then the
+/// reference's.
 #[derive(Debug, thiserror::Error)]
 #[error("the images differ in size: {0}x{1} against {2}x{3}")]
 pub struct SizeMismatch(u32, u32, u32, u32);
@@ -64,6 +66,21 @@ pub fn pixel_errors(img: &Image, reference: &Image) -> Result<Vec<f64>, SizeMism
         .collect())
 }
 
+/// The error figures of `img` against `reference`, over every channel of
+/// every pixel.
+///
+/// ```
+/// use glint::raster::{diff, Image};
+///
+/// let reference = Image::new(2, 1, vec![[0.5; 3], [0.25; 3]]);
+/// let mut perturbed = reference.clone();
+/// perturbed.pixels[1][0] += 0.1;
+/// let f = diff::figures(&perturbed, &reference)?;
+/// assert!((f.max_abs - 0.1).abs() < 1e-6);
+/// assert!(!diff::Tolerance::default().violations(&f).is_empty());
+/// assert!(diff::Tolerance::default().violations(&diff::figures(&reference, &reference)?).is_empty());
+/// # Ok::<(), diff::SizeMismatch>(())
+/// ```
 pub fn figures(img: &Image, reference: &Image) -> Result<ErrorFigures, SizeMismatch> {
     figures_where(img, reference, |_| true)
 }
@@ -130,7 +147,9 @@ pub fn figures_where(
 /// pixels over 1/255 and the RMSE, and admits no non-finite value.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Tolerance {
+    /// The largest share of pixel channels that may be off by more than 1/255.
     pub frac_over_1_255: f64,
+    /// The largest RMSE.
     pub rmse: f64,
 }
 

@@ -7,42 +7,68 @@ use std::path::{Path, PathBuf};
 
 use super::{partial, quantize, Image};
 
+/// An image file that cannot be read or written; each names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum ImageIoError {
+    /// An extension other than .png, .pfm and .exr.
     #[error("{}: unsupported image type (expected .png, .pfm or .exr)", crate::printable::path(.0))]
     Format(PathBuf),
     // Causes are part of the message rather than a `source`, so that a
     // report of the error chain does not print them twice.
+    /// The file system refused.
     #[error("{}: {cause}", crate::printable::path(path))]
     Io {
+        /// The file.
         path: PathBuf,
+        /// What the system said.
         cause: std::io::Error,
     },
+    /// The PNG or EXR codec refused.
     #[error("{}: {cause}", crate::printable::path(path))]
     Codec {
+        /// The file.
         path: PathBuf,
+        /// What the codec said.
         cause: image::ImageError,
     },
+    /// A PFM file that breaks the format.
     #[error("{}: not a valid PFM file: {reason}", crate::printable::path(path))]
-    BadPfm { path: PathBuf, reason: String },
+    BadPfm {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// An output that is one of the run's inputs.
     #[error(
         "{}: is the input {}; refusing to overwrite an input (name another output)",
         crate::printable::path(output),
         crate::printable::path(input)
     )]
-    OverwritesInput { output: PathBuf, input: PathBuf },
+    OverwritesInput {
+        /// The output asked for.
+        output: PathBuf,
+        /// The input it is.
+        input: PathBuf,
+    },
+    /// An output file that is read-only (replaced only with `--force`).
     #[error("{}: is read-only; refusing to replace it (remove it, or render with --force)", crate::printable::path(.0))]
     ReadOnly(PathBuf),
 }
 
+/// An image file's format, by its extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Format {
+    /// 8-bit sRGB (or linear, as the scene says); values are clamped to 0..1.
     Png,
+    /// 32-bit float, linear, uncompressed.
     Pfm,
+    /// 32-bit float, linear, OpenEXR.
     Exr,
 }
 
 impl Format {
+    /// The format `path` names by its extension (in any case).
     pub fn of(path: &Path) -> Result<Format, ImageIoError> {
         let ext = path
             .extension()
@@ -57,6 +83,7 @@ impl Format {
     }
 }
 
+/// The `ImageIoError::Io` of `path`, for `map_err`.
 pub fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> ImageIoError + '_ {
     move |cause| ImageIoError::Io {
         path: path.to_owned(),
@@ -292,6 +319,7 @@ pub fn read(path: &Path) -> Result<Image, ImageIoError> {
 /// crafted header can neither overflow the size arithmetic nor ask for
 /// more memory than such an image takes (3 GiB of f32 RGB).
 pub const MAX_SIDE: u32 = 1 << 16;
+/// The most pixels in all (see `MAX_SIDE`).
 pub const MAX_PIXELS: u64 = 1 << 28;
 
 fn check_size(w: u32, h: u32) -> Result<(), String> {
@@ -304,6 +332,7 @@ fn check_size(w: u32, h: u32) -> Result<(), String> {
     Ok(())
 }
 
+/// A PFM file's image (colour, either byte order, rows bottom-up), or what is wrong with it.
 pub fn read_pfm(bytes: &[u8]) -> Result<Image, String> {
     // The header is three whitespace-separated tokens after "PF".
     let mut fields = Vec::new();

@@ -10,12 +10,16 @@ pub mod region;
 /// A linear RGB image, rows top to bottom.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Image {
+    /// Columns.
     pub width: u32,
+    /// Rows.
     pub height: u32,
+    /// Row by row from the top, `width` a row: red, green, blue.
     pub pixels: Vec<[f32; 3]>,
 }
 
 impl Image {
+    /// An image of these pixels (`width × height` of them; panics otherwise).
     pub fn new(width: u32, height: u32, pixels: Vec<[f32; 3]>) -> Self {
         assert_eq!(
             pixels.len(),
@@ -29,6 +33,7 @@ impl Image {
         }
     }
 
+    /// The pixel at column `x`, row `y`.
     pub fn get(&self, x: u32, y: u32) -> [f32; 3] {
         self.pixels[y as usize * self.width as usize + x as usize]
     }

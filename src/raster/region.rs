@@ -3,11 +3,16 @@
 
 use serde::{Deserialize, Serialize};
 
+/// A rectangle of pixels, in the whole image's coordinates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct Region {
+    /// The left column.
     pub x: u32,
+    /// The top row.
     pub y: u32,
+    /// Columns.
     pub width: u32,
+    /// Rows.
     pub height: u32,
 }
 
@@ -15,24 +20,47 @@ pub struct Region {
 /// workgroup straddles two tiles.
 pub const BAND_ROWS: u32 = crate::gpu::WORKGROUP;
 
+/// A region or tile that does not fit its image.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum RegionError {
+    /// The region is empty or not inside the image.
     #[error("region {x},{y},{w},{h} is not inside the {iw}x{ih} image, or is empty")]
     Outside {
+        /// The region's left column.
         x: u32,
+        /// The region's top row.
         y: u32,
+        /// The region's width.
         w: u32,
+        /// The region's height.
         h: u32,
+        /// The image's width.
         iw: u32,
+        /// The image's height.
         ih: u32,
     },
+    /// `--tile I/N` with I not below N, or N zero.
     #[error("tile {i}/{n}: the index must be below the count, and the count at least 1")]
-    Index { i: u32, n: u32 },
+    Index {
+        /// The tile's index.
+        i: u32,
+        /// The count of tiles.
+        n: u32,
+    },
+    /// More tiles than the image has bands.
     #[error("{n} tiles: a {height}-row image has only {bands} bands of {BAND_ROWS} rows")]
-    TooMany { n: u32, height: u32, bands: u32 },
+    TooMany {
+        /// The count of tiles asked for.
+        n: u32,
+        /// The image's rows.
+        height: u32,
+        /// The bands the image has.
+        bands: u32,
+    },
 }
 
 impl Region {
+    /// The whole image.
     pub fn whole(width: u32, height: u32) -> Self {
         Self {
             x: 0,
@@ -85,6 +113,7 @@ impl Region {
         })
     }
 
+    /// Its pixels.
     pub fn pixel_count(&self) -> u64 {
         u64::from(self.width) * u64::from(self.height)
     }

@@ -16,6 +16,7 @@ use crate::raster::diff::{figures, ErrorFigures};
 use crate::raster::{quantize, Image};
 use crate::scene::Scene;
 
+/// What `measure` measures.
 #[derive(Debug, Clone, Copy)]
 pub struct Settings {
     /// Warm runs per variant; the median is reported.
@@ -27,27 +28,108 @@ pub struct Settings {
 /// Medians over the warm runs, in seconds.
 #[derive(Debug, Clone, Copy, Default, Serialize)]
 pub struct Timing {
+    /// The median run's total.
     pub median_s: f64,
-    /// GPU only: the parts of the median run.
+    /// GPU only: the median run's upload.
     pub upload_s: Option<f64>,
+    /// GPU only: the median run's dispatches, with their waits.
     pub dispatch_s: Option<f64>,
+    /// GPU only: the median run's readback.
     pub readback_s: Option<f64>,
     /// Primary rays (pixels x samples²) per second at the median.
     pub rays_per_s: f64,
 }
 
+/// What one measurement renders with. Its name, its columns in the tables
+/// and its colour in the plot all follow from it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Variant {
+    /// The scene's own shader variant, in f32, with these intersection forms.
+    Gpu(Intersect),
+    /// The scene's own shader variant in f64 (where the device has doubles).
+    Gpu64,
+    /// The one shader that handles every feature, in f32: what the scene's
+    /// own variant saves.
+    GpuGeneric,
+    /// The scene's own variant (f32, robust) at a lower max_depth.
+    GpuDepth(u32),
+    /// The scene's own variant (f32, robust) with fewer samples a side.
+    GpuSamples(u32),
+    /// The CPU reference in f32.
+    Cpu32,
+    /// The CPU reference in f64: the reference itself.
+    Cpu64,
+}
+
+impl Variant {
+    /// Its name in the tables, the plot and report.json.
+    pub fn name(self) -> String {
+        match self {
+            Variant::Gpu(Intersect::Robust) => "gpu f32 robust".to_owned(),
+            Variant::Gpu(Intersect::Naive) => "gpu f32 naive".to_owned(),
+            Variant::Gpu64 => "gpu f64".to_owned(),
+            Variant::GpuGeneric => "gpu f32 generic".to_owned(),
+            Variant::GpuDepth(d) => format!("gpu f32 depth {d}"),
+            Variant::GpuSamples(s) => format!("gpu f32 samples {s}"),
+            Variant::Cpu32 => "cpu f32".to_owned(),
+            Variant::Cpu64 => "cpu f64".to_owned(),
+        }
+    }
+
+    /// `gpu` or `cpu`.
+    pub fn backend(self) -> &'static str {
+        match self {
+            Variant::Cpu32 | Variant::Cpu64 => "cpu",
+            _ => "gpu",
+        }
+    }
+
+    /// `f32` or `f64`.
+    pub fn precision(self) -> &'static str {
+        match self {
+            Variant::Gpu64 | Variant::Cpu64 => "f64",
+            _ => "f32",
+        }
+    }
+
+    /// The intersection forms of a GPU variant.
+    pub fn intersect(self) -> Option<Intersect> {
+        match self {
+            Variant::Gpu(form) => Some(form),
+            Variant::Cpu32 | Variant::Cpu64 => None,
+            _ => Some(Intersect::Robust),
+        }
+    }
+}
+
+impl Serialize for Variant {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&self.name())
+    }
+}
+
+/// One variant of one scene: its error against the CPU f64 reference and
+/// its time.
 #[derive(Debug, Clone, Serialize)]
 pub struct Measurement {
-    pub variant: String,
+    /// What rendered.
+    pub variant: Variant,
+    /// `gpu` or `cpu` (from the variant, for report.json's readers).
     pub backend: &'static str,
+    /// `f32` or `f64` (likewise).
     pub precision: &'static str,
+    /// A GPU variant's intersection forms (likewise).
     pub intersect: Option<Intersect>,
+    /// The ray tree's depth it rendered at.
     pub max_depth: u32,
+    /// The samples a side it rendered with.
     pub samples: u32,
+    /// Its error against the CPU f64 reference.
     pub error: ErrorFigures,
     /// Mean LDR-FLIP error (0: identical, 1: as different as can be) of the
     /// sRGB-encoded 8-bit images.
     pub flip_mean: f64,
+    /// Its medians.
     pub time: Timing,
     /// GPU only: compile and pipeline creation for this variant (one-time).
     pub setup: Option<SetupTimes>,
@@ -83,7 +165,7 @@ impl Measurement {
             _ => String::new(),
         };
         [
-            self.variant.clone(),
+            self.variant.name(),
             format!("{:.4} s", self.time.median_s),
             parts,
             format!("{:.2}", self.time.rays_per_s / 1e6),
@@ -104,43 +186,64 @@ impl Measurement {
     }
 }
 
+/// Every variant of one scene.
 #[derive(Debug, Clone, Serialize)]
 pub struct SceneReport {
+    /// The scene's name (its file's stem).
     pub name: String,
+    /// The image's width.
     pub width: u32,
+    /// The image's height.
     pub height: u32,
+    /// The scene's samples a side.
     pub samples: u32,
+    /// The scene's ray-tree depth.
     pub max_depth: u32,
+    /// One a variant.
     pub measurements: Vec<Measurement>,
     /// Not serialized: the images for the page.
     #[serde(skip)]
     pub images: SceneImages,
 }
 
+/// The images index.html shows of a scene.
 #[derive(Debug, Clone, Default)]
 pub struct SceneImages {
+    /// The GPU's (f32, robust).
     pub gpu: Option<Image>,
+    /// The CPU f64 reference's.
     pub reference: Option<Image>,
+    /// Whether the scene writes sRGB.
     pub srgb: bool,
 }
 
+/// The machine the report was made on.
 #[derive(Debug, Clone, Serialize)]
 pub struct Machine {
+    /// The CPU's model name.
     pub cpu: String,
+    /// The CPU renderer's threads.
     pub threads: usize,
+    /// The operating system's name.
     pub os: String,
 }
 
+/// A whole report: the machine, the device, and every scene's measurements.
 #[derive(Debug, Clone, Serialize)]
 pub struct Report {
+    /// Where it was made.
     pub machine: Machine,
+    /// The Vulkan device the GPU variants ran on.
     pub device: DeviceInfo,
     /// Opening the Vulkan device, once.
     pub device_s: f64,
+    /// Warm runs a variant.
     pub runs: usize,
+    /// The scenes.
     pub scenes: Vec<SceneReport>,
 }
 
+/// This machine, as far as /proc and /etc/os-release say.
 pub fn machine() -> Machine {
     let cpu = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
@@ -197,17 +300,6 @@ pub fn flip_mean(image: &Image, reference: &Image) -> f64 {
     f64::from(nv_flip::FlipPool::from_image(&map).mean())
 }
 
-/// What one variant renders with.
-#[derive(Clone, Copy)]
-enum Backend {
-    Gpu(Intersect),
-    Gpu64,
-    /// The generic shader, to show what the scene's own variant saves.
-    GpuGeneric,
-    Cpu32,
-    Cpu64,
-}
-
 /// Measures every variant of `scene`; `progress` is called once per variant.
 pub fn measure(
     renderer: &mut Renderer,
@@ -217,66 +309,17 @@ pub fn measure(
     progress: &dyn Fn(&str),
 ) -> Result<SceneReport, GpuError> {
     let reference = cpu::render::<f64>(scene);
-    let mut variants: Vec<(String, Backend, u32, u32)> = vec![
-        (
-            "gpu f32 robust".into(),
-            Backend::Gpu(Intersect::Robust),
-            scene.max_depth,
-            scene.samples,
-        ),
-        (
-            "gpu f32 naive".into(),
-            Backend::Gpu(Intersect::Naive),
-            scene.max_depth,
-            scene.samples,
-        ),
-        (
-            "cpu f32".into(),
-            Backend::Cpu32,
-            scene.max_depth,
-            scene.samples,
-        ),
-        (
-            "cpu f64".into(),
-            Backend::Cpu64,
-            scene.max_depth,
-            scene.samples,
-        ),
+    let mut variants = vec![
+        Variant::Gpu(Intersect::Robust),
+        Variant::Gpu(Intersect::Naive),
     ];
     if renderer.device_info().shader_float64 {
-        variants.insert(
-            2,
-            (
-                "gpu f64".into(),
-                Backend::Gpu64,
-                scene.max_depth,
-                scene.samples,
-            ),
-        );
+        variants.push(Variant::Gpu64);
     }
-    variants.push((
-        "gpu f32 generic".into(),
-        Backend::GpuGeneric,
-        scene.max_depth,
-        scene.samples,
-    ));
+    variants.extend([Variant::Cpu32, Variant::Cpu64, Variant::GpuGeneric]);
     if settings.sweeps {
-        for d in 1..scene.max_depth {
-            variants.push((
-                format!("gpu f32 depth {d}"),
-                Backend::Gpu(Intersect::Robust),
-                d,
-                scene.samples,
-            ));
-        }
-        for s in 1..scene.samples {
-            variants.push((
-                format!("gpu f32 samples {s}"),
-                Backend::Gpu(Intersect::Robust),
-                scene.max_depth,
-                s,
-            ));
-        }
+        variants.extend((1..scene.max_depth).map(Variant::GpuDepth));
+        variants.extend((1..scene.samples).map(Variant::GpuSamples));
     }
     let mut measurements = Vec::new();
     let mut images = SceneImages {
@@ -284,23 +327,25 @@ pub fn measure(
         srgb: scene.srgb,
         ..SceneImages::default()
     };
-    for (variant, backend, max_depth, samples) in variants {
-        progress(&variant);
+    for variant in variants {
+        progress(&variant.name());
         let mut s = scene.clone();
-        s.max_depth = max_depth;
-        s.samples = samples;
+        match variant {
+            Variant::GpuDepth(d) => s.max_depth = d,
+            Variant::GpuSamples(n) => s.samples = n,
+            _ => {}
+        }
         let rays = s.ray_count() as f64;
-        let (image, time, setup) = match backend {
-            Backend::Gpu(_) | Backend::Gpu64 | Backend::GpuGeneric => {
-                let (form, precision) = match backend {
-                    Backend::Gpu(form) => (form, Precision::F32),
-                    Backend::Gpu64 => (Intersect::Robust, Precision::F64),
-                    _ => (Intersect::Robust, Precision::F32),
-                };
+        let (image, time, setup) = match variant.intersect() {
+            Some(intersect) => {
                 let how = RenderSettings {
-                    intersect: form,
-                    precision,
-                    generic: matches!(backend, Backend::GpuGeneric),
+                    intersect,
+                    precision: if variant.precision() == "f64" {
+                        Precision::F64
+                    } else {
+                        Precision::F32
+                    },
+                    generic: variant == Variant::GpuGeneric,
                     ..renderer.settings()
                 };
                 let setup = renderer.prepare_with(&s, &how)?;
@@ -321,9 +366,9 @@ pub fn measure(
                 };
                 (image, time, Some(setup))
             }
-            Backend::Cpu32 | Backend::Cpu64 => {
-                let render = |s: &Scene| match backend {
-                    Backend::Cpu32 => cpu::render::<f32>(s),
+            None => {
+                let render = |s: &Scene| match variant {
+                    Variant::Cpu32 => cpu::render::<f32>(s),
                     _ => cpu::render::<f64>(s),
                 };
                 let image = render(&s);
@@ -348,23 +393,16 @@ pub fn measure(
         };
         let error = figures(&image, &reference).expect("same size");
         let flip = flip_mean(&image, &reference);
-        if variant == "gpu f32 robust" {
+        if variant == Variant::Gpu(Intersect::Robust) {
             images.gpu = Some(image);
         }
-        let (backend_name, precision, intersect) = match backend {
-            Backend::Gpu(form) => ("gpu", "f32", Some(form)),
-            Backend::Gpu64 => ("gpu", "f64", Some(Intersect::Robust)),
-            Backend::GpuGeneric => ("gpu", "f32", Some(Intersect::Robust)),
-            Backend::Cpu32 => ("cpu", "f32", None),
-            Backend::Cpu64 => ("cpu", "f64", None),
-        };
         measurements.push(Measurement {
             variant,
-            backend: backend_name,
-            precision,
-            intersect,
-            max_depth,
-            samples,
+            backend: variant.backend(),
+            precision: variant.precision(),
+            intersect: variant.intersect(),
+            max_depth: s.max_depth,
+            samples: s.samples,
             error,
             flip_mean: flip,
             time,

@@ -3,7 +3,8 @@
 
 use std::fmt::Write;
 
-use super::{escape, Measurement, Report};
+use super::{escape, Measurement, Report, Variant};
+use crate::gpu::Intersect;
 
 const W: f64 = 900.0;
 const H: f64 = 600.0;
@@ -15,28 +16,29 @@ const BOTTOM: f64 = 60.0;
 const ZERO_ERROR: f64 = 1e-9;
 
 /// The colour of a variant's family.
-fn colour(m: &Measurement) -> &'static str {
-    match m.variant.as_str() {
-        "gpu f32 robust" => "#1f77b4",
-        "gpu f32 naive" => "#d62728",
-        "gpu f32 generic" => "#8c564b",
-        "gpu f64" => "#9467bd",
-        "cpu f32" => "#2ca02c",
-        "cpu f64" => "#111111",
-        v if v.contains("depth") => "#7fb8e6",
-        _ => "#ff9f3f",
+fn colour(v: Variant) -> &'static str {
+    match v {
+        Variant::Gpu(Intersect::Robust) => "#1f77b4",
+        Variant::Gpu(Intersect::Naive) => "#d62728",
+        Variant::GpuGeneric => "#8c564b",
+        Variant::Gpu64 => "#9467bd",
+        Variant::Cpu32 => "#2ca02c",
+        Variant::Cpu64 => "#111111",
+        Variant::GpuDepth(_) => "#7fb8e6",
+        Variant::GpuSamples(_) => "#ff9f3f",
     }
 }
 
-const FAMILIES: [(&str, &str); 8] = [
-    ("gpu f32 robust", "#1f77b4"),
-    ("gpu f32 naive", "#d62728"),
-    ("gpu f32 generic shader", "#8c564b"),
-    ("gpu f64", "#9467bd"),
-    ("cpu f32", "#2ca02c"),
-    ("cpu f64 (reference)", "#111111"),
-    ("gpu f32, lower depth", "#7fb8e6"),
-    ("gpu f32, fewer samples", "#ff9f3f"),
+/// The legend: one variant of each family, and its label.
+const FAMILIES: [(Variant, &str); 8] = [
+    (Variant::Gpu(Intersect::Robust), "gpu f32 robust"),
+    (Variant::Gpu(Intersect::Naive), "gpu f32 naive"),
+    (Variant::GpuGeneric, "gpu f32 generic shader"),
+    (Variant::Gpu64, "gpu f64"),
+    (Variant::Cpu32, "cpu f32"),
+    (Variant::Cpu64, "cpu f64 (reference)"),
+    (Variant::GpuDepth(1), "gpu f32, lower depth"),
+    (Variant::GpuSamples(1), "gpu f32, fewer samples"),
 ];
 
 fn marker(shape: usize, x: f64, y: f64, fill: &str, title: &str) -> String {
@@ -73,6 +75,8 @@ fn marker(shape: usize, x: f64, y: f64, fill: &str, title: &str) -> String {
     })
 }
 
+/// The plot of every measurement's error (rmse) against its time, on log
+/// axes: a colour a variant's family, a marker shape a scene.
 pub fn plot(r: &Report) -> String {
     let points: Vec<(usize, &Measurement)> = r
         .scenes
@@ -144,7 +148,7 @@ pub fn plot(r: &Report) -> String {
         let title = format!(
             "{} / {}: {:.4} s, rmse {:.2e}{}",
             scene.name,
-            m.variant,
+            m.variant.name(),
             m.time.median_s,
             m.error.rmse,
             if m.pareto { " (Pareto front)" } else { "" }
@@ -153,7 +157,7 @@ pub fn plot(r: &Report) -> String {
             *i,
             x(m.time.median_s),
             y(err(m)),
-            colour(m),
+            colour(m.variant),
             &escape(&title),
         ));
         if m.pareto {
@@ -163,7 +167,8 @@ pub fn plot(r: &Report) -> String {
     // Legend: colours for variants, shapes for scenes.
     let lx = W - RIGHT + 20.0;
     let mut ly = TOP + 10.0;
-    for (name, c) in FAMILIES {
+    for (variant, name) in FAMILIES {
+        let c = colour(variant);
         let _ = writeln!(s, "<rect x=\"{lx}\" y=\"{:.1}\" width=\"12\" height=\"12\" fill=\"{c}\"/><text x=\"{:.1}\" y=\"{:.1}\">{name}</text>", ly - 10.0, lx + 18.0, ly);
         ly += 20.0;
     }

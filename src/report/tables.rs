@@ -20,7 +20,7 @@ pub fn csv(r: &Report) -> String {
             let e = &m.error;
             let record = [
                 s.name.clone(),
-                m.variant.to_string(),
+                m.variant.name(),
                 m.backend.to_string(),
                 m.precision.to_string(),
                 m.intersect
@@ -54,10 +54,12 @@ pub fn csv(r: &Report) -> String {
     String::from_utf8(w.into_inner().expect("writing to memory")).expect("UTF-8 fields")
 }
 
+/// report.json: the whole report.
 pub fn json(r: &Report) -> String {
     serde_json::to_string_pretty(r).expect("a report serializes")
 }
 
+/// report.md: a table a scene.
 pub fn markdown(r: &Report) -> String {
     let mut out = String::from("# glint report: error against run time\n\n");
     let _ = writeln!(

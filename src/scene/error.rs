@@ -5,9 +5,12 @@ use std::path::PathBuf;
 pub enum SceneError {
     // The cause is part of the message, not a `source`, so that a report
     // of the error chain does not print it twice.
+    /// The file cannot be read.
     #[error("cannot read scene {}: {cause}", crate::printable::path(path))]
     Read {
+        /// The scene file.
         path: PathBuf,
+        /// What the system said.
         cause: std::io::Error,
     },
     /// A value that breaks docs/scene-format.md: the file, the line and column, the key.
@@ -18,10 +21,15 @@ pub enum SceneError {
         crate::printable::one_line(message)
     )]
     Invalid {
+        /// The file (or the mesh file) the value is in.
         file: PathBuf,
+        /// Its line, from 1.
         line: usize,
+        /// Its column, from 1.
         column: usize,
+        /// The key, as a path: `spheres[2].radius`.
         key: String,
+        /// What is wrong.
         message: String,
     },
     /// The TOML itself does not parse (no key to name yet).
@@ -31,12 +39,21 @@ pub enum SceneError {
         crate::printable::one_line(message)
     )]
     Syntax {
+        /// The file.
         file: PathBuf,
+        /// The line, from 1.
         line: usize,
+        /// The column, from 1.
         column: usize,
+        /// The parser's message.
         message: String,
     },
     /// A command-line override out of range.
     #[error("{flag}: {message}")]
-    Override { flag: &'static str, message: String },
+    Override {
+        /// The flag, as `--width`.
+        flag: &'static str,
+        /// What is wrong.
+        message: String,
+    },
 }

@@ -19,26 +19,55 @@ pub use error::SceneError;
 pub use file::{Sampling, Triple};
 pub use validate::{parse, parse_nff, unit_vector, At, Overrides, MAX_COORDINATE};
 
-use crate::prim::Prims;
+pub use crate::prim::cylinder::Cylinder;
+pub use crate::prim::plane::Plane;
+pub use crate::prim::sphere::Sphere;
+pub use crate::prim::triangle::Triangle;
+pub use crate::prim::Prims;
 
+/// The largest width or height, in pixels.
 pub const MAX_SIZE: u32 = 16384;
+/// The most samples a side of a pixel.
 pub const MAX_SAMPLES: u32 = 16;
+/// The deepest ray tree.
 pub const MAX_DEPTH: u32 = 64;
 
+/// A scene as both renderers consume it: validated, materials by index,
+/// normals of unit length, the camera as an eye and a virtual screen.
+///
+/// ```
+/// use glint::scene::{Overrides, Scene};
+///
+/// let small = Overrides { width: Some(64), height: Some(48), ..Overrides::default() };
+/// let mut scene = Scene::load("scenes/seed-fig5.toml".as_ref(), &small)?;
+/// scene.prims.spheres[0].radius *= 1.01; // a perturbed copy, for a test that must fail
+/// # Ok::<(), glint::scene::SceneError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
+    /// The image's width in pixels.
     pub width: u32,
+    /// The image's height in pixels.
     pub height: u32,
+    /// Samples a side of each pixel: `samples²` eye rays a pixel.
     pub samples: u32,
+    /// Where in a pixel its samples lie.
     pub sampling: Sampling,
+    /// Whether a PNG is written sRGB-encoded.
     pub srgb: bool,
+    /// The ray tree's depth: 1 is eye rays alone.
     pub max_depth: u32,
+    /// Whether shadow rays are cast.
     pub shadows: bool,
+    /// The colour of a ray that meets nothing.
     pub background: DVec3,
+    /// The eye and the virtual screen.
     pub camera: Camera,
+    /// The materials, which primitives name by index.
     pub materials: Vec<Material>,
     /// Every primitive, a list for each kind (`crate::prim`).
     pub prims: Prims,
+    /// The lights.
     pub lights: Vec<Light>,
 }
 
@@ -47,19 +76,30 @@ pub struct Scene {
 /// this on load.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
+    /// Where every eye ray starts.
     pub eye: DVec3,
+    /// The screen's centre.
     pub screen_center: DVec3,
+    /// From the centre to the middle of the screen's right edge.
     pub screen_right: DVec3,
+    /// From the centre to the middle of the screen's top edge.
     pub screen_up: DVec3,
 }
 
+/// A material (docs/scene-format.md, Shading).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {
+    /// Its name in the scene file.
     pub name: String,
+    /// The ambient coefficient, per channel.
     pub ambient: DVec3,
+    /// The diffuse coefficient, per channel.
     pub diffuse: DVec3,
+    /// The specular coefficient, per channel.
     pub specular: DVec3,
+    /// The specular exponent.
     pub shininess: f64,
+    /// The mirror ray's weight, 0..1.
     pub reflectivity: f64,
     /// The refraction ray's weight, 0..1 (docs/scene-format.md, Shading).
     pub transmittance: f64,
@@ -67,27 +107,37 @@ pub struct Material {
     pub ior: f64,
 }
 
+/// What kind of light.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum LightKind {
+    /// From a point, in every direction, attenuated with distance.
     Point,
+    /// From infinitely far, one direction, not attenuated.
     Directional,
+    /// A point light within a cone about its axis.
     Spot,
 }
 
+/// A light (docs/scene-format.md, Lights).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Light {
+    /// What kind.
     pub kind: LightKind,
     /// Point and spot lights; zero for directional ones.
     pub position: DVec3,
     /// Unit length: the way a directional light travels, a spot light's axis.
     pub direction: DVec3,
+    /// Its ambient intensity, per channel.
     pub ambient: DVec3,
+    /// Its diffuse intensity, per channel.
     pub diffuse: DVec3,
+    /// Its specular intensity, per channel.
     pub specular: DVec3,
     /// [c, l, q]: 1 / (c + l d + q d²).
     pub attenuation: DVec3,
     /// cos(cutoff) of a spot light.
     pub cos_cutoff: f64,
+    /// A spot light's falloff towards its cone's edge: cos(angle)^exponent.
     pub exponent: f64,
 }
 
@@ -119,6 +169,7 @@ impl Scene {
         }
     }
 
+    /// The image's pixels.
     pub fn pixel_count(&self) -> u64 {
         u64::from(self.width) * u64::from(self.height)
     }

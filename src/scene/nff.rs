@@ -1,6 +1,6 @@
 //! Eric Haines' Neutral File Format (NFF.TXT; the Standard Procedural
 //! Databases' format), read into the scene file's own tables
-//! ([`SceneFile`]), so that an NFF scene is validated, rendered and written
+//! (`SceneFile`), so that an NFF scene is validated, rendered and written
 //! out as TOML (`glint convert`) through the same structs as a TOML one.
 //! docs/scene-format.md (NFF) gives the mapping; every error names the
 //! file and line.
@@ -24,7 +24,9 @@ pub const SPD_DEPTH: i64 = 5;
 
 /// An NFF scene as the scene file's tables, and where each came from.
 pub struct Nff {
+    /// The scene, as a scene file's tables (`glint convert` writes them).
     pub scene: SceneFile,
+    /// The NFF line each table came from, for messages.
     pub lines: Lines,
 }
 

@@ -7,6 +7,7 @@
 use super::Scene;
 
 impl Scene {
+    /// The scene translated by −eye, in f64: the eye at the origin.
     pub fn camera_relative(&self) -> Scene {
         let origin = self.camera.eye;
         let mut s = self.clone();

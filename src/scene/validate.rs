@@ -17,9 +17,13 @@ use crate::prim::Prims;
 /// Command-line values that replace the scene's own.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Overrides {
+    /// The image's width (`--width`).
     pub width: Option<u32>,
+    /// The image's height (`--height`).
     pub height: Option<u32>,
+    /// Samples a side of each pixel (`--samples`).
     pub samples: Option<u32>,
+    /// The ray tree's depth (`--max-depth`).
     pub max_depth: Option<u32>,
 }
 

@@ -11,63 +11,118 @@ use crate::raster::Image;
 /// A tile as read from its files.
 #[derive(Debug, Clone)]
 pub struct Tile {
+    /// The tile's image file.
     pub path: PathBuf,
+    /// What its sidecar says of the render.
     pub sidecar: Sidecar,
+    /// Its pixels.
     pub image: Image,
 }
 
+/// Why a set of tiles is not one whole render.
 #[derive(Debug, thiserror::Error)]
 pub enum TileError {
+    /// A tile that is not EXR or PFM.
     #[error("{0}: a tile is an EXR or PFM file (a PNG rounds its values)")]
     NotFloat(PathBuf),
+    /// A tile without a readable sidecar.
     #[error("{tile}: no sidecar {sidecar}: {err}")]
     NoSidecar {
+        /// The tile.
         tile: PathBuf,
+        /// Its sidecar's path.
         sidecar: PathBuf,
+        /// Why it could not be read.
         err: std::io::Error,
     },
+    /// A sidecar that is not a glint one: the file and why.
     #[error("{0}: not a glint tile sidecar: {1}")]
     BadSidecar(PathBuf, String),
+    /// A tile image that cannot be read: the file and why.
     #[error("{0}: {1}")]
     Image(PathBuf, String),
+    /// A tile whose image is not the size of its region.
     #[error("{tile}: holds {got_w}x{got_h} pixels where its sidecar's region is {want_w}x{want_h}: a partial tile")]
     Partial {
+        /// The tile.
         tile: PathBuf,
+        /// Its image's width.
         got_w: u32,
+        /// Its image's height.
         got_h: u32,
+        /// Its region's width.
         want_w: u32,
+        /// Its region's height.
         want_h: u32,
     },
+    /// A tile whose region is not inside the image.
     #[error("{0}: {1}")]
     Outside(PathBuf, RegionError),
+    /// A tile of another render (scene, settings, device or shader).
     #[error("{tile} is not of the render of {first}: its {field} is {got}, not {want}")]
     Mismatch {
+        /// The tile.
         tile: PathBuf,
+        /// The first tile, which the others are held to.
         first: PathBuf,
+        /// The sidecar's field that differs.
         field: String,
+        /// This tile's value.
         got: String,
+        /// The first tile's value.
         want: String,
     },
+    /// Two tiles of the same region.
     #[error("{a} and {b} are the same tile (region {x},{y},{w},{h})")]
     Duplicate {
+        /// One tile.
         a: PathBuf,
+        /// The other.
         b: PathBuf,
+        /// The region's left column.
         x: u32,
+        /// The region's top row.
         y: u32,
+        /// The region's width.
         w: u32,
+        /// The region's height.
         h: u32,
     },
+    /// Two tiles that overlap.
     #[error("{a} and {b} overlap in row {y}")]
-    Overlap { a: PathBuf, b: PathBuf, y: u32 },
+    Overlap {
+        /// One tile.
+        a: PathBuf,
+        /// The other.
+        b: PathBuf,
+        /// A row both cover.
+        y: u32,
+    },
+    /// A pixel no tile holds.
     #[error("no tile holds pixel ({x}, {y}) of the {w}x{h} image: a tile is missing")]
-    Gap { x: u32, y: u32, w: u32, h: u32 },
+    Gap {
+        /// The pixel's column.
+        x: u32,
+        /// The pixel's row.
+        y: u32,
+        /// The image's width.
+        w: u32,
+        /// The image's height.
+        h: u32,
+    },
+    /// Tiles of an `--tile I/N` render that are not there.
     #[error("tile {missing} of the {w}x{h} image is missing (rerun it with --tile I/{n})")]
     Missing {
+        /// The missing tiles' indices.
         missing: String,
+        /// The count of tiles of the render.
         n: u32,
+        /// The image's width.
         w: u32,
+        /// The image's height.
         h: u32,
     },
+    /// No tiles at all.
     #[error("no tiles given")]
     NoTiles,
 }

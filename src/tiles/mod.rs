@@ -26,8 +26,9 @@ pub struct Sidecar {
     pub scene: String,
     /// [`scene_hash`] of the scene as loaded, overrides applied.
     pub scene_hash: String,
-    /// The whole image's size.
+    /// The whole image's width.
     pub width: u32,
+    /// The whole image's height.
     pub height: u32,
     /// Whether a PNG of it is sRGB-encoded.
     pub srgb: bool,
@@ -52,12 +53,17 @@ pub struct RenderKey {
     pub gpu: Option<GpuKey>,
 }
 
+/// The GPU settings of a render that decide its pixels' bits.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GpuKey {
+    /// `robust` or `naive`.
     pub intersect: String,
+    /// Whether the generic shader rendered it.
     pub generic: bool,
+    /// A hash of the user's shader files and defines; empty where there are none.
     pub shader: String,
+    /// The device's name.
     pub device: String,
 }
 

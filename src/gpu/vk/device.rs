@@ -13,15 +13,25 @@ use crate::gpu::error::{GpuError, VkContext};
 /// What `glint info` shows of a device and what the renderer needs to know.
 #[derive(Debug, Clone, Serialize)]
 pub struct DeviceInfo {
+    /// The device's name, as `llvmpipe (LLVM 15.0.6, 256 bits)`.
     pub name: String,
+    /// `discrete GPU`, `integrated GPU`, `virtual GPU`, `CPU` or `other`.
     pub kind: String,
+    /// The Vulkan version it supports, as `1.3.230`.
     pub api_version: String,
+    /// The driver's name and version.
     pub driver: String,
+    /// Whether shaders may use doubles (`--precision f64` on the GPU).
     pub shader_float64: bool,
+    /// The largest storage buffer a shader may bind, in bytes.
     pub max_storage_buffer_range: u32,
+    /// The largest uniform buffer a shader may bind, in bytes.
     pub max_uniform_buffer_range: u32,
+    /// The most workgroups a dispatch may have in x, y and z.
     pub max_compute_work_group_count: [u32; 3],
+    /// The most invocations a workgroup may have.
     pub max_compute_work_group_invocations: u32,
+    /// The queue family glint submits to, where one has compute.
     pub compute_queue_family: Option<u32>,
     /// Nanoseconds a timestamp tick, and the ticks' valid bits, where the
     /// compute queue writes timestamps.

@@ -163,7 +163,6 @@ impl Instance {
             .as_ref()
             .map_or_else(Vec::new, |m| m.messages.take())
     }
-
 }
 
 impl Drop for Instance {

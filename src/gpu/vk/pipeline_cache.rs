@@ -25,8 +25,8 @@ impl PipelineCache {
         let info = vk::PipelineCacheCreateInfo::default().initial_data(&data);
         // SAFETY: a live device; initial data of any content is allowed (the
         // driver checks its header and ignores data that is not its own).
-        let raw =
-            unsafe { device.raw.create_pipeline_cache(&info, None) }.doing("vkCreatePipelineCache")?;
+        let raw = unsafe { device.raw.create_pipeline_cache(&info, None) }
+            .doing("vkCreatePipelineCache")?;
         Ok(Self {
             raw,
             file: file.map(Path::to_owned),
