@@ -268,6 +268,15 @@ fn watch_rerenders_on_change_and_keeps_the_last_good_image() {
         std::fs::write(&scene, original.replace("radius = 6.0", "radius = -6.0")).unwrap();
         std::thread::sleep(Duration::from_millis(1500));
         assert_eq!(std::fs::read(&out).unwrap(), second);
+        // Saved as many editors save, a new file renamed over the old: the
+        // original scene again, the first image again.
+        let new = dir.path().join(".scene.toml.swp");
+        std::fs::write(&new, &original).unwrap();
+        std::fs::rename(&new, &scene).unwrap();
+        assert!(
+            wait_for(limit, || std::fs::read(&out).is_ok_and(|b| b == first)),
+            "re-render after a rename"
+        );
     });
     child.kill().unwrap();
     let output = child.wait_with_output().unwrap();

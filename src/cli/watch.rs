@@ -1,8 +1,11 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::mpsc;
 use std::time::{Duration, SystemTime};
 
+use anyhow::Context;
 use clap::Args;
+use notify_debouncer_mini::{new_debouncer, notify::RecursiveMode};
 
 use glint::gpu::Renderer;
 use glint::raster::io;
@@ -37,6 +40,31 @@ fn stamp(scene: &Path, device: &DeviceArgs) -> Vec<(PathBuf, Option<SystemTime>,
         .collect()
 }
 
+/// The directories to watch, and how: the scene's and each shader file's
+/// own directory (editors often save by renaming a new file over the old,
+/// which a watch on the file itself would lose), and each include
+/// directory (the files directly in it, as the compile searches it).
+fn watched(scene: &Path, device: &DeviceArgs) -> Vec<(PathBuf, RecursiveMode)> {
+    let parent = |f: &Path| match f.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
+        _ => PathBuf::from("."),
+    };
+    let mut dirs: Vec<(PathBuf, RecursiveMode)> = Vec::new();
+    let files = std::iter::once(scene).chain(device.shader.iter().map(PathBuf::as_path));
+    for dir in files.map(parent) {
+        if !dirs.iter().any(|(d, _)| *d == dir) {
+            dirs.push((dir, RecursiveMode::NonRecursive));
+        }
+    }
+    dirs.extend(
+        device
+            .include
+            .iter()
+            .map(|d| (d.clone(), RecursiveMode::NonRecursive)),
+    );
+    dirs
+}
+
 /// Re-renders whenever the scene or a shader file changes; a failed render
 /// prints its error and leaves the last good image in place. Runs until
 /// interrupted.
@@ -46,8 +74,22 @@ pub fn run(a: &WatchArgs) -> anyhow::Result<ExitCode> {
     inputs.extend(a.device.shader.as_deref());
     io::refuse_input(&a.output, &inputs)?;
     let mut renderer = Renderer::new(&a.device.options()?)?;
-    let mut last = None;
+    // Editors write a file in bursts (truncate, write, rename): one render
+    // for a burst, once it has been quiet this long.
+    let (events, changes) = mpsc::channel();
+    let mut debouncer = new_debouncer(Duration::from_millis(100), events)
+        .context("cannot watch for file changes")?;
+    for (dir, mode) in watched(&a.scene.scene, &a.device) {
+        debouncer
+            .watcher()
+            .watch(&dir, mode)
+            .with_context(|| format!("cannot watch {}", glint::printable::path(&dir)))?;
+    }
     eprintln!("watching {} (Ctrl-C to stop)", a.scene.scene.display());
+    // An event is only a hint: the files' times and sizes decide whether a
+    // render's inputs changed (the output, written beside the scene, and
+    // other files in these directories change nothing).
+    let mut last = None;
     loop {
         let now = stamp(&a.scene.scene, &a.device);
         if last.as_ref() != Some(&now) {
@@ -57,7 +99,11 @@ pub fn run(a: &WatchArgs) -> anyhow::Result<ExitCode> {
                 Err(e) => eprintln!("error: {e:#}\n(keeping the last good image)"),
             }
         }
-        std::thread::sleep(Duration::from_millis(200));
+        match changes.recv() {
+            Ok(Ok(_)) => {}
+            Ok(Err(e)) => eprintln!("error: watching files: {e}"),
+            Err(mpsc::RecvError) => anyhow::bail!("the file watcher stopped"),
+        }
     }
 }
 

@@ -851,3 +851,42 @@ pub fn list_devices() -> Result<Vec<DeviceInfo>, GpuError> {
         .map(|c| c.info)
         .collect())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Overrides;
+
+    /// An edited shader file makes a new pipeline for the variant, which
+    /// replaces the old one (as `glint watch` edits it), rather than
+    /// piling up one pipeline an edit.
+    #[test]
+    fn an_edit_replaces_the_variants_pipeline() {
+        let dir = tempfile::tempdir().unwrap();
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let specular = std::fs::read_to_string(root.join("shaders/specular.glsl")).unwrap();
+        let file = dir.path().join("specular.glsl");
+        std::fs::write(&file, &specular).unwrap();
+        let small = Overrides {
+            width: Some(16),
+            height: Some(12),
+            ..Overrides::default()
+        };
+        let scene = Scene::load(&root.join("scenes/seed-fig4.toml"), &small).unwrap();
+        let mut renderer = Renderer::new(&GpuOptions {
+            include_dirs: vec![dir.path().to_owned()],
+            ..GpuOptions::from_env(None)
+        })
+        .unwrap();
+        let (before, _) = renderer.render(&scene, &|_| {}).unwrap();
+        std::fs::write(&file, specular.replace("spec_pow(", "0.0 * spec_pow(")).unwrap();
+        let (after, _) = renderer.render(&scene, &|_| {}).unwrap();
+        assert!(before != after, "the edit changes the image");
+        assert_eq!(renderer.pipelines.len(), 1);
+        // The edit undone: the first image again, still one pipeline.
+        std::fs::write(&file, &specular).unwrap();
+        let (again, _) = renderer.render(&scene, &|_| {}).unwrap();
+        assert!(again == before);
+        assert_eq!(renderer.pipelines.len(), 1);
+    }
+}
