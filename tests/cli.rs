@@ -4,19 +4,12 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use glint::raster::io;
+use predicates::prelude::*;
+use predicates::str::contains;
 
-use common::glint;
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
+use common::{cmd, json_of};
 
 fn scene_path(name: &str) -> String {
     common::repo()
@@ -40,17 +33,11 @@ fn render_writes_png_pfm_and_exr() {
     let scene = scene_path("seed-fig4.toml");
     for ext in ["png", "pfm", "exr"] {
         let out = p(dir.path(), &format!("a.{ext}"));
-        let o = glint(&[
-            "render",
-            &scene,
-            "--width",
-            "80",
-            "--height",
-            "60",
-            "-o",
-            out.to_str().unwrap(),
-        ]);
-        assert!(o.status.success(), "{ext}: {}", stderr(&o));
+        cmd()
+            .args(["render", &scene, "--width", "80", "--height", "60", "-o"])
+            .arg(&out)
+            .assert()
+            .success();
         let img = io::read(&out).expect("reads back");
         assert_eq!((img.width, img.height), (80, 60), "{ext}");
     }
@@ -71,19 +58,12 @@ fn pfm_is_standard_bottom_to_top_little_endian() {
     let dir = tmp();
     let out = p(dir.path(), "ref.pfm");
     let scene = scene_path("seed-fig3.toml");
-    let o = glint(&[
-        "render",
-        &scene,
-        "--backend",
-        "cpu",
-        "--width",
-        "40",
-        "--height",
-        "30",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    cmd()
+        .args(["render", &scene, "--backend", "cpu"])
+        .args(["--width", "40", "--height", "30", "-o"])
+        .arg(&out)
+        .assert()
+        .success();
     let bytes = std::fs::read(&out).unwrap();
     assert!(bytes.starts_with(b"PF\n40 30\n-1.0\n"));
     assert_eq!(bytes.len(), "PF\n40 30\n-1.0\n".len() + 40 * 30 * 12);
@@ -106,17 +86,12 @@ fn pfm_is_standard_bottom_to_top_little_endian() {
 
 #[test]
 fn compare_json_passes_on_a_seed_scene() {
-    let o = glint(&[
-        "compare",
-        &scene_path("seed-fig4.toml"),
-        "--width",
-        "160",
-        "--height",
-        "120",
-        "--json",
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}{}", stdout(&o), stderr(&o));
-    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).expect("one JSON object");
+    let run = cmd()
+        .args(["compare", &scene_path("seed-fig4.toml")])
+        .args(["--width", "160", "--height", "120", "--json"])
+        .assert()
+        .code(0);
+    let v = json_of(&run);
     assert_eq!(v["pass"], true);
     for key in ["max_abs", "rmse", "psnr_db", "frac_over_1_255", "nonfinite"] {
         assert!(
@@ -140,20 +115,15 @@ fn compare_exits_1_when_the_shader_is_wrong() {
     assert_ne!(shade, broken);
     std::fs::write(p(dir.path(), "shade.glsl"), broken).unwrap();
     let heat = p(dir.path(), "heat.png");
-    let o = glint(&[
-        "compare",
-        &scene_path("seed-fig3.toml"),
-        "--width",
-        "80",
-        "--height",
-        "60",
-        "-I",
-        dir.path().to_str().unwrap(),
-        "--diff-out",
-        heat.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(1), "{}{}", stdout(&o), stderr(&o));
-    assert!(stdout(&o).contains("FAIL"));
+    cmd()
+        .args(["compare", &scene_path("seed-fig3.toml")])
+        .args(["--width", "80", "--height", "60", "-I"])
+        .arg(dir.path())
+        .arg("--diff-out")
+        .arg(&heat)
+        .assert()
+        .code(1)
+        .stdout(contains("FAIL"));
     assert!(heat.exists());
 }
 
@@ -164,28 +134,28 @@ fn diff_reports_figures_for_two_files() {
     let b = p(dir.path(), "b.pfm");
     let scene = scene_path("seed-fig3.toml");
     for (out, backend) in [(&a, "gpu"), (&b, "cpu")] {
-        let o = glint(&[
-            "render",
-            &scene,
-            "--width",
-            "64",
-            "--height",
-            "48",
-            "--backend",
-            backend,
-            "-o",
-            out.to_str().unwrap(),
-        ]);
-        assert!(o.status.success(), "{}", stderr(&o));
+        cmd()
+            .args(["render", &scene, "--width", "64", "--height", "48"])
+            .args(["--backend", backend, "-o"])
+            .arg(out)
+            .assert()
+            .success();
     }
-    let o = glint(&["diff", a.to_str().unwrap(), b.to_str().unwrap(), "--json"]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    let diff = |x: &Path, y: &Path| {
+        let run = cmd()
+            .arg("diff")
+            .arg(x)
+            .arg(y)
+            .arg("--json")
+            .assert()
+            .success();
+        json_of(&run)
+    };
+    let v = diff(&a, &b);
     assert!(v["max_abs"].as_f64().unwrap() > 0.0);
     assert!(v["max_abs"].as_f64().unwrap() < 0.01);
     assert_eq!(v["nonfinite"], 0);
-    let same = glint(&["diff", a.to_str().unwrap(), a.to_str().unwrap(), "--json"]);
-    let v: serde_json::Value = serde_json::from_str(stdout(&same).trim()).unwrap();
+    let v = diff(&a, &a);
     assert_eq!(v["max_abs"], 0.0);
     assert!(v["psnr_db"].is_null());
 }
@@ -200,28 +170,26 @@ fn a_bad_scene_is_one_clear_error_and_leaves_the_output_alone() {
     std::fs::write(&scene, &text).unwrap();
     let out = p(dir.path(), "out.png");
     std::fs::write(&out, b"the previous image").unwrap();
-    let o = glint(&[
-        "render",
-        scene.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(2));
-    let err = stderr(&o);
     let line = text
         .lines()
         .position(|l| l.contains("radius = -6.0"))
         .unwrap()
         + 1;
-    assert!(
-        err.contains(&format!("bad.toml:{line}:")) && err.contains("spheres[0].radius"),
-        "{err}"
-    );
-    assert_eq!(err.trim().lines().count(), 1, "one line: {err}");
-    assert!(
-        !err.contains("panicked") && !err.contains("backtrace"),
-        "{err}"
-    );
+    let one_line = predicate::function(|err: &str| err.trim().lines().count() == 1);
+    cmd()
+        .arg("render")
+        .arg(&scene)
+        .arg("-o")
+        .arg(&out)
+        .assert()
+        .code(2)
+        .stderr(
+            contains(format!("bad.toml:{line}:"))
+                .and(contains("spheres[0].radius"))
+                .and(one_line)
+                .and(contains("panicked").not())
+                .and(contains("backtrace").not()),
+        );
     assert_eq!(std::fs::read(&out).unwrap(), b"the previous image");
     // No temporary file is left behind either.
     let names: Vec<_> = std::fs::read_dir(dir.path())
@@ -262,12 +230,11 @@ fn user_errors_exit_2_without_a_panic() {
         ],
     ];
     for args in cases {
-        let args: Vec<&str> = args.iter().map(String::as_str).collect();
-        let o = glint(&args);
-        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
-        let err = stderr(&o);
-        assert!(err.starts_with("error: "), "{args:?}: {err}");
-        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        cmd()
+            .args(&args)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::starts_with("error: ").and(contains("panicked").not()));
     }
     assert!(!p(dir.path(), "x.jpg").exists());
 }
@@ -276,43 +243,34 @@ fn user_errors_exit_2_without_a_panic() {
 fn no_vulkan_device_is_a_clear_error_and_the_cpu_still_renders() {
     let dir = tmp();
     let out = p(dir.path(), "cpu.png");
-    let run = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_glint"))
-            .args(args)
-            .env("VK_DRIVER_FILES", "/nonexistent/icd.json")
+    let no_driver = || {
+        let mut c = cmd();
+        c.env("VK_DRIVER_FILES", "/nonexistent/icd.json")
             .env("VK_ICD_FILENAMES", "/nonexistent/icd.json")
-            .output()
-            .unwrap()
+            .env_remove("GLINT_VALIDATION");
+        c
     };
     let scene = scene_path("seed-fig3.toml");
-    let o = run(&["render", &scene, "--width", "32", "--height", "24"]);
-    assert_eq!(o.status.code(), Some(2));
-    let err = stderr(&o);
-    assert!(
-        err.contains("mesa-vulkan-drivers") && err.contains("--backend cpu"),
-        "{err}"
-    );
-    let o = run(&[
-        "render",
-        &scene,
-        "--width",
-        "32",
-        "--height",
-        "24",
-        "--backend",
-        "cpu",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let small = ["--width", "32", "--height", "24"];
+    no_driver()
+        .args(["render", &scene])
+        .args(small)
+        .assert()
+        .code(2)
+        .stderr(contains("mesa-vulkan-drivers").and(contains("--backend cpu")));
+    no_driver()
+        .args(["render", &scene])
+        .args(small)
+        .args(["--backend", "cpu", "-o"])
+        .arg(&out)
+        .assert()
+        .success();
     assert!(out.exists());
 }
 
 #[test]
 fn info_lists_devices() {
-    let o = glint(&["info", "--json"]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    let v = json_of(&cmd().args(["info", "--json"]).assert().success());
     let devices = v["devices"].as_array().expect("a list");
     assert!(!devices.is_empty());
     assert!(devices[0]["name"].as_str().is_some_and(|n| !n.is_empty()));
@@ -324,14 +282,13 @@ fn stability_json_holds_every_variant() {
     let scenes = common::repo().join("scenes/extreme");
     let a = scenes.join("tiny-1e-5.toml");
     let b = scenes.join("mirrors-09.toml");
-    let o = glint(&[
-        "stability",
-        a.to_str().unwrap(),
-        b.to_str().unwrap(),
-        "--json",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    let run = cmd()
+        .arg("stability")
+        .args([a, b])
+        .arg("--json")
+        .assert()
+        .success();
+    let v = json_of(&run);
     let scenes = v["scenes"].as_array().unwrap();
     assert_eq!(scenes.len(), 2);
     for s in scenes {
@@ -356,14 +313,12 @@ fn compiled_shaders_are_cached_between_runs_unless_told_not_to() {
         let scene = scene_path("seed-fig3.toml");
         args.insert(1, &scene);
         args.extend_from_slice(extra);
-        let o = Command::new(env!("CARGO_BIN_EXE_glint"))
+        let run = cmd()
             .args(&args)
             .env("XDG_CACHE_HOME", cache.path())
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", stderr(&o));
-        let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
-        v["setup"]["spirv_cached"].as_bool().unwrap()
+            .assert()
+            .success();
+        json_of(&run)["setup"]["spirv_cached"].as_bool().unwrap()
     };
     assert!(!run(&[]), "a cold cache compiles");
     assert!(run(&[]), "the second run reads SPIR-V from the cache");

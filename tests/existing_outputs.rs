@@ -9,6 +9,7 @@ mod common;
 use std::os::unix::fs::PermissionsExt;
 use std::path::Path;
 
+use assert_cmd::assert::OutputAssertExt;
 use common::glint;
 
 fn render(out: &Path, extra: &[&str]) -> std::process::Output {
@@ -35,14 +36,13 @@ fn a_read_only_output_is_refused_unless_forced() {
     let out = dir.path().join("ro.pfm");
     std::fs::write(&out, b"old").unwrap();
     std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o444)).unwrap();
-    let o = render(&out, &[]);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("is read-only"), "{err}");
+    render(&out, &[])
+        .assert()
+        .code(2)
+        .stderr(predicates::str::contains("is read-only"));
     assert_eq!(std::fs::read(&out).unwrap(), b"old");
 
-    let o = render(&out, &["--force"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    render(&out, &["--force"]).assert().success();
     assert_ne!(std::fs::read(&out).unwrap(), b"old");
     let mode = std::fs::metadata(&out).unwrap().permissions().mode() & 0o777;
     assert_eq!(mode, 0o444, "the new file keeps the old one's permissions");
@@ -55,8 +55,7 @@ fn a_symbolic_link_keeps_pointing_at_its_target_which_gets_the_image() {
     std::fs::write(&target, b"old").unwrap();
     let link = dir.path().join("link.pfm");
     std::os::unix::fs::symlink("real.pfm", &link).unwrap();
-    let o = render(&link, &[]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    render(&link, &[]).assert().success();
     assert!(std::fs::symlink_metadata(&link)
         .unwrap()
         .file_type()
@@ -67,8 +66,7 @@ fn a_symbolic_link_keeps_pointing_at_its_target_which_gets_the_image() {
     // A dangling link: its target is created.
     let dangling = dir.path().join("dangling.pfm");
     std::os::unix::fs::symlink("made.pfm", &dangling).unwrap();
-    let o = render(&dangling, &[]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    render(&dangling, &[]).assert().success();
     assert!(std::fs::symlink_metadata(&dangling)
         .unwrap()
         .file_type()
@@ -83,8 +81,7 @@ fn a_hard_links_other_name_keeps_the_old_image() {
     std::fs::write(&out, b"old").unwrap();
     let other = dir.path().join("other.pfm");
     std::fs::hard_link(&out, &other).unwrap();
-    let o = render(&out, &[]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    render(&out, &[]).assert().success();
     assert_eq!(std::fs::read(&other).unwrap(), b"old");
     assert!(glint::raster::io::read(&out).is_ok());
 }

@@ -6,6 +6,10 @@
 mod common;
 
 use std::process::{Command, Output, Stdio};
+
+use assert_cmd::assert::OutputAssertExt;
+use predicates::prelude::*;
+use predicates::str::{contains, starts_with};
 use std::time::{Duration, Instant};
 
 use common::glint;
@@ -14,12 +18,13 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// Exit status 2 and an error naming `needle`, without a panic.
 fn assert_user_error(o: &Output, needle: &str) {
-    let err = stderr(o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.starts_with("error: "), "{err}");
-    assert!(err.contains(needle), "wanted {needle:?} in {err}");
-    assert!(!err.contains("panicked"), "{err}");
+    o.clone().assert().code(2).stderr(
+        starts_with("error: ")
+            .and(contains(needle))
+            .and(contains("panicked").not()),
+    );
 }
 
 /// Runs glint and kills it after `limit`: a hang fails the test, not CI.

@@ -7,7 +7,9 @@ mod common;
 
 use std::path::Path;
 
-use common::glint;
+use common::{cmd, glint};
+use predicates::prelude::*;
+use predicates::str::contains;
 
 const SCENE: &str = r#"
 [image]
@@ -27,11 +29,12 @@ material = "m"
 "#;
 
 fn assert_refused(args: &[&str], input: &Path, before: &[u8]) {
-    let o = glint(args);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{args:?} must fail: {err}");
-    assert!(err.contains("refusing to overwrite an input"), "{err}");
-    assert_eq!(err.trim().lines().count(), 1, "one line: {err}");
+    let one_line = predicate::function(|err: &str| err.trim().lines().count() == 1);
+    cmd()
+        .args(args)
+        .assert()
+        .code(2)
+        .stderr(contains("refusing to overwrite an input").and(one_line));
     assert_eq!(
         std::fs::read(input).unwrap(),
         before,

@@ -4,7 +4,7 @@
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use glint::gpu::{GpuOptions, Renderer};
 use glint::raster::Image;
@@ -19,13 +19,21 @@ pub fn gpu() -> Renderer {
         .unwrap_or_else(|e| panic!("cannot open the Vulkan device with validation: {e}"))
 }
 
+/// The glint binary with validation on, as a user runs it.
+pub fn cmd() -> assert_cmd::Command {
+    let mut c = assert_cmd::Command::new(env!("CARGO_BIN_EXE_glint"));
+    c.env("GLINT_VALIDATION", "1");
+    c
+}
+
 /// Runs the glint binary with validation on, as a user would.
 pub fn glint(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args(args)
-        .env("GLINT_VALIDATION", "1")
-        .output()
-        .expect("run glint")
+    cmd().args(args).output().expect("run glint")
+}
+
+/// The one JSON value a successful run printed.
+pub fn json_of(run: &assert_cmd::assert::Assert) -> serde_json::Value {
+    serde_json::from_slice(&run.get_output().stdout).expect("one JSON value on stdout")
 }
 
 /// Every pixel of `image` equals `want` to a relative error of `rel`.
