@@ -40,7 +40,7 @@ const BINS: usize = 16;
 const COST_NODE: f64 = 3.0;
 const COST_PRIM: f64 = 1.5;
 
-crate::gpu_struct!(
+crate::gpu::interface::gpu_struct!(
     /// One node as both renderers read it: 32 bytes, f32 in both precisions.
     pub mod node: "Node" {
         lo: float3,

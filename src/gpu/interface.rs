@@ -63,8 +63,6 @@ pub struct Array {
 /// followed by `uint` (a vec3 and a uint in one 16-byte slot, f32 in both
 /// precisions). `real4` fields come first, so that each sits at a multiple
 /// of 32 bytes in f64.
-#[macro_export]
-#[doc(hidden)]
 macro_rules! gpu_struct {
     (@host real4) => { [f64; 4] };
     (@host uvec4) => { [u32; 4] };
@@ -101,23 +99,23 @@ macro_rules! gpu_struct {
             /// The values as the host computes them.
             #[derive(Debug, Clone, Copy, PartialEq, Default)]
             pub struct Values {
-                $( $(#[$fdoc])* pub $field: $crate::gpu_struct!(@host $ty), )*
+                $( $(#[$fdoc])* pub $field: $crate::gpu::interface::gpu_struct!(@host $ty), )*
             }
 
-            const BYTES_64: usize = 0 $( + $crate::gpu_struct!(@bytes64 $ty) )*;
+            const BYTES_64: usize = 0 $( + $crate::gpu::interface::gpu_struct!(@bytes64 $ty) )*;
 
             /// The f32 layout.
             #[repr(C)]
             #[derive(Debug, Clone, Copy, Pod, Zeroable)]
             pub struct F32 {
-                $( pub $field: $crate::gpu_struct!(@f32 $ty), )*
+                $( pub $field: $crate::gpu::interface::gpu_struct!(@f32 $ty), )*
             }
 
             /// The f64 layout, padded to a multiple of 32 bytes.
             #[repr(C)]
             #[derive(Debug, Clone, Copy, Pod, Zeroable)]
             pub struct F64 {
-                $( pub $field: $crate::gpu_struct!(@f64 $ty), )*
+                $( pub $field: $crate::gpu::interface::gpu_struct!(@f64 $ty), )*
                 pub pad: [u32; (32 - BYTES_64 % 32) % 32 / 4],
             }
 
@@ -126,10 +124,10 @@ macro_rules! gpu_struct {
                 type F64 = F64;
                 const NAME: &'static str = $name;
                 const MEMBERS: &'static str = concat!(
-                    $( "    ", $crate::gpu_struct!(@glsl $ty), " ", stringify!($field), ";\n", )*
+                    $( "    ", $crate::gpu::interface::gpu_struct!(@glsl $ty), " ", stringify!($field), ";\n", )*
                 );
                 fn f32(&self) -> F32 {
-                    F32 { $( $field: $crate::gpu_struct!(@to32 $ty, self.$field), )* }
+                    F32 { $( $field: $crate::gpu::interface::gpu_struct!(@to32 $ty, self.$field), )* }
                 }
                 fn f64(&self) -> F64 {
                     F64 { $( $field: self.$field, )* pad: Zeroable::zeroed() }
@@ -138,12 +136,13 @@ macro_rules! gpu_struct {
         }
     };
 }
+pub(crate) use gpu_struct;
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    crate::gpu_struct!(
+    crate::gpu::interface::gpu_struct!(
         pub mod probe: "Probe" {
             a: real4,
             b: uvec4,

@@ -11,7 +11,7 @@ use crate::accel::{self, Accel};
 use crate::prim::KINDS;
 use crate::scene::{LightKind, Scene};
 
-crate::gpu_struct!(
+crate::gpu::interface::gpu_struct!(
     /// The uniform block.
     pub mod globals: "Globals" {
         eye: real4,
@@ -31,7 +31,7 @@ crate::gpu_struct!(
     }
 );
 
-crate::gpu_struct!(
+crate::gpu::interface::gpu_struct!(
     pub mod material: "Material" {
         /// rgb Ka
         ambient: real4,
@@ -44,7 +44,7 @@ crate::gpu_struct!(
     }
 );
 
-crate::gpu_struct!(
+crate::gpu::interface::gpu_struct!(
     pub mod light: "Light" {
         /// xyz (point, spot)
         position: real4,

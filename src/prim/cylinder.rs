@@ -84,7 +84,7 @@ impl Cylinder {
     }
 }
 
-crate::gpu_struct!(
+crate::gpu::interface::gpu_struct!(
     /// The cylinder or cone in the shader's buffers.
     pub mod gpu: "Cylinder" {
         /// xyz the axis' midpoint, w the radius there

@@ -29,8 +29,6 @@ use crate::stats::{Counter, Tally};
 /// kind. Kinds with bounds come before the unbounded ones (tested): a tie in
 /// t goes to the earlier kind, then to the earlier primitive in the file,
 /// and the BVH's bounded kinds are searched before the unbounded kinds' scans.
-#[macro_export]
-#[doc(hidden)]
 macro_rules! with_kinds {
     ($then:path) => {
         $then! {
@@ -41,6 +39,7 @@ macro_rules! with_kinds {
         }
     };
 }
+pub(crate) use with_kinds;
 
 /// What one kind provides.
 pub trait Kind: Clone + PartialEq + std::fmt::Debug + Send + Sync + 'static {
@@ -186,7 +185,7 @@ macro_rules! generate {
         impl Prims {
             /// Checks every table of `files`; `at(key, i)` names the i-th
             /// table of the array `key`.
-            pub fn check<'a>(
+            pub(crate) fn check<'a>(
                 files: &PrimFiles,
                 at: impl Fn(&'static str, usize) -> At<'a>,
             ) -> Result<Self, SceneError> {
@@ -228,7 +227,7 @@ macro_rules! generate {
             }
 
             /// Each primitive moved by `by(its box)` (None: unbounded).
-            pub fn each_moved(&self, mut by: impl FnMut(Option<Aabb>) -> DVec3) -> Self {
+            pub(crate) fn each_moved(&self, mut by: impl FnMut(Option<Aabb>) -> DVec3) -> Self {
                 Self {
                     $($key: self.$key.iter().map(|p| p.relative_to(-by(p.bounds()))).collect(),)*
                 }
@@ -241,7 +240,7 @@ macro_rules! generate {
             }
 
             /// The bounded primitives' boxes, with their ids.
-            pub fn bounds(&self) -> Vec<(Aabb, PrimId)> {
+            pub(crate) fn bounds(&self) -> Vec<(Aabb, PrimId)> {
                 let mut out = Vec::new();
                 let mut _kind = 0u32;
                 $(
@@ -257,7 +256,7 @@ macro_rules! generate {
 
             /// Each kind's array as the shader reads it; `orders[kind]`:
             /// the kind in the BVH's leaf order, where it is in one.
-            pub fn gpu_arrays(&self, orders: &[Option<Vec<u32>>], precision: Precision) -> Vec<Array> {
+            pub(crate) fn gpu_arrays(&self, orders: &[Option<Vec<u32>>], precision: Precision) -> Vec<Array> {
                 let mut orders = orders.iter();
                 vec![$(gpu_array(
                     &self.$key,

@@ -30,7 +30,7 @@ pub struct Plane {
     pub material: u32,
 }
 
-crate::gpu_struct!(
+crate::gpu::interface::gpu_struct!(
     /// The plane in the shader's buffers.
     pub mod gpu: "Plane" {
         /// xyz

@@ -34,7 +34,7 @@ pub struct Sphere {
     pub material: u32,
 }
 
-crate::gpu_struct!(
+crate::gpu::interface::gpu_struct!(
     /// The sphere in the shader's buffers.
     pub mod gpu: "Sphere" {
         /// xyz centre, w radius

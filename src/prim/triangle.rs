@@ -58,7 +58,7 @@ impl Triangle {
     }
 }
 
-crate::gpu_struct!(
+crate::gpu::interface::gpu_struct!(
     /// The triangle in the shader's buffers.
     pub mod gpu: "Triangle" {
         /// xyz the first vertex, w the geometric normal's x

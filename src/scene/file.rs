@@ -68,7 +68,7 @@ macro_rules! scene_file {
     };
 }
 
-crate::with_kinds!(scene_file);
+crate::prim::with_kinds!(scene_file);
 
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
