@@ -16,10 +16,10 @@ pub const AUTO_MIN_BOUNDED: usize = 16;
 
 /// Which primitives each ray tests (scene management). The image is the
 /// same either way, bit for bit; only the time differs.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Accel {
-    /// The BVH from `AUTO_MIN_BOUNDED` bounded primitives up, else the linear scan.
+    /// The BVH from 16 bounded primitives up (`AUTO_MIN_BOUNDED`), else the linear scan.
     #[default]
     Auto,
     /// A BVH over the bounded primitives; the unbounded ones (planes) are

@@ -51,7 +51,7 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
     let options = a.device.options()?;
     let ceiling = bench::ceiling(&options, 512, a.runs)?;
     let mut renderer = Renderer::new(&options)?;
-    let accel = a.device.accel.into();
+    let accel = a.device.accel;
     let bar = progress::bar(scenes.len() as u64, "scenes");
     let mut rows = Vec::new();
     for path in &scenes {

@@ -60,7 +60,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         warm_image == gpu_image,
         "two GPU renders of the same scene differ"
     );
-    let accel = a.device.accel.into();
+    let accel = a.device.accel;
     let cpu64 = render_cpu_timed(&scene, Precision::F64, accel, false);
     let cpu32 = render_cpu_timed(&scene, Precision::F32, accel, false);
     let (reference, cpu32_image, cpu64, cpu32) =

@@ -67,11 +67,7 @@ pub enum Backend {
     Cpu,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Precision {
-    F32,
-    F64,
-}
+pub use glint::gpu::Precision;
 
 /// The scene and the settings that override its own.
 #[derive(Args)]
@@ -115,7 +111,7 @@ pub struct DeviceArgs {
     pub include: Vec<PathBuf>,
     /// The GPU's intersection forms: robust, or the textbook ones for comparison.
     #[arg(long, value_enum, default_value = "robust")]
-    intersect: IntersectArg,
+    intersect: Intersect,
     /// Use FILE as the main shader instead of the built-in main.comp.
     #[arg(long, value_name = "FILE")]
     pub shader: Option<PathBuf>,
@@ -127,36 +123,13 @@ pub struct DeviceArgs {
     generic: bool,
     /// Scene management: a BVH over the bounded primitives (spheres and triangles; planes are scanned), none (every ray tests every object), or auto (by the count of bounded primitives). The CPU renderer follows it too.
     #[arg(long, value_enum, default_value = "auto")]
-    pub accel: AccelArg,
+    pub accel: Accel,
     /// Compile the shader afresh and keep no SPIR-V or pipeline cache.
     #[arg(long)]
     no_cache: bool,
     /// Wait at most SECONDS for the GPU to finish one tile [default: from the tile's work, at least 10 s].
     #[arg(long, value_name = "SECONDS")]
     timeout: Option<f64>,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum AccelArg {
-    Auto,
-    Bvh,
-    None,
-}
-
-impl From<AccelArg> for Accel {
-    fn from(a: AccelArg) -> Accel {
-        match a {
-            AccelArg::Auto => Accel::Auto,
-            AccelArg::Bvh => Accel::Bvh,
-            AccelArg::None => Accel::None,
-        }
-    }
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum IntersectArg {
-    Robust,
-    Naive,
 }
 
 impl DeviceArgs {
@@ -180,7 +153,7 @@ impl DeviceArgs {
             .map(|d| parse_define(d))
             .collect::<anyhow::Result<_>>()?;
         options.settings.generic = self.generic;
-        options.settings.accel = self.accel.into();
+        options.settings.accel = self.accel;
         if let Some(t) = self.timeout {
             anyhow::ensure!(
                 t.is_finite() && t > 0.0 && t <= 1e6,
@@ -193,10 +166,7 @@ impl DeviceArgs {
         } else {
             GpuOptions::default_cache_dir()
         };
-        options.settings.intersect = match self.intersect {
-            IntersectArg::Robust => Intersect::Robust,
-            IntersectArg::Naive => Intersect::Naive,
-        };
+        options.settings.intersect = self.intersect;
         Ok(options)
     }
 }

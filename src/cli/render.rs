@@ -142,7 +142,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
         }
         (Backend::Cpu, p) => {
             let precision = p.unwrap_or(Precision::F64);
-            let r = render_cpu_timed(&scene, precision, a.device.accel.into(), count);
+            let r = render_cpu_timed(&scene, precision, a.device.accel, count);
             let (setup, trace) = (r.times.setup_s, r.times.render_s);
             let stats = r.counts.map(|c| Stats::new(&c, input_s, setup, trace));
             (r.image, r.label, trace, stats)
@@ -220,7 +220,7 @@ fn render_tile(a: &RenderArgs, output: &Path, scene: &Scene) -> anyhow::Result<E
         }
         Backend::Cpu => {
             let precision = a.precision.unwrap_or(Precision::F64);
-            let accel = a.device.accel.into();
+            let accel = a.device.accel;
             let bar = progress::bar(u64::from(region.height), "cpu tile");
             let progress = |n| bar.inc(n);
             let image = match precision {
@@ -258,10 +258,7 @@ fn render_tile(a: &RenderArgs, output: &Path, scene: &Scene) -> anyhow::Result<E
 /// The GPU options of `device` for a render in `precision`.
 fn gpu_options(device: &DeviceArgs, precision: Precision) -> anyhow::Result<gpu::GpuOptions> {
     let mut options = device.options()?;
-    options.settings.precision = match precision {
-        Precision::F32 => gpu::Precision::F32,
-        Precision::F64 => gpu::Precision::F64,
-    };
+    options.settings.precision = precision;
     Ok(options)
 }
 

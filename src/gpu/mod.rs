@@ -43,7 +43,7 @@ pub const WORKGROUP: u32 = 8;
 const UNWRITTEN: u32 = 0xffff_ffff;
 
 /// Which ray/primitive intersection forms the shader uses.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Intersect {
     /// Camera-relative coordinates, the stable sphere roots with an exact
@@ -54,8 +54,9 @@ pub enum Intersect {
     Naive,
 }
 
-/// The shader's arithmetic.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize)]
+/// The arithmetic: the shader's, or the CPU reference's (`glint render
+/// --precision`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Precision {
     /// Floats throughout, as the CPU reference's f32.
