@@ -24,9 +24,13 @@ fn the_ceiling_shader_runs_and_counts_its_tests() {
 #[test]
 fn bench_reports_times_and_counts() {
     let scene = common::repo().join("scenes/seed-fig3.toml");
-    let o = common::glint(&["bench", scene.to_str().unwrap(), "--runs", "1", "--json"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let run = common::cmd()
+        .arg("bench")
+        .arg(&scene)
+        .args(["--runs", "1", "--json"])
+        .assert()
+        .success();
+    let json = common::json_of(&run);
     assert!(json["ceiling"]["tests_per_s"].as_f64().unwrap() > 0.0);
     let s = &json["scenes"][0];
     for t in ["gpu_f32_s", "cpu_f32_s"] {

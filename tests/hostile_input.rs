@@ -6,25 +6,12 @@
 mod common;
 
 use std::process::{Command, Output, Stdio};
-
-use assert_cmd::assert::OutputAssertExt;
-use predicates::prelude::*;
-use predicates::str::{contains, starts_with};
 use std::time::{Duration, Instant};
 
-use common::glint;
+use common::{assert_user_error, glint};
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// Exit status 2 and an error naming `needle`, without a panic.
-fn assert_user_error(o: &Output, needle: &str) {
-    o.clone().assert().code(2).stderr(
-        starts_with("error: ")
-            .and(contains(needle))
-            .and(contains("panicked").not()),
-    );
 }
 
 /// Runs glint and kills it after `limit`: a hang fails the test, not CI.

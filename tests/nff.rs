@@ -71,7 +71,7 @@ fn every_entity_is_read_and_convert_renders_the_same_image() {
         "-o",
         toml.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::assert_ok(&o);
     let converted = Scene::load(&toml, &Overrides::default()).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(converted, scene);
     assert_eq!(
@@ -85,7 +85,7 @@ fn every_entity_is_read_and_convert_renders_the_same_image() {
         "-o",
         nff.to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(2));
+    common::assert_user_error(&o, "refusing to overwrite an input");
     assert_eq!(std::fs::read_to_string(&nff).unwrap(), EVERY_ENTITY);
 }
 
@@ -141,14 +141,8 @@ fn errors_name_the_nff_file_and_line() {
             "--backend",
             "cpu",
         ]);
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(o.status.code(), Some(2), "{err}");
-        assert!(
-            err.contains(&format!("bad.nff:{line}:")),
-            "line {line}: {err}"
-        );
-        assert!(err.contains(words), "{words}: {err}");
-        assert!(!err.contains("panicked"), "{err}");
+        common::assert_user_error(&o, &format!("bad.nff:{line}:"));
+        common::assert_user_error(&o, words);
         assert!(!out.exists());
     }
 }
@@ -184,7 +178,7 @@ fn stats_count_the_ray_tree() {
             "--stats",
             stats.to_str().unwrap(),
         ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        common::assert_ok(&o);
         let json: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
         let rays = &json["rays"];

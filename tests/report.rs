@@ -4,8 +4,6 @@
 
 mod common;
 
-use std::process::Command;
-
 use glint::cpu;
 use glint::gpu::{GpuOptions, Precision, RenderSettings, Renderer};
 use glint::raster::diff::figures;
@@ -14,18 +12,13 @@ use glint::raster::diff::figures;
 fn the_quick_report_writes_every_file() {
     let dir = tempfile::tempdir().unwrap();
     let scene = common::repo().join("scenes/seed-fig4.toml");
-    let o = Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args([
-            "report",
-            scene.to_str().unwrap(),
-            "--quick",
-            "-o",
-            dir.path().to_str().unwrap(),
-        ])
-        .env("GLINT_VALIDATION", "1")
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::cmd()
+        .arg("report")
+        .arg(&scene)
+        .args(["--quick", "-o"])
+        .arg(dir.path())
+        .assert()
+        .success();
     for f in [
         "report.md",
         "report.csv",
@@ -149,7 +142,7 @@ fn names_with_commas_and_quotes_survive_the_csv_and_the_page() {
         "-o",
         out.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::assert_ok(&o);
     let mut reader = csv::Reader::from_path(out.join("report.csv")).unwrap();
     let columns = reader.headers().unwrap().len();
     let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.unwrap()).collect();

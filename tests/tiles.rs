@@ -7,6 +7,7 @@ mod common;
 
 use std::path::Path;
 
+use common::{assert_ok as ok, assert_user_error as fails_with};
 use glint::accel::Accel;
 use glint::cpu;
 use glint::raster::region::Region;
@@ -109,8 +110,8 @@ fn cpu_tiles_are_the_whole_render_bit_for_bit() {
 }
 
 fn glint_in(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> std::process::Output {
-    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_glint"));
-    c.current_dir(dir).args(args).env("GLINT_VALIDATION", "1");
+    let mut c = common::cmd();
+    c.current_dir(dir).args(args);
     for var in ["SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"] {
         c.env_remove(var);
     }
@@ -118,17 +119,6 @@ fn glint_in(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> std::process::Ou
         c.env(k, v);
     }
     c.output().unwrap()
-}
-
-fn ok(o: &std::process::Output) {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-}
-
-fn fails_with(o: &std::process::Output, words: &str) {
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains(words), "{words}: {err}");
-    assert!(!err.contains("panicked"), "{err}");
 }
 
 /// Through the binary, as a farm runs it: tiles by index and from the

@@ -6,6 +6,10 @@
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
+use assert_cmd::assert::OutputAssertExt;
+use predicates::prelude::*;
+use predicates::str::{contains, starts_with};
+
 use glint::gpu::{GpuOptions, Renderer};
 use glint::raster::Image;
 use glint::scene::{parse, Overrides, Scene};
@@ -29,6 +33,21 @@ pub fn cmd() -> assert_cmd::Command {
 /// Runs the glint binary with validation on, as a user would.
 pub fn glint(args: &[&str]) -> Output {
     cmd().args(args).output().expect("run glint")
+}
+
+/// A run that succeeded (its stderr shown where not).
+pub fn assert_ok(o: &Output) {
+    o.clone().assert().success();
+}
+
+/// A user's error: exit status 2, one `error: ` message naming `words`,
+/// no panic.
+pub fn assert_user_error(o: &Output, words: &str) {
+    o.clone().assert().code(2).stderr(
+        starts_with("error: ")
+            .and(contains(words))
+            .and(contains("panicked").not()),
+    );
 }
 
 /// The one JSON value a successful run printed.
