@@ -1,7 +1,27 @@
-#![warn(missing_docs)]
 //! glint: a headless Whitted-style ray tracer. A Vulkan compute shader
 //! renders; a CPU reference in f64 (and f32) checks it pixel by pixel.
+//!
+//! The library serves three uses, each shown by a program in examples/:
+//!
+//! - **Rendering** (`render_to_png.rs`): [`scene::Scene::load`] reads a
+//!   TOML or NFF scene; [`gpu::Renderer`] renders it on Vulkan (lavapipe
+//!   where there is no GPU); [`raster::io`] writes PNG, PFM or EXR.
+//! - **CPU-vs-GPU comparison tests** (`compare_gpu_cpu.rs`): [`cpu::render`]
+//!   is the reference, in f64 or f32; [`raster::diff::figures`] measures an
+//!   image against it and [`raster::diff::Tolerance`] judges it. The scene
+//!   is plain data, so a test can perturb it and see the check fail.
+//! - **Shader experiments** (`custom_shader.rs`): [`gpu::GpuOptions`] takes
+//!   directories searched before the built-in shader files, a replacement
+//!   main shader and defines; [`gpu::Renderer::variant_for`] shows what a
+//!   scene compiles with.
+//!
+//! The other public modules are what glint's commands are built from:
+//! [`report`] (error against run time), [`stability`] and [`condition`]
+//! (the extreme scenes and the conditioning check), [`bench`], [`tiles`]
+//! (tiled renders and their assembly), [`stats`] (ray and test counts),
+//! [`files`] and [`printable`].
 
+#![warn(missing_docs)]
 #![warn(clippy::undocumented_unsafe_blocks, clippy::missing_safety_doc)]
 
 pub mod accel;

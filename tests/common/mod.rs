@@ -153,16 +153,3 @@ diffuse = [0.5, 0.5, 0.5]
 cutoff = 30.0
 exponent = 4.0
 "#;
-
-/// A small deterministic generator (xorshift), so that a failure repeats.
-pub struct Rng(pub u64);
-
-impl Rng {
-    /// A number in [0, 1).
-    pub fn unit(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
