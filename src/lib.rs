@@ -17,7 +17,7 @@
 //!
 //! The other public modules are what glint's commands are built from:
 //! [`report`] (error against run time), [`stability`] and [`condition`]
-//! (the extreme scenes and the conditioning check), [`bench`], [`tiles`]
+//! (the extreme scenes and the conditioning check), [`bench`](mod@bench), [`tiles`]
 //! (tiled renders and their assembly), [`stats`] (ray and test counts),
 //! [`files`] and [`printable`].
 
