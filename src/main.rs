@@ -12,7 +12,7 @@ fn main() -> ExitCode {
     // progress, so that an output is whole or absent. A handler that
     // cannot be installed only loses that clean-up.
     let _ = ctrlc::set_handler(|| {
-        glint::raster::remove_in_progress();
+        glint::output::remove_in_progress();
         eprintln!("error: interrupted");
         std::process::exit(130);
     });

@@ -175,7 +175,6 @@ fn a_bad_scene_is_one_clear_error_and_leaves_the_output_alone() {
         .position(|l| l.contains("radius = -6.0"))
         .unwrap()
         + 1;
-    let one_line = predicate::function(|err: &str| err.trim().lines().count() == 1);
     cmd()
         .arg("render")
         .arg(&scene)
@@ -186,7 +185,7 @@ fn a_bad_scene_is_one_clear_error_and_leaves_the_output_alone() {
         .stderr(
             contains(format!("bad.toml:{line}:"))
                 .and(contains("spheres[0].radius"))
-                .and(one_line)
+                .and(common::one_line())
                 .and(contains("panicked").not())
                 .and(contains("backtrace").not()),
         );

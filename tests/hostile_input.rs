@@ -91,6 +91,8 @@ fn an_include_cycle_is_an_error_in_bounded_time() {
 #[test]
 fn a_define_may_not_replace_glints_own() {
     let scene = common::repo().join("scenes/seed-fig3.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
     for d in [
         "SPHERE_COUNT=100000u",
         "SAMPLES=0u",
@@ -103,9 +105,10 @@ fn a_define_may_not_replace_glints_own() {
             "-D",
             d,
             "-o",
-            "/nonexistent/x.png",
+            out.to_str().unwrap(),
         ]);
         assert_user_error(&o, "glint defines");
+        assert!(!out.exists());
     }
 }
 
@@ -502,4 +505,64 @@ fn a_shader_that_writes_nan_is_reported_and_nothing_is_written() {
     ]);
     assert_user_error(&o, "8 non-finite values, the first at pixel (3, 0)");
     assert!(!out.exists());
+}
+
+#[test]
+fn small_ones_of_round_two_are_one_line_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = common::repo().join("scenes/seed-fig3.toml");
+    let shader = common::repo().join("shaders/main.comp");
+    // --backend cpu reads no shader: --shader, -I and -D would be ignored.
+    for extra in [
+        vec!["--shader", shader.to_str().unwrap()],
+        vec!["-I", "shaders"],
+        vec!["-D", "X=1"],
+    ] {
+        let mut args = vec!["render", scene.to_str().unwrap(), "--backend", "cpu"];
+        args.extend(&extra);
+        let out = dir.path().join("x.png");
+        args.extend(["-o", out.to_str().unwrap()]);
+        assert_user_error(&glint(&args), "applies to the GPU's shader");
+        assert!(!out.exists());
+    }
+    // A mesh file with no faces (any text file) is an error, not a missing mesh.
+    let text = dir.path().join("notes.txt");
+    std::fs::write(&text, "root:x:0:0:root:/root:/bin/bash\n").unwrap();
+    let base = std::fs::read_to_string(&scene).unwrap();
+    let with_mesh = dir.path().join("mesh.toml");
+    std::fs::write(
+        &with_mesh,
+        format!(
+            "{base}\n[[meshes]]\nfile = \"{}\"\nmaterial = \"{}\"\n",
+            text.display(),
+            first_material(&base)
+        ),
+    )
+    .unwrap();
+    assert_user_error(
+        &glint(&["render", with_mesh.to_str().unwrap(), "--backend", "cpu"]),
+        "has no faces",
+    );
+    // An ior whose square overflows f32.
+    let glass = dir.path().join("glass.toml");
+    let m = first_material(&base);
+    let bad = base.replacen(
+        &format!("[materials.{m}]\n"),
+        &format!("[materials.{m}]\ntransmittance = 0.5\nior = 1e300\n"),
+        1,
+    );
+    assert_ne!(bad, base);
+    std::fs::write(&glass, bad).unwrap();
+    assert_user_error(
+        &glint(&["render", glass.to_str().unwrap(), "--backend", "cpu"]),
+        "so that its square fits f32",
+    );
+}
+
+/// The name of the first `[materials.NAME]` table in a scene's text.
+fn first_material(text: &str) -> String {
+    text.lines()
+        .find_map(|l| l.strip_prefix("[materials.")?.strip_suffix(']'))
+        .unwrap()
+        .to_owned()
 }

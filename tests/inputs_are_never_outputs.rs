@@ -29,12 +29,11 @@ material = "m"
 "#;
 
 fn assert_refused(args: &[&str], input: &Path, before: &[u8]) {
-    let one_line = predicate::function(|err: &str| err.trim().lines().count() == 1);
     cmd()
         .args(args)
         .assert()
         .code(2)
-        .stderr(contains("refusing to overwrite an input").and(one_line));
+        .stderr(contains("refusing to overwrite an input").and(common::one_line()));
     assert_eq!(
         std::fs::read(input).unwrap(),
         before,

@@ -80,3 +80,61 @@ fn the_binary_stops_at_once_and_writes_nothing() {
     let o = common::glint(&["render", scene.to_str().unwrap(), "--timeout", "-1"]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+/// A copy of shaders/specular.glsl whose loop never ends (the condition
+/// holds for every finite normal): a hung shader, on a driver without a
+/// loop limit; on one with a limit (Mesa 22.3) the budget ends it.
+fn runaway_include(dir: &std::path::Path) -> std::path::PathBuf {
+    let inc = dir.join("runaway");
+    std::fs::create_dir(&inc).unwrap();
+    std::fs::write(
+        inc.join("specular.glsl"),
+        "real specular(vec3r n, vec3r l, vec3r v, real shininess) {\n\
+         \x20   real s = 0.0;\n\
+         \x20   while (dot(n, n) >= 0.0) { s += 1.0; }\n\
+         \x20   return s;\n\
+         }\n",
+    )
+    .unwrap();
+    inc
+}
+
+#[test]
+fn every_command_stops_a_runaway_shader_within_its_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let inc = runaway_include(dir.path());
+    let scene = common::repo().join("scenes/seed-fig3.toml");
+    let (scene, inc) = (scene.to_str().unwrap(), inc.to_str().unwrap());
+    let report = dir.path().join("report");
+    let image = dir.path().join("x.png");
+    let small = ["--width", "32", "--height", "24"];
+    let runs: Vec<Vec<&str>> = vec![
+        [
+            &["render", scene, "-o", image.to_str().unwrap()][..],
+            &small,
+        ]
+        .concat(),
+        [&["compare", scene][..], &small].concat(),
+        vec!["bench", scene, "--runs", "1"],
+        vec!["report", scene, "--quick", "-o", report.to_str().unwrap()],
+        vec!["stability", scene],
+    ];
+    for args in runs {
+        let args = [&args[..], &["-I", inc, "--timeout", "2"]].concat();
+        let start = Instant::now();
+        let o = common::glint(&args);
+        let seconds = start.elapsed().as_secs_f64();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains("did not finish the tile") || err.contains("loops were cut short"),
+            "{args:?}: {err}"
+        );
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        // 2 s for the tile, the device's start and the driver's compile.
+        assert!(seconds < 60.0, "{args:?} took {seconds:.1} s");
+        eprintln!("{} stopped in {seconds:.1} s", args[0]);
+    }
+    assert!(!image.exists());
+    assert!(!report.join("index.html").exists());
+}

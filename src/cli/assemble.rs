@@ -1,9 +1,10 @@
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Context;
 use clap::Args;
 
+use glint::output::Outputs;
 use glint::raster::io;
 use glint::tiles::{self, Tile};
 
@@ -40,24 +41,21 @@ fn tile_files(args: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
 }
 
 pub fn run(a: &AssembleArgs) -> anyhow::Result<ExitCode> {
-    io::Format::of(&a.output)?;
+    io::Format::of_output(&a.output)?;
     let files = tile_files(&a.tiles)?;
-    let inputs: Vec<PathBuf> = files
+    let inputs = files
         .iter()
-        .flat_map(|f| [f.clone(), tiles::sidecar_path(f)])
-        .collect();
-    io::refuse_input(
-        &a.output,
-        &inputs.iter().map(PathBuf::as_path).collect::<Vec<&Path>>(),
-    )?;
-    io::check_target(&a.output, a.force)?;
+        .flat_map(|f| [f.clone(), tiles::sidecar_path(f)]);
+    let mut outputs = Outputs::new(inputs, a.force);
+    outputs.check(&a.output)?;
     let tiles: Vec<Tile> = files
         .iter()
         .map(|f| tiles::read_tile(f))
         .collect::<Result<_, _>>()?;
     let (image, whole) = tiles::assemble(&tiles)?;
-    io::write_forced(&a.output, &image, whole.srgb, a.force)
+    io::stage(&mut outputs, &a.output, &image, whole.srgb)
         .with_context(|| "cannot write the image")?;
+    outputs.commit()?;
     eprintln!(
         "assembled {} tiles of {} ({}x{}, {} {}) -> {}",
         tiles.len(),

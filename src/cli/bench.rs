@@ -58,14 +58,10 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
         let scene = Scene::load(path, &Overrides::default())?;
         bar.set_message(path.display().to_string());
         renderer.prepare_for(&scene)?;
-        super::exit_on_timeout(renderer.render(&scene, &|_| {}))?;
+        renderer.render(&scene, &|_| {})?;
         let mut gpu = Vec::new();
         for _ in 0..a.runs {
-            gpu.push(
-                super::exit_on_timeout(renderer.render(&scene, &|_| {}))?
-                    .1
-                    .total_s(),
-            );
+            gpu.push(renderer.render(&scene, &|_| {})?.1.total_s());
         }
         let mut cpu = Vec::new();
         for _ in 0..a.runs {
@@ -73,7 +69,7 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
             cpu::render_rows::<f32>(&scene, accel, &|_| {});
             cpu.push(t.elapsed().as_secs_f64());
         }
-        let counts = super::exit_on_timeout(renderer.render_counted(&scene, &|_| {}))?.2;
+        let counts = renderer.render_counted(&scene, &|_| {})?.2;
         rows.push(Row {
             scene: path.clone(),
             gpu_s: median(&mut gpu),

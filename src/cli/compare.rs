@@ -4,6 +4,7 @@ use std::process::ExitCode;
 use clap::Args;
 use serde_json::json;
 
+use glint::output::Outputs;
 use glint::raster::diff::{self, ErrorFigures, Tolerance};
 use glint::raster::io;
 use glint::{condition, stability};
@@ -32,8 +33,10 @@ pub fn format_figures(f: &ErrorFigures) -> String {
         f.rmse,
         if f.psnr_db.is_finite() {
             format!("{:.1} dB", f.psnr_db)
+        } else if f.psnr_db > 0.0 {
+            "inf (identical)".to_owned()
         } else {
-            "inf".to_owned()
+            "none (non-finite values)".to_owned()
         },
         100.0 * f.frac_over_1_255,
         f.nonfinite
@@ -42,20 +45,21 @@ pub fn format_figures(f: &ErrorFigures) -> String {
 
 pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     if let Some(path) = &a.diff_out {
-        io::Format::of(path)?;
-        let mut inputs = vec![a.scene.scene.as_path()];
-        inputs.extend(a.device.shader.as_deref());
-        io::refuse_input(path, &inputs)?;
+        io::Format::of_output(path)?;
     }
     let t_load = std::time::Instant::now();
     let scene = a.scene.load()?;
     let load_s = t_load.elapsed().as_secs_f64();
+    let mut outputs = Outputs::new(super::inputs(&a.scene.scene, &scene, &a.device), false);
+    if let Some(path) = &a.diff_out {
+        outputs.check(path)?;
+    }
     // The first render pays for the driver's own compile of the shader (on
     // lavapipe, LLVM at the first dispatch); the timed one is the second.
     let first = render_gpu_timed(&scene, &a.device, Precision::F32, false)?;
     let (gpu_image, mut renderer, setup) = (first.image, first.renderer, first.setup);
     let first = first.times;
-    let (warm_image, gpu_times) = super::exit_on_timeout(renderer.render(&scene, &|_| {}))?;
+    let (warm_image, gpu_times) = renderer.render(&scene, &|_| {})?;
     anyhow::ensure!(
         warm_image == gpu_image,
         "two GPU renders of the same scene differ"
@@ -83,7 +87,13 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     let (gpu_err, conditioned, violations) =
         (judgement.error, judgement.conditioned, judgement.violations);
     if let Some(path) = &a.diff_out {
-        io::write(path, &diff::heat_map(&gpu_image, &reference)?, false)?;
+        io::stage(
+            &mut outputs,
+            path,
+            &diff::heat_map(&gpu_image, &reference)?,
+            false,
+        )?;
+        outputs.commit()?;
     }
     let threads = rayon::current_num_threads();
     let info = renderer.device_info();

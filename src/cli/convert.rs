@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use anyhow::Context;
 use clap::Args;
 
-use glint::raster::io;
+use glint::output::{self, Outputs};
 use glint::scene::{nff, Overrides};
 
 #[derive(Args)]
@@ -24,8 +24,8 @@ pub struct ConvertArgs {
 }
 
 pub fn run(a: &ConvertArgs) -> anyhow::Result<ExitCode> {
-    io::refuse_input(&a.output, &[a.scene.as_path()])?;
-    io::check_target(&a.output, a.force)?;
+    let mut outputs = Outputs::new([&a.scene], a.force);
+    outputs.check(&a.output)?;
     let text =
         std::fs::read_to_string(&a.scene).map_err(|cause| glint::scene::SceneError::Read {
             path: a.scene.clone(),
@@ -37,13 +37,14 @@ pub fn run(a: &ConvertArgs) -> anyhow::Result<ExitCode> {
     // written is a valid scene.
     read.check(&a.scene, &Overrides::default())?;
     let source = a.scene.file_name().unwrap_or_default().to_string_lossy();
-    io::write_atomic(&a.output, a.force, |out, path| {
+    outputs.stage(&a.output, |out: &mut dyn Write| {
         write!(
             out,
             "# {source}, converted from NFF by glint convert (docs/scene-format.md, NFF).\n\n{toml}"
         )
-        .map_err(io::io_err(path))
+        .map_err(output::io_err(&a.output))
     })?;
+    outputs.commit()?;
     eprintln!(
         "converted {} -> {}",
         glint::printable::path(&a.scene),

@@ -3,6 +3,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 
+use glint::output::Outputs;
 use glint::raster::{diff, io};
 
 #[derive(Args)]
@@ -20,15 +21,22 @@ pub struct DiffArgs {
 }
 
 pub fn run(a: &DiffArgs) -> anyhow::Result<ExitCode> {
+    let mut outputs = Outputs::new([&a.a, &a.b], false);
     if let Some(path) = &a.diff_out {
-        io::Format::of(path)?;
-        io::refuse_input(path, &[&a.a, &a.b])?;
+        io::Format::of_output(path)?;
+        outputs.check(path)?;
     }
     let img = io::read(&a.a)?;
     let reference = io::read(&a.b)?;
     let figures = diff::figures(&img, &reference)?;
     if let Some(path) = &a.diff_out {
-        io::write(path, &diff::heat_map(&img, &reference)?, false)?;
+        io::stage(
+            &mut outputs,
+            path,
+            &diff::heat_map(&img, &reference)?,
+            false,
+        )?;
+        outputs.commit()?;
     }
     if a.json {
         println!("{}", serde_json::to_string(&figures)?);

@@ -133,6 +133,30 @@ pub struct DeviceArgs {
 }
 
 impl DeviceArgs {
+    /// The files the shader is read from: `--shader` and those in the
+    /// include directories.
+    pub fn inputs(&self) -> Vec<PathBuf> {
+        let mut v: Vec<PathBuf> = self.shader.iter().cloned().collect();
+        v.extend(glint::files::in_dirs(&self.include));
+        v
+    }
+
+    /// Fails where a shader option is given to a run that reads no shader
+    /// (`--backend cpu`): it would be ignored without a word.
+    pub fn refuse_shader_options(&self, why: &str) -> anyhow::Result<()> {
+        let given = [
+            (self.shader.is_some(), "--shader"),
+            (!self.include.is_empty(), "-I"),
+            (!self.define.is_empty(), "-D"),
+        ];
+        if let Some((_, name)) = given.iter().find(|(set, _)| *set) {
+            anyhow::bail!(
+                "{name} applies to the GPU's shader, and {why} reads none (drop {name}, or render on the GPU)"
+            );
+        }
+        Ok(())
+    }
+
     pub fn options(&self) -> anyhow::Result<GpuOptions> {
         for dir in &self.include {
             anyhow::ensure!(dir.is_dir(), "-I {}: not a directory", dir.display());
@@ -171,15 +195,13 @@ impl DeviceArgs {
     }
 }
 
-/// A GPU timeout ends the process at once: dropping the renderer would
-/// wait for the work that timed out (shaders/budget.glsl's kin, a runaway
-/// loop, may never end on a real GPU). No output has been written yet.
-pub fn exit_on_timeout<T>(r: Result<T, glint::gpu::GpuError>) -> Result<T, glint::gpu::GpuError> {
-    if let Err(e @ glint::gpu::GpuError::Timeout { .. }) = &r {
-        eprintln!("error: {e}");
-        std::process::exit(2);
-    }
-    r
+/// Every file a run of `scene` (read from `path`) with `device` reads:
+/// none of them may be one of its outputs.
+pub fn inputs(path: &Path, scene: &Scene, device: &DeviceArgs) -> Vec<PathBuf> {
+    let mut v = vec![path.to_owned()];
+    v.extend(scene.mesh_files.iter().cloned());
+    v.extend(device.inputs());
+    v
 }
 
 /// The scene files (TOML or NFF) in `dir`, sorted; for commands that default to a

@@ -7,6 +7,7 @@ use anyhow::Context;
 use clap::Args;
 
 use glint::accel::Accel;
+use glint::output::{self, Outputs};
 use glint::raster::{io, Image};
 use glint::scene::Scene;
 use glint::stats::{Counts, RayCounts, Work};
@@ -78,10 +79,8 @@ struct StatsSeconds {
 
 impl RenderArgs {
     /// Every file the render reads, none of which it may write.
-    fn inputs(&self) -> Vec<&Path> {
-        let mut v = vec![self.scene.scene.as_path()];
-        v.extend(self.device.shader.as_deref());
-        v
+    fn inputs(&self, scene: &Scene) -> Vec<PathBuf> {
+        super::inputs(&self.scene.scene, scene, &self.device)
     }
 
     fn outputs(&self, image: &Path) -> Vec<PathBuf> {
@@ -99,28 +98,35 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
         Some(o) => o.clone(),
         None => PathBuf::from(a.scene.scene.file_stem().unwrap_or_default()).with_extension("png"),
     };
+    if a.backend == Backend::Cpu {
+        a.device.refuse_shader_options("--backend cpu")?;
+    }
     // Refuse a bad output name before spending time on the render.
-    io::Format::of(&output)?;
+    io::Format::of_output(&output)?;
     if a.stats.as_ref() == Some(&output) {
         anyhow::bail!("--stats names the image's own file {}", output.display());
     }
     if a.tiles.is_set() {
         anyhow::ensure!(
-            matches!(io::Format::of(&output)?, io::Format::Exr | io::Format::Pfm),
+            matches!(
+                io::Format::of_output(&output)?,
+                io::Format::Exr | io::Format::Pfm
+            ),
             "{}: a tile is written as .exr or .pfm (a PNG would round it)",
             output.display()
         );
         anyhow::ensure!(a.stats.is_none(), "--stats counts whole renders, not tiles");
     }
-    for out in a.outputs(&output) {
-        io::refuse_input(&out, &a.inputs())?;
-        io::check_target(&out, a.force)?;
-    }
     let loading = Instant::now();
     let scene = a.scene.load()?;
     let input_s = loading.elapsed().as_secs_f64();
+    // Every output can be written, and none is an input, before the render.
+    let mut outputs = Outputs::new(a.inputs(&scene), a.force);
+    for out in a.outputs(&output) {
+        outputs.check(&out)?;
+    }
     if a.tiles.is_set() {
-        return render_tile(a, &output, &scene);
+        return render_tile(a, &output, &scene, outputs);
     }
     let count = a.stats.is_some();
     let (image, label, seconds, stats) = match (a.backend, a.precision) {
@@ -149,15 +155,13 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
         }
     };
     refuse_nonfinite(&image)?;
-    io::write_forced(&output, &image, scene.srgb, a.force)
-        .with_context(|| "cannot write the image")?;
+    // The outputs are committed together, the image last.
     if let (Some(path), Some(stats)) = (&a.stats, &stats) {
-        let json = serde_json::to_string_pretty(stats)?;
-        io::write_atomic(path, a.force, |out, p| {
-            writeln!(out, "{json}").map_err(io::io_err(p))
-        })
-        .with_context(|| "cannot write the statistics")?;
+        stage_json(&mut outputs, path, stats).with_context(|| "cannot write the statistics")?;
     }
+    io::stage(&mut outputs, &output, &image, scene.srgb)
+        .with_context(|| "cannot write the image")?;
+    outputs.commit()?;
     eprintln!(
         "rendered {}x{} ({} spp, depth {}) with {label} in {seconds:.3} s -> {}",
         scene.width,
@@ -167,6 +171,19 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
         output.display()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// Stages `value` as pretty JSON, one line break at its end.
+pub fn stage_json(
+    outputs: &mut Outputs,
+    path: &Path,
+    value: &impl serde::Serialize,
+) -> anyhow::Result<()> {
+    let json = serde_json::to_string_pretty(value)?;
+    outputs.stage(path, |out: &mut dyn Write| {
+        writeln!(out, "{json}").map_err(output::io_err(path))
+    })?;
+    Ok(())
 }
 
 /// glint's own shading stays finite for every scene it accepts; a shader
@@ -194,7 +211,12 @@ fn refuse_nonfinite(image: &Image) -> anyhow::Result<()> {
 
 /// `--tile` or `--region`: the region's pixels, bit for bit those of the
 /// whole render, and the sidecar that says which render they belong to.
-fn render_tile(a: &RenderArgs, output: &Path, scene: &Scene) -> anyhow::Result<ExitCode> {
+fn render_tile(
+    a: &RenderArgs,
+    output: &Path,
+    scene: &Scene,
+    mut outputs: Outputs,
+) -> anyhow::Result<ExitCode> {
     let (region, tile) = a.tiles.resolve(scene.width, scene.height)?;
     let start = Instant::now();
     let (image, label, sidecar) = match a.backend {
@@ -203,8 +225,7 @@ fn render_tile(a: &RenderArgs, output: &Path, scene: &Scene) -> anyhow::Result<E
             let options = gpu_options(&a.device, precision)?;
             let mut renderer = gpu::Renderer::new(&options)?;
             let bar = progress::bar(region.pixel_count(), "gpu tile");
-            let (image, _) =
-                super::exit_on_timeout(renderer.render_region(scene, region, &|n| bar.inc(n)))?;
+            let (image, _) = renderer.render_region(scene, region, &|n| bar.inc(n))?;
             bar.finish_and_clear();
             let device = renderer.device_info().name.clone();
             let name = format!("{precision:?}").to_lowercase();
@@ -235,13 +256,12 @@ fn render_tile(a: &RenderArgs, output: &Path, scene: &Scene) -> anyhow::Result<E
     };
     let seconds = start.elapsed().as_secs_f64();
     refuse_nonfinite(&image)?;
-    io::write_forced(output, &image, scene.srgb, a.force)
-        .with_context(|| "cannot write the tile")?;
-    let json = serde_json::to_string_pretty(&sidecar)?;
-    io::write_atomic(&tiles::sidecar_path(output), a.force, |out, p| {
-        writeln!(out, "{json}").map_err(io::io_err(p))
-    })
-    .with_context(|| "cannot write the tile's sidecar")?;
+    // The sidecar is committed after the tile: a tile without its sidecar
+    // is never taken for a whole one (assemble asks for both).
+    io::stage(&mut outputs, output, &image, scene.srgb).with_context(|| "cannot write the tile")?;
+    stage_json(&mut outputs, &tiles::sidecar_path(output), &sidecar)
+        .with_context(|| "cannot write the tile's sidecar")?;
+    outputs.commit()?;
     eprintln!(
         "rendered region {},{},{},{} of {}x{} with {label} in {seconds:.3} s -> {}",
         region.x,
@@ -296,11 +316,10 @@ pub fn render_gpu_timed(
     );
     let progress = |n| bar.inc(n);
     let (image, times, counts) = if count {
-        let (image, times, counts) =
-            super::exit_on_timeout(renderer.render_counted(scene, &progress))?;
+        let (image, times, counts) = renderer.render_counted(scene, &progress)?;
         (image, times, Some(counts))
     } else {
-        let (image, times) = super::exit_on_timeout(renderer.render(scene, &progress))?;
+        let (image, times) = renderer.render(scene, &progress)?;
         (image, times, None)
     };
     bar.finish_and_clear();

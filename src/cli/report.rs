@@ -7,7 +7,16 @@ use glint::gpu::Renderer;
 use glint::report::{self, Report, Settings};
 use glint::scene::{Overrides, Scene};
 
+use glint::output::Outputs;
+
 use super::{progress, DeviceArgs};
+
+fn scene_name(path: &std::path::Path) -> String {
+    path.file_stem()
+        .unwrap_or_default()
+        .to_string_lossy()
+        .into_owned()
+}
 
 #[derive(Args)]
 pub struct ReportArgs {
@@ -51,6 +60,20 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
         runs: if a.quick { 2 } else { a.runs },
         sweeps: !a.quick,
     };
+    let names: Vec<String> = paths.iter().map(|p| scene_name(p)).collect();
+    let mut inputs = a.device.inputs();
+    for (path, scene) in paths.iter().zip(&scenes) {
+        inputs.push(path.clone());
+        inputs.extend(scene.mesh_files.iter().cloned());
+    }
+    // Every output can be written, and none is an input, before minutes of measuring.
+    let outputs = Outputs::new(inputs, false);
+    for file in report::html::files(&names, &a.output) {
+        // The folder may not exist yet: it is made before the writes.
+        if file.parent().is_some_and(|d| d.is_dir()) {
+            outputs.check(&file)?;
+        }
+    }
     let mut renderer = Renderer::new(&a.device.options()?)?;
     let device_s = renderer.device_s();
     let total: u64 = scenes
@@ -65,13 +88,8 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
         .sum();
     let bar = progress::bar(total, "report");
     let mut reports = Vec::new();
-    for (path, scene) in paths.iter().zip(&scenes) {
-        let name = path
-            .file_stem()
-            .unwrap_or_default()
-            .to_string_lossy()
-            .into_owned();
-        let r = report::measure(&mut renderer, scene, &name, settings, &|variant| {
+    for (name, scene) in names.iter().zip(&scenes) {
+        let r = report::measure(&mut renderer, scene, name, settings, &|variant| {
             bar.set_message(format!("{name}: {variant}"));
             bar.inc(1);
         })?;
@@ -85,7 +103,7 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
         runs: settings.runs,
         scenes: reports,
     };
-    report::html::write_all(&report, &a.output)?;
+    report::html::write_all(&report, &a.output, outputs)?;
     eprintln!(
         "wrote {}/index.html, report.md, report.csv, report.json, error_vs_time.svg",
         a.output.display()

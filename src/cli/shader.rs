@@ -1,3 +1,4 @@
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -6,6 +7,7 @@ use clap::{Args, Subcommand};
 
 use glint::gpu::variant::Variant;
 use glint::gpu::{compile, GpuError, Renderer};
+use glint::output::{self, Outputs};
 
 use super::{DeviceArgs, SceneArgs};
 
@@ -77,11 +79,11 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
             }
         }
         ShaderCommand::Dump {
-            scene,
+            scene: scene_args,
             output,
             device,
         } => {
-            let scene = scene.load()?;
+            let scene = scene_args.load()?;
             let options = device.options()?;
             let renderer = Renderer::new(&options)?;
             let (variant, defines) = renderer.variant_for(&scene);
@@ -91,12 +93,13 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
                 main_builtin: None,
                 generated: variant.generated(),
             };
-            let compiled = compile::compile(&sources, &defines)?;
-            std::fs::create_dir_all(output)
-                .with_context(|| format!("cannot create {}", output.display()))?;
             let name = variant.name();
             let glsl = output.join(format!("{name}.comp"));
             let spv = output.join(format!("{name}.spv"));
+            let mut outputs = Outputs::new(super::inputs(&scene_args.scene, &scene, device), false);
+            let compiled = compile::compile(&sources, &defines)?;
+            std::fs::create_dir_all(output)
+                .with_context(|| format!("cannot create {}", output.display()))?;
             let header: String = defines
                 .iter()
                 .map(|(n, v)| {
@@ -106,10 +109,16 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
                     )
                 })
                 .collect();
-            std::fs::write(&glsl, format!("{header}{}", compiled.preprocessed))
-                .with_context(|| format!("cannot write {}", glsl.display()))?;
-            std::fs::write(&spv, compile::spirv_bytes(&compiled.spirv))
-                .with_context(|| format!("cannot write {}", spv.display()))?;
+            let text = format!("{header}{}", compiled.preprocessed);
+            for (path, bytes) in [
+                (&glsl, text.as_bytes()),
+                (&spv, &compile::spirv_bytes(&compiled.spirv)[..]),
+            ] {
+                outputs.stage(path, |out: &mut dyn Write| {
+                    out.write_all(bytes).map_err(output::io_err(path))
+                })?;
+            }
+            outputs.commit()?;
             println!("{}\n{}", glsl.display(), spv.display());
             Ok(ExitCode::SUCCESS)
         }

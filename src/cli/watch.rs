@@ -8,6 +8,7 @@ use clap::Args;
 use notify_debouncer_mini::{new_debouncer, notify::RecursiveMode};
 
 use glint::gpu::Renderer;
+use glint::output::Outputs;
 use glint::raster::io;
 
 use super::{DeviceArgs, SceneArgs};
@@ -69,10 +70,10 @@ fn watched(scene: &Path, device: &DeviceArgs) -> Vec<(PathBuf, RecursiveMode)> {
 /// prints its error and leaves the last good image in place. Runs until
 /// interrupted.
 pub fn run(a: &WatchArgs) -> anyhow::Result<ExitCode> {
-    io::Format::of(&a.output)?;
-    let mut inputs = vec![a.scene.scene.as_path()];
-    inputs.extend(a.device.shader.as_deref());
-    io::refuse_input(&a.output, &inputs)?;
+    io::Format::of_output(&a.output)?;
+    let mut inputs = a.device.inputs();
+    inputs.push(a.scene.scene.clone());
+    Outputs::new(inputs, false).check(&a.output)?;
     let mut renderer = Renderer::new(&a.device.options()?)?;
     // Editors write a file in bursts (truncate, write, rename): one render
     // for a burst, once it has been quiet this long.
@@ -109,7 +110,11 @@ pub fn run(a: &WatchArgs) -> anyhow::Result<ExitCode> {
 
 fn render_once(a: &WatchArgs, renderer: &mut Renderer) -> anyhow::Result<f64> {
     let scene = a.scene.load()?;
-    let (image, times) = super::exit_on_timeout(renderer.render(&scene, &|_| {}))?;
-    io::write(&a.output, &image, scene.srgb)?;
+    // Checked again each time: an edit may name the output as a mesh.
+    let mut outputs = Outputs::new(super::inputs(&a.scene.scene, &scene, &a.device), false);
+    outputs.check(&a.output)?;
+    let (image, times) = renderer.render(&scene, &|_| {})?;
+    io::stage(&mut outputs, &a.output, &image, scene.srgb)?;
+    outputs.commit()?;
     Ok(times.total_s())
 }

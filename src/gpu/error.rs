@@ -68,6 +68,13 @@ pub enum GpuError {
         /// The wait that ran out.
         seconds: f64,
     },
+    /// The driver did not finish its compile of a new pipeline (its first
+    /// dispatch, which shades no pixel) in time; the renderer is then lost.
+    #[error("the Vulkan driver did not finish compiling the shader within {seconds:.0} s (its first dispatch, which shades no pixel); the device is taken to be hung")]
+    CompileTimeout {
+        /// The wait that ran out.
+        seconds: f64,
+    },
     /// An earlier wait on this device timed out: nothing more is submitted to it.
     #[error("an earlier render on this renderer timed out; open a new one")]
     Lost,

@@ -26,7 +26,7 @@ pub use error::GpuError;
 use layout::{TileRect, Uploads};
 use variant::{Block, Variant};
 use vk::buffer::Buffer;
-use vk::command::{Completed, OneShot};
+use vk::command::{memory_barrier, Completed, OneShot};
 use vk::device::Device;
 pub use vk::device::DeviceInfo;
 use vk::instance::Instance;
@@ -145,6 +145,11 @@ pub struct SetupTimes {
     pub pipeline_s: f64,
     /// Whether the SPIR-V came from the cache.
     pub spirv_cached: bool,
+    /// The pipeline's first dispatch, one workgroup that shades no pixel:
+    /// where the driver compiles the shader to machine code (lavapipe runs
+    /// LLVM there), bounded by `COMPILE_TIMEOUT` rather than the render's
+    /// watchdog.
+    pub driver_compile_s: f64,
 }
 
 /// The cost of one render.
@@ -202,6 +207,8 @@ pub struct Renderer {
     /// that an edited shader file makes a new pipeline (`glint watch`),
     /// which replaces the variant's old one.
     pipelines: HashMap<(Variant, u64), ComputePipeline>,
+    /// The pipelines dispatched at least once, so compiled by the driver.
+    driver_compiled: std::collections::HashSet<(Variant, u64)>,
     pipeline_cache: PipelineCache,
     /// The last render's buffers, which the next render of the same scene
     /// with the same pipeline uses again (`watch`, `report`, `compare`'s
@@ -249,6 +256,11 @@ struct LaidOut {
 const SLOWEST_TESTS_PER_S: f64 = 2e7;
 const MIN_TIMEOUT: Duration = Duration::from_secs(10);
 
+/// The longest wait for a driver's compile of one pipeline (its first
+/// dispatch, which shades no pixel): lavapipe took up to 12 s for the f64
+/// generic shader on 2 cores. Past it the device is taken to be hung.
+pub const COMPILE_TIMEOUT: Duration = Duration::from_secs(300);
+
 /// The longest wait for a tile of `pixels` of `scene`: its rays (samples,
 /// bounces, a shadow ray a light) times the tests a ray makes (every object,
 /// or about 64 node visits and 8 a doubling of the spheres through a BVH).
@@ -266,20 +278,6 @@ pub fn tile_timeout(scene: &Scene, pixels: u64, bvh: bool) -> Duration {
         objects
     };
     Duration::from_secs_f64(rays * per_ray / SLOWEST_TESTS_PER_S).max(MIN_TIMEOUT)
-}
-
-impl Drop for Renderer {
-    fn drop(&mut self) {
-        if self.device.hung() {
-            // A timed-out dispatch may still be running: let it end before
-            // its pipeline, command buffer and device are destroyed (its
-            // buffers were leaked when it timed out).
-            // SAFETY: the device is alive until the fields drop, after this.
-            unsafe {
-                let _ = self.device.raw.device_wait_idle();
-            }
-        }
-    }
 }
 
 fn secs(d: Duration) -> f64 {
@@ -313,6 +311,7 @@ impl Renderer {
         let pipeline_cache = PipelineCache::new(&device, cache_file.as_deref())?;
         let renderer = Self {
             pipelines: HashMap::new(),
+            driver_compiled: Default::default(),
             pipeline_cache,
             resident: None,
             timestamps,
@@ -475,6 +474,7 @@ impl Renderer {
             self.resident = None;
         }
         self.pipelines.retain(|(v, _), _| *v != key.0);
+        self.driver_compiled.retain(|(v, _)| *v != key.0);
         self.pipelines.insert(key.clone(), pipeline);
         self.check_validation()?;
         Ok((key, setup))
@@ -609,6 +609,34 @@ impl Renderer {
         let pipeline = &self.pipelines[&key];
         let buffers = &self.resident.as_ref().expect("set above").buffers;
         let out = buffers.last().expect("the output binding is last");
+        if !self.driver_compiled.contains(&key) {
+            // The first dispatch of a pipeline pays for the driver's compile:
+            // one workgroup over an empty tile, so that the render's own
+            // watchdog below times shading alone.
+            let t = Instant::now();
+            let empty = Dispatch {
+                pipeline,
+                out: out.raw,
+                zero: None,
+                rect: TileRect(UVec4::ZERO),
+            };
+            match dispatch(&mut self.commands, None, &empty, COMPILE_TIMEOUT) {
+                Err(GpuError::Vk {
+                    result: raw::Result::TIMEOUT,
+                    ..
+                }) => {
+                    std::mem::forget(self.resident.take());
+                    return Err(GpuError::CompileTimeout {
+                        seconds: COMPILE_TIMEOUT.as_secs_f64(),
+                    });
+                }
+                other => {
+                    other?;
+                }
+            }
+            times.setup.driver_compile_s = secs(t.elapsed());
+            self.driver_compiled.insert(key.clone());
+        }
         // The counters start at zero on the device, in the first dispatch.
         let mut counters = variant.binding_of(Block::Counts).map(|at| buffers[at].raw);
         // The last tile's token, for reading the counters.
@@ -790,17 +818,17 @@ fn dispatch<'c>(
         if let Some(counters) = zero {
             dev.cmd_fill_buffer(cb, counters, 0, raw::WHOLE_SIZE, 0);
         }
-        let filled = raw::MemoryBarrier::default()
-            .src_access_mask(raw::AccessFlags::TRANSFER_WRITE)
-            .dst_access_mask(raw::AccessFlags::SHADER_READ | raw::AccessFlags::SHADER_WRITE);
-        dev.cmd_pipeline_barrier(
+        memory_barrier(
+            dev,
             cb,
-            raw::PipelineStageFlags::TRANSFER,
-            raw::PipelineStageFlags::COMPUTE_SHADER,
-            raw::DependencyFlags::empty(),
-            &[filled],
-            &[],
-            &[],
+            (
+                raw::PipelineStageFlags::TRANSFER,
+                raw::AccessFlags::TRANSFER_WRITE,
+            ),
+            (
+                raw::PipelineStageFlags::COMPUTE_SHADER,
+                raw::AccessFlags::SHADER_READ | raw::AccessFlags::SHADER_WRITE,
+            ),
         );
         dev.cmd_bind_pipeline(cb, raw::PipelineBindPoint::COMPUTE, p.pipeline);
         dev.cmd_bind_descriptor_sets(
@@ -827,17 +855,14 @@ fn dispatch<'c>(
             t.end(cb, raw::PipelineStageFlags::COMPUTE_SHADER);
         }
         // Make the shader's writes visible to the host's read of the mapping.
-        let barrier = raw::MemoryBarrier::default()
-            .src_access_mask(raw::AccessFlags::SHADER_WRITE)
-            .dst_access_mask(raw::AccessFlags::HOST_READ);
-        dev.cmd_pipeline_barrier(
+        memory_barrier(
+            dev,
             cb,
-            raw::PipelineStageFlags::COMPUTE_SHADER,
-            raw::PipelineStageFlags::HOST,
-            raw::DependencyFlags::empty(),
-            &[barrier],
-            &[],
-            &[],
+            (
+                raw::PipelineStageFlags::COMPUTE_SHADER,
+                raw::AccessFlags::SHADER_WRITE,
+            ),
+            (raw::PipelineStageFlags::HOST, raw::AccessFlags::HOST_READ),
         );
     })?;
     let on_device = timestamps.map(|t| t.seconds(&done)).transpose()?;

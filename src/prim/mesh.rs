@@ -56,6 +56,12 @@ pub fn load(f: &MeshFile, dir: &Path, at: &At) -> Result<Vec<Triangle>, SceneErr
     .or_else(|e| at.invalid("file", format!("{shown}: not a valid OBJ file: {e}")))?;
 
     let mut out = Vec::new();
+    if models.iter().all(|m| m.mesh.indices.is_empty()) {
+        return at.invalid(
+            "file",
+            format!("{shown}: has no faces (not an OBJ model, or an empty one)"),
+        );
+    }
     for model in &models {
         let m = &model.mesh;
         let point = |i: u32| {

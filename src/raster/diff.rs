@@ -12,13 +12,16 @@ pub struct ErrorFigures {
     pub max_abs: f64,
     /// Root mean square over finite channel pairs.
     pub rmse: f64,
-    /// 10 log10(1 / mse) for a peak of 1; `null` in JSON when the images agree exactly.
+    /// 10 log10(1 / mse) for a peak of 1, over finite channel pairs; +∞
+    /// where the images agree exactly (no non-finite value either), −∞
+    /// where a value is non-finite; `null` in JSON for either.
     #[serde(serialize_with = "finite_or_null")]
     pub psnr_db: f64,
     /// Fraction of pixels whose largest channel error exceeds 1/255 (a pixel
     /// with a non-finite channel counts as over).
     pub frac_over_1_255: f64,
-    /// Channels of the image (not the reference) that are NaN or infinite.
+    /// Channel pairs in which either image is NaN or infinite (each fails
+    /// the comparison, the same NaN in both included).
     pub nonfinite: u64,
 }
 
@@ -67,7 +70,8 @@ pub fn pixel_errors(img: &Image, reference: &Image) -> Result<Vec<f64>, SizeMism
 }
 
 /// The error figures of `img` against `reference`, over every channel of
-/// every pixel.
+/// every pixel. A non-finite value in either image is counted (`nonfinite`)
+/// and fails every tolerance; the other figures are over the finite pairs.
 ///
 /// ```
 /// use glint::raster::{diff, Image};
@@ -107,7 +111,7 @@ pub fn figures_where(
         over += usize::from(per_pixel[i] > 1.0 / 255.0);
         for c in 0..3 {
             let (a, r) = (f64::from(a[c]), f64::from(r[c]));
-            if !a.is_finite() {
+            if !a.is_finite() || !r.is_finite() {
                 nonfinite += 1;
             }
             if a.is_finite() && r.is_finite() {
@@ -126,7 +130,9 @@ pub fn figures_where(
     Ok(ErrorFigures {
         max_abs,
         rmse: mse.sqrt(),
-        psnr_db: if mse == 0.0 {
+        psnr_db: if nonfinite > 0 {
+            f64::NEG_INFINITY
+        } else if mse == 0.0 {
             f64::INFINITY
         } else {
             -10.0 * mse.log10()
@@ -134,6 +140,26 @@ pub fn figures_where(
         frac_over_1_255: over as f64 / pixels.max(1) as f64,
         nonfinite,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_nan_in_either_image_is_counted_and_is_never_identical() {
+        let clean = Image::new(2, 2, vec![[0.5; 3]; 4]);
+        let mut nan = clean.clone();
+        nan.pixels[1] = [f32::NAN, 0.5, f32::NAN];
+        for (a, b) in [(&nan, &clean), (&clean, &nan), (&nan, &nan)] {
+            let f = figures(a, b).unwrap();
+            assert_eq!(f.nonfinite, 2, "{f:?}");
+            assert_eq!(f.psnr_db, f64::NEG_INFINITY);
+            assert_eq!(f.frac_over_1_255, 0.25);
+            assert!(!Tolerance::default().violations(&f).is_empty());
+        }
+        assert_eq!(figures(&clean, &clean).unwrap().psnr_db, f64::INFINITY);
+    }
 }
 
 /// How far the GPU's f32 image may be from the CPU f64 reference.

@@ -1,11 +1,13 @@
-//! PNG, PFM and EXR files (docs/scene-format.md, Outputs). Writes go to a temporary file beside the
-//! target and are renamed over it, so a failed run leaves the old file whole.
+//! PNG, PFM and EXR files (docs/scene-format.md, Outputs). Writes go
+//! through [`crate::output`]: to a temporary file beside the target, renamed
+//! over it, so a failed run leaves the old file whole.
 
 use std::fs::File;
-use std::io::{BufWriter, Read, Write};
+use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
-use super::{partial, quantize, Image};
+use super::{quantize, Image};
+use crate::output::{OutputError, Outputs, TargetKind};
 
 /// An image file that cannot be read or written; each names the file.
 #[derive(Debug, thiserror::Error)]
@@ -39,21 +41,9 @@ pub enum ImageIoError {
         /// What is wrong with it.
         reason: String,
     },
-    /// An output that is one of the run's inputs.
-    #[error(
-        "{}: is the input {}; refusing to overwrite an input (name another output)",
-        crate::printable::path(output),
-        crate::printable::path(input)
-    )]
-    OverwritesInput {
-        /// The output asked for.
-        output: PathBuf,
-        /// The input it is.
-        input: PathBuf,
-    },
-    /// An output file that is read-only (replaced only with `--force`).
-    #[error("{}: is read-only; refusing to replace it (remove it, or render with --force)", crate::printable::path(.0))]
-    ReadOnly(PathBuf),
+    /// An output that may not be written.
+    #[error(transparent)]
+    Output(#[from] OutputError),
 }
 
 /// An image file's format, by its extension.
@@ -81,6 +71,20 @@ impl Format {
             _ => Err(ImageIoError::Format(path.to_owned())),
         }
     }
+
+    /// The format an output at `path` is written in: by its extension, or
+    /// PNG (the default output) where `path` is a character device or FIFO
+    /// whose name has none (`-o /dev/null`, `-o /dev/stdout`).
+    pub fn of_output(path: &Path) -> Result<Format, ImageIoError> {
+        let streamed = || {
+            path.extension().is_none()
+                && Outputs::new::<&Path>([], false).check(path).ok() == Some(TargetKind::Stream)
+        };
+        match Format::of(path) {
+            Err(_) if streamed() => Ok(Format::Png),
+            other => other,
+        }
+    }
 }
 
 /// The `ImageIoError::Io` of `path`, for `map_err`.
@@ -91,145 +95,41 @@ pub fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> ImageIoError + '_ {
     }
 }
 
-/// Fails when `output` is one of `inputs`: the same file by device and inode
-/// (so hard links, symbolic links and `./x` spellings all count), or the same
-/// canonical path. An output that does not exist yet cannot be an input.
-pub fn refuse_input(output: &Path, inputs: &[&Path]) -> Result<(), ImageIoError> {
-    let Ok(out_meta) = std::fs::metadata(output) else {
-        return Ok(());
-    };
-    let out_canon = std::fs::canonicalize(output).ok();
-    for input in inputs {
-        let Ok(in_meta) = std::fs::metadata(input) else {
-            continue;
-        };
-        let same_canon = out_canon.is_some() && std::fs::canonicalize(input).ok() == out_canon;
-        if same_file(&out_meta, &in_meta) || same_canon {
-            return Err(ImageIoError::OverwritesInput {
-                output: output.to_owned(),
-                input: input.to_path_buf(),
-            });
-        }
-    }
-    Ok(())
-}
-
-#[cfg(unix)]
-fn same_file(a: &std::fs::Metadata, b: &std::fs::Metadata) -> bool {
-    use std::os::unix::fs::MetadataExt;
-    a.dev() == b.dev() && a.ino() == b.ino()
-}
-
-#[cfg(not(unix))]
-fn same_file(_: &std::fs::Metadata, _: &std::fs::Metadata) -> bool {
-    false
-}
-
 /// Writes `img` to `path` in the format its extension names, refusing a
 /// read-only file (see `write_forced`).
 pub fn write(path: &Path, img: &Image, srgb: bool) -> Result<(), ImageIoError> {
     write_forced(path, img, srgb, false)
 }
 
-/// Writes `img` to `path` atomically: into a temporary file beside the
-/// target, renamed over it. Where `path` is a symbolic link, the file it
-/// points to is replaced and the link stays. An existing read-only target
-/// is refused unless `force`; the new file keeps the old one's permissions.
-/// Other hard links to the old file keep the old image: a rename replaces a
-/// name, not the file's contents.
+/// Writes `img` to `path` at once, as [`stage`] and a commit do. An
+/// existing read-only target is refused unless `force`.
 pub fn write_forced(path: &Path, img: &Image, srgb: bool, force: bool) -> Result<(), ImageIoError> {
-    let format = Format::of(path)?;
-    write_atomic(path, force, |out, path| match format {
+    let mut outputs = Outputs::new::<&Path>([], force);
+    stage(&mut outputs, path, img, srgb)?;
+    Ok(outputs.commit()?)
+}
+
+/// Stages `img` as the output `path` of `outputs`, in the format
+/// `Format::of_output` names. Where `path` is a symbolic link, the file
+/// it points to is replaced at the commit and the link stays; the new file
+/// keeps the old one's permissions. Other hard links to the old file keep
+/// the old image: a rename replaces a name, not the file's contents.
+pub fn stage(
+    outputs: &mut Outputs,
+    path: &Path,
+    img: &Image,
+    srgb: bool,
+) -> Result<(), ImageIoError> {
+    let format = Format::of_output(path)?;
+    outputs.stage(path, |out: &mut dyn Write| match format {
         Format::Png => write_png(out, img, srgb, path),
         Format::Pfm => write_pfm(out, img).map_err(io_err(path)),
         Format::Exr => write_exr(out, img, path),
     })
 }
 
-/// Writes a file atomically, as `write_forced` does an image: `fill`
-/// writes the contents (given the target's path for its messages).
-pub fn write_atomic(
-    path: &Path,
-    force: bool,
-    fill: impl FnOnce(&mut BufWriter<&File>, &Path) -> Result<(), ImageIoError>,
-) -> Result<(), ImageIoError> {
-    check_target(path, force)?;
-    let target = follow_links(path);
-    let path = target.as_path();
-    let old = std::fs::metadata(path).ok();
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    partial::remove_stale(dir);
-    let prefix = partial::prefix();
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(&prefix).suffix(".tmp");
-    // tempfile makes private files; an output is as readable as any new file.
-    #[cfg(unix)]
-    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    let tmp = builder.tempfile_in(dir).map_err(io_err(path))?;
-    if let Some(meta) = &old {
-        tmp.as_file()
-            .set_permissions(meta.permissions())
-            .map_err(io_err(path))?;
-    }
-    let tmp_path = tmp.path().to_owned();
-    partial::register(&tmp_path);
-    let result = write_into(tmp, path, fill);
-    partial::unregister(&tmp_path);
-    result
-}
-
-/// Fails where `write_forced(path, .., force)` would refuse the target, so
-/// that a command can say so before it renders.
-pub fn check_target(path: &Path, force: bool) -> Result<(), ImageIoError> {
-    let target = follow_links(path);
-    match std::fs::metadata(&target) {
-        Ok(meta) if meta.permissions().readonly() && !force => Err(ImageIoError::ReadOnly(target)),
-        _ => Ok(()),
-    }
-}
-
-/// The file a chain of symbolic links ends at (the path itself where it is
-/// none, or where a link cannot be read). A dangling link ends at the name
-/// it points to, which the write then creates.
-fn follow_links(path: &Path) -> PathBuf {
-    let mut p = path.to_owned();
-    // Forty links, as Linux allows, before a loop is left to the write to report.
-    for _ in 0..40 {
-        match std::fs::read_link(&p) {
-            Ok(next) => {
-                p = match p.parent() {
-                    Some(dir) if next.is_relative() => dir.join(next),
-                    _ => next,
-                }
-            }
-            Err(_) => break,
-        }
-    }
-    p
-}
-
-/// Fills `tmp`, then renames it over `path`; a failure drops (and so
-/// removes) `tmp`.
-fn write_into(
-    tmp: tempfile::NamedTempFile,
-    path: &Path,
-    fill: impl FnOnce(&mut BufWriter<&File>, &Path) -> Result<(), ImageIoError>,
-) -> Result<(), ImageIoError> {
-    {
-        let mut out = BufWriter::new(tmp.as_file());
-        fill(&mut out, path)?;
-        out.flush().map_err(io_err(path))?;
-    }
-    tmp.as_file().sync_all().map_err(io_err(path))?;
-    tmp.persist(path).map_err(|e| io_err(path)(e.error))?;
-    Ok(())
-}
-
 fn write_png(
-    out: &mut BufWriter<&File>,
+    out: &mut dyn Write,
     img: &Image,
     srgb: bool,
     path: &Path,
@@ -254,7 +154,7 @@ fn write_png(
 }
 
 /// Standard PFM: little-endian (scale -1.0), rows bottom to top.
-fn write_pfm(out: &mut impl Write, img: &Image) -> std::io::Result<()> {
+fn write_pfm(out: &mut (impl Write + ?Sized), img: &Image) -> std::io::Result<()> {
     write!(out, "PF\n{} {}\n-1.0\n", img.width, img.height)?;
     for row in img.pixels.chunks(img.width as usize).rev() {
         for c in row.iter().flatten() {
@@ -264,7 +164,7 @@ fn write_pfm(out: &mut impl Write, img: &Image) -> std::io::Result<()> {
     Ok(())
 }
 
-fn write_exr(out: &mut BufWriter<&File>, img: &Image, path: &Path) -> Result<(), ImageIoError> {
+fn write_exr(out: &mut dyn Write, img: &Image, path: &Path) -> Result<(), ImageIoError> {
     let floats: Vec<f32> = img.pixels.iter().flatten().copied().collect();
     let buffer = image::Rgb32FImage::from_raw(img.width, img.height, floats)
         .expect("buffer size matches image");
@@ -359,6 +259,13 @@ pub fn read_pfm(bytes: &[u8]) -> Result<Image, String> {
     let scale: f32 = fields[3]
         .parse()
         .map_err(|_| format!("bad scale \"{}\"", fields[3]))?;
+    // The scale's sign gives the byte order; 0 or NaN gives none.
+    if !scale.is_finite() || scale == 0.0 {
+        return Err(format!(
+            "bad scale \"{}\" (a finite non-zero number: negative for little-endian)",
+            fields[3]
+        ));
+    }
     let little = scale < 0.0;
     check_size(w, h)?;
     let count = w as usize * h as usize;
@@ -438,6 +345,18 @@ mod tests {
             assert!(
                 err.contains("size") || err.contains("bad"),
                 "{header}: {err}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_pfm_scale_of_nan_or_zero_has_no_byte_order() {
+        for scale in ["nan", "0", "-0.0", "inf"] {
+            let mut bytes = format!("PF\n1 1\n{scale}\n").into_bytes();
+            bytes.extend_from_slice(&[0; 12]);
+            assert!(
+                read_pfm(&bytes).unwrap_err().contains("bad scale"),
+                "{scale}"
             );
         }
     }

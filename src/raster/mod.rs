@@ -2,9 +2,6 @@
 
 pub mod diff;
 pub mod io;
-pub(crate) mod partial;
-
-pub use partial::remove_in_progress;
 pub mod region;
 
 /// A linear RGB image, rows top to bottom.

@@ -3,9 +3,10 @@
 //! are PNG files beside the page, so it opens without a server.
 
 use std::fmt::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::{escape, tables, Report, ROW_HEADERS};
+use crate::output::{self, Outputs};
 use crate::raster::{diff, io};
 
 /// A file-name-safe form of a scene's name.
@@ -21,38 +22,62 @@ fn slug(name: &str) -> String {
         .collect()
 }
 
+/// The files `write_all` writes into `dir` for the scenes `names`, the
+/// page last, so that a command can check them before it measures.
+pub fn files(names: &[String], dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = TEXTS.iter().map(|n| dir.join(n)).collect();
+    v.extend(names.iter().flat_map(|n| image_paths(dir, n)));
+    v.push(dir.join(PAGE));
+    v
+}
+
+const TEXTS: [&str; 4] = [
+    "report.md",
+    "report.csv",
+    "report.json",
+    "error_vs_time.svg",
+];
+const PAGE: &str = "index.html";
+
+/// A scene's images under img/: the GPU's, the reference and their heat-map.
+fn image_paths(dir: &Path, name: &str) -> [PathBuf; 3] {
+    let slug = slug(name);
+    ["gpu", "reference", "diff"].map(|which| dir.join("img").join(format!("{slug}-{which}.png")))
+}
+
 /// Writes report.md, report.csv, report.json, error_vs_time.svg, index.html
-/// and the images under img/ into `dir`.
-pub fn write_all(r: &Report, dir: &Path) -> anyhow::Result<()> {
+/// and the images under img/ into `dir`, all through `outputs` (which
+/// knows the run's inputs): staged, then committed together, the page last.
+pub fn write_all(r: &Report, dir: &Path, mut outputs: Outputs) -> anyhow::Result<()> {
     use anyhow::Context;
     let img_dir = dir.join("img");
     std::fs::create_dir_all(&img_dir)
         .with_context(|| format!("cannot create {}", img_dir.display()))?;
-    let write = |name: &str, text: String| -> anyhow::Result<()> {
-        let path = dir.join(name);
-        std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))
-    };
-    write("report.md", tables::markdown(r))?;
-    write("report.csv", tables::csv(r))?;
-    write("report.json", tables::json(r))?;
-    write("error_vs_time.svg", super::svg::plot(r))?;
+    let texts = [
+        tables::markdown(r),
+        tables::csv(r),
+        tables::json(r),
+        super::svg::plot(r),
+    ];
+    for (name, text) in TEXTS.iter().zip(&texts) {
+        stage_text(&mut outputs, &dir.join(name), text)?;
+    }
     for s in &r.scenes {
-        let slug = slug(&s.name);
         if let (Some(gpu), Some(reference)) = (&s.images.gpu, &s.images.reference) {
-            io::write(&img_dir.join(format!("{slug}-gpu.png")), gpu, s.images.srgb)?;
-            io::write(
-                &img_dir.join(format!("{slug}-reference.png")),
-                reference,
-                s.images.srgb,
-            )?;
-            io::write(
-                &img_dir.join(format!("{slug}-diff.png")),
-                &diff::heat_map(gpu, reference)?,
-                false,
-            )?;
+            let [g, rf, d] = image_paths(dir, &s.name);
+            io::stage(&mut outputs, &g, gpu, s.images.srgb)?;
+            io::stage(&mut outputs, &rf, reference, s.images.srgb)?;
+            io::stage(&mut outputs, &d, &diff::heat_map(gpu, reference)?, false)?;
         }
     }
-    write("index.html", page(r))
+    stage_text(&mut outputs, &dir.join(PAGE), &page(r))?;
+    Ok(outputs.commit()?)
+}
+
+fn stage_text(outputs: &mut Outputs, path: &Path, text: &str) -> Result<(), output::OutputError> {
+    outputs.stage(path, |out: &mut dyn std::io::Write| {
+        out.write_all(text.as_bytes()).map_err(output::io_err(path))
+    })
 }
 
 fn page(r: &Report) -> String {

@@ -84,11 +84,11 @@ impl Variant {
         }
     }
 
-    /// `f32` or `f64`.
-    pub fn precision(self) -> &'static str {
+    /// Its arithmetic.
+    pub fn precision(self) -> Precision {
         match self {
-            Variant::Gpu64 | Variant::Cpu64 => "f64",
-            _ => "f32",
+            Variant::Gpu64 | Variant::Cpu64 => Precision::F64,
+            _ => Precision::F32,
         }
     }
 
@@ -102,9 +102,17 @@ impl Variant {
     }
 }
 
+/// report.json's `variant` (the name), `backend`, `precision` and
+/// `intersect`, all from the one value.
 impl Serialize for Variant {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(&self.name())
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(4))?;
+        m.serialize_entry("variant", &self.name())?;
+        m.serialize_entry("backend", self.backend())?;
+        m.serialize_entry("precision", &self.precision())?;
+        m.serialize_entry("intersect", &self.intersect())?;
+        m.end()
     }
 }
 
@@ -112,14 +120,9 @@ impl Serialize for Variant {
 /// its time.
 #[derive(Debug, Clone, Serialize)]
 pub struct Measurement {
-    /// What rendered.
+    /// What rendered (in report.json, its name and what it follows from).
+    #[serde(flatten)]
     pub variant: Variant,
-    /// `gpu` or `cpu` (from the variant, for report.json's readers).
-    pub backend: &'static str,
-    /// `f32` or `f64` (likewise).
-    pub precision: &'static str,
-    /// A GPU variant's intersection forms (likewise).
-    pub intersect: Option<Intersect>,
     /// The ray tree's depth it rendered at.
     pub max_depth: u32,
     /// The samples a side it rendered with.
@@ -340,11 +343,7 @@ pub fn measure(
             Some(intersect) => {
                 let how = RenderSettings {
                     intersect,
-                    precision: if variant.precision() == "f64" {
-                        Precision::F64
-                    } else {
-                        Precision::F32
-                    },
+                    precision: variant.precision(),
                     generic: variant == Variant::GpuGeneric,
                     ..renderer.settings()
                 };
@@ -367,9 +366,9 @@ pub fn measure(
                 (image, time, Some(setup))
             }
             None => {
-                let render = |s: &Scene| match variant {
-                    Variant::Cpu32 => cpu::render::<f32>(s),
-                    _ => cpu::render::<f64>(s),
+                let render = |s: &Scene| match variant.precision() {
+                    Precision::F32 => cpu::render::<f32>(s),
+                    Precision::F64 => cpu::render::<f64>(s),
                 };
                 let image = render(&s);
                 let mut times: Vec<f64> = (0..settings.runs)
@@ -398,9 +397,6 @@ pub fn measure(
         }
         measurements.push(Measurement {
             variant,
-            backend: variant.backend(),
-            precision: variant.precision(),
-            intersect: variant.intersect(),
             max_depth: s.max_depth,
             samples: s.samples,
             error,

@@ -21,9 +21,10 @@ pub fn csv(r: &Report) -> String {
             let record = [
                 s.name.clone(),
                 m.variant.name(),
-                m.backend.to_string(),
-                m.precision.to_string(),
-                m.intersect
+                m.variant.backend().to_owned(),
+                format!("{:?}", m.variant.precision()).to_lowercase(),
+                m.variant
+                    .intersect()
                     .map_or(String::new(), |i| format!("{i:?}").to_lowercase()),
                 m.max_depth.to_string(),
                 m.samples.to_string(),

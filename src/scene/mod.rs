@@ -11,7 +11,7 @@ mod rebase;
 mod split;
 mod validate;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
@@ -69,6 +69,9 @@ pub struct Scene {
     pub prims: Prims,
     /// The lights.
     pub lights: Vec<Light>,
+    /// The OBJ files the `[[meshes]]` were read from, in the file's order:
+    /// inputs of the run, which no output may replace.
+    pub mesh_files: Vec<PathBuf>,
 }
 
 /// The camera of form (a) in docs/scene-format.md: an eye and a virtual

@@ -161,6 +161,12 @@ pub fn unit_vector(v: DVec3) -> Option<DVec3> {
 /// (about 1e36 each, three to a length) stay inside f32's 3.4e38.
 pub const MAX_COORDINATE: f64 = 1e18;
 
+/// The largest index of refraction: the square of the ratio of two iors,
+/// (1e6 / 1e-6)², is 1e24, inside f32's 3.4e38.
+const MAX_IOR: f64 = 1e6;
+/// The smallest.
+const MIN_IOR: f64 = 1e-6;
+
 /// The brightest pixel value a scene may be able to make: a pixel sums up
 /// to 256 samples before it divides, and every sum stays inside f32.
 pub const MAX_BRIGHTNESS: f64 = 1e36;
@@ -376,6 +382,7 @@ impl Check<'_> {
         })?;
         // A mesh's triangles follow the file's [[triangles]], mesh by mesh.
         let dir = self.file.parent().unwrap_or(Path::new("."));
+        let mesh_files = raw.meshes.iter().map(|m| dir.join(&m.file)).collect();
         for (i, mesh) in raw.meshes.iter().enumerate() {
             let at = At {
                 check: self,
@@ -412,6 +419,7 @@ impl Check<'_> {
             materials,
             prims,
             lights,
+            mesh_files,
         })
     }
 
@@ -440,6 +448,14 @@ impl Check<'_> {
         let ior = self.finite(&path.key("ior"), m.ior)?;
         if ior <= 0.0 {
             return self.err(&path.key("ior"), format!("must be > 0, got {ior}"));
+        }
+        // Both renderers square the ratio of two iors: it must stay finite,
+        // and non-zero, in f32 (the f32 overflow rule of every other value).
+        if !(MIN_IOR..=MAX_IOR).contains(&ior) {
+            return self.err(
+                &path.key("ior"),
+                format!("must be in [{MIN_IOR:e}, {MAX_IOR:e}] so that its square fits f32, got {ior:e}"),
+            );
         }
         Ok(Material {
             name: name.to_owned(),

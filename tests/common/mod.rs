@@ -50,6 +50,12 @@ pub fn assert_user_error(o: &Output, words: &str) {
     );
 }
 
+/// Text of exactly one line (trailing whitespace aside): what every error
+/// message is.
+pub fn one_line() -> impl Predicate<str> {
+    predicate::function(|text: &str| text.trim().lines().count() == 1)
+}
+
 /// The one JSON value a successful run printed.
 pub fn json_of(run: &assert_cmd::assert::Assert) -> serde_json::Value {
     serde_json::from_slice(&run.get_output().stdout).expect("one JSON value on stdout")

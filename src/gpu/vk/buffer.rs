@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::command::{Completed, OneShot};
+use super::command::{memory_barrier, Completed, OneShot};
 use super::device::Device;
 use crate::gpu::error::{GpuError, VkContext};
 
@@ -164,17 +164,17 @@ impl Buffer {
         let copied = commands.run(std::time::Duration::from_secs(60), |d, cb| unsafe {
             d.cmd_copy_buffer(cb, staging.raw, buffer.raw, &[copy]);
             // The copy is done before any shader reads the buffer.
-            let barrier = vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-                .dst_access_mask(vk::AccessFlags::SHADER_READ | vk::AccessFlags::UNIFORM_READ);
-            d.cmd_pipeline_barrier(
+            memory_barrier(
+                d,
                 cb,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::DependencyFlags::empty(),
-                &[barrier],
-                &[],
-                &[],
+                (
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::AccessFlags::TRANSFER_WRITE,
+                ),
+                (
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
+                    vk::AccessFlags::SHADER_READ | vk::AccessFlags::UNIFORM_READ,
+                ),
             );
         });
         match copied {

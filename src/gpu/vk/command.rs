@@ -97,23 +97,13 @@ impl OneShot {
                 .doing("vkEndCommandBuffer")?;
             d.queue_submit(self.device.queue, &[submit], self.fence)
                 .doing("vkQueueSubmit")?;
-            match d.wait_for_fences(&[self.fence], true, nanos) {
-                Ok(()) => {}
-                Err(vk::Result::TIMEOUT) => {
-                    self.device.mark_hung();
-                    return Err(GpuError::Vk {
-                        what: "vkWaitForFences",
-                        result: vk::Result::TIMEOUT,
-                    });
-                }
-                Err(result) => {
-                    // Lost or out of memory: the work's state is unknown.
-                    self.device.mark_hung();
-                    return Err(GpuError::Vk {
-                        what: "vkWaitForFences",
-                        result,
-                    });
-                }
+            if let Err(result) = d.wait_for_fences(&[self.fence], true, nanos) {
+                // Timed out, lost or out of memory: the work may still run.
+                self.device.mark_hung();
+                return Err(GpuError::Vk {
+                    what: "vkWaitForFences",
+                    result,
+                });
             }
             d.reset_fences(&[self.fence]).doing("vkResetFences")?;
         }
@@ -121,15 +111,46 @@ impl OneShot {
     }
 }
 
+/// Records a global memory barrier: what the `src` stage wrote through
+/// `src.1` is visible to `dst.1` accesses at the `dst` stage.
+///
+/// # Safety
+/// `cb` is a command buffer of `d` in the recording state, outside a render
+/// pass.
+pub unsafe fn memory_barrier(
+    d: &ash::Device,
+    cb: vk::CommandBuffer,
+    src: (vk::PipelineStageFlags, vk::AccessFlags),
+    dst: (vk::PipelineStageFlags, vk::AccessFlags),
+) {
+    let barrier = vk::MemoryBarrier::default()
+        .src_access_mask(src.1)
+        .dst_access_mask(dst.1);
+    // SAFETY: the caller's contract; the barrier lives for the call.
+    unsafe {
+        d.cmd_pipeline_barrier(
+            cb,
+            src.0,
+            dst.0,
+            vk::DependencyFlags::empty(),
+            &[barrier],
+            &[],
+            &[],
+        )
+    };
+}
+
 impl Drop for OneShot {
     fn drop(&mut self) {
-        // SAFETY: no submission is pending (each `run` waits), unless the
-        // device hung: then the device is waited idle first. Null handles
-        // (a half-built OneShot) are ignored by vkDestroy*.
+        // A hung device's submission may never end: its fence and pool are
+        // leaked rather than waited for (the device is leaked too).
+        if self.device.hung() {
+            return;
+        }
+        // SAFETY: no submission is pending (each `run` waits, and a wait
+        // that timed out marked the device hung). Null handles (a
+        // half-built OneShot) are ignored by vkDestroy*.
         unsafe {
-            if self.device.hung() {
-                let _ = self.device.raw.device_wait_idle();
-            }
             self.device.raw.destroy_fence(self.fence, None);
             self.device.raw.destroy_command_pool(self.pool, None);
         }

@@ -157,11 +157,14 @@ impl ComputePipeline {
 
 impl Drop for ComputePipeline {
     fn drop(&mut self) {
+        // A hung device may still run it: leaked, as the device is.
+        if self.device.hung() {
+            return;
+        }
         let d = &self.device.raw;
-        // SAFETY: no submission uses the pipeline (each `OneShot::run` waits;
-        // a renderer whose wait timed out waits for idle before dropping its
-        // pipelines). Null handles are ignored by vkDestroy*, so a half-built
-        // pipeline frees cleanly.
+        // SAFETY: no submission uses the pipeline (each `OneShot::run` waits,
+        // and a wait that timed out marked the device hung). Null handles
+        // are ignored by vkDestroy*, so a half-built pipeline frees cleanly.
         unsafe {
             d.destroy_descriptor_pool(self.pool, None);
             d.destroy_pipeline(self.pipeline, None);

@@ -88,8 +88,12 @@ impl Timestamps {
 
 impl Drop for Timestamps {
     fn drop(&mut self) {
+        // A hung device's dispatch may still write it: leaked, as the device is.
+        if self.device.hung() {
+            return;
+        }
         // SAFETY: no submission that writes the pool is pending (each
-        // `OneShot::run` waits; a hung device is waited idle by its renderer).
+        // `OneShot::run` waits, and a wait that timed out marked the device hung).
         unsafe { self.device.raw.destroy_query_pool(self.pool, None) };
     }
 }
