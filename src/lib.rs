@@ -31,6 +31,7 @@ pub mod cpu;
 pub mod files;
 pub(crate) mod fnv;
 pub mod gpu;
+pub mod input;
 pub mod output;
 pub(crate) mod prim;
 pub mod printable;

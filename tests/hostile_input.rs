@@ -566,3 +566,42 @@ fn first_material(text: &str) -> String {
         .unwrap()
         .to_owned()
 }
+
+#[test]
+fn reads_are_of_regular_files_within_a_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let start = std::time::Instant::now();
+    // A scene or a mesh from a device that never ends, or a FIFO that would block.
+    assert_user_error(&glint(&["render", "/dev/zero"]), "not a regular file");
+    let fifo = dir.path().join("pipe.obj");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success());
+    let base = std::fs::read_to_string(common::repo().join("scenes/seed-fig3.toml")).unwrap();
+    let mut meshes = vec!["/dev/zero".to_owned()];
+    if made {
+        meshes.push(fifo.display().to_string());
+    }
+    for file in meshes {
+        let scene = dir.path().join("mesh.toml");
+        std::fs::write(
+            &scene,
+            format!("{base}\n[[meshes]]\nfile = \"{file}\"\nmaterial = \"red\"\n"),
+        )
+        .unwrap();
+        let o = glint(&["render", scene.to_str().unwrap(), "--backend", "cpu"]);
+        assert_user_error(&o, "not a regular file");
+    }
+    // diff compares the headers' sizes before it decodes: a PFM that claims
+    // 16384x16384 (3 GiB of pixels) but holds none is never read whole.
+    let claims = dir.path().join("claims.pfm");
+    std::fs::write(&claims, "PF\n16384 16384\n-1.0\n").unwrap();
+    let small = dir.path().join("small.pfm");
+    let mut bytes = b"PF\n1 1\n-1.0\n".to_vec();
+    bytes.extend_from_slice(&[0; 12]);
+    std::fs::write(&small, bytes).unwrap();
+    let o = glint(&["diff", claims.to_str().unwrap(), small.to_str().unwrap()]);
+    assert_user_error(&o, "16384x16384 and");
+    assert!(start.elapsed().as_secs() < 30);
+}

@@ -26,11 +26,12 @@ pub struct ConvertArgs {
 pub fn run(a: &ConvertArgs) -> anyhow::Result<ExitCode> {
     let mut outputs = Outputs::new([&a.scene], a.force);
     outputs.check(&a.output)?;
-    let text =
-        std::fs::read_to_string(&a.scene).map_err(|cause| glint::scene::SceneError::Read {
+    let text = glint::input::read_text(&a.scene, glint::input::Kind::Scene).map_err(|cause| {
+        glint::scene::SceneError::Read {
             path: a.scene.clone(),
             cause,
-        })?;
+        }
+    })?;
     let read = nff::read(&text, &a.scene)?;
     let toml = toml::to_string(&read.scene).context("cannot write the scene as TOML")?;
     // The whole scene is checked before anything is written: what is

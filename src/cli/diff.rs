@@ -26,6 +26,17 @@ pub fn run(a: &DiffArgs) -> anyhow::Result<ExitCode> {
         io::Format::of_output(path)?;
         outputs.check(path)?;
     }
+    // Sizes from the headers first: two images that cannot be compared
+    // are never decoded.
+    let (wa, ha) = io::dimensions(&a.a)?;
+    let (wb, hb) = io::dimensions(&a.b)?;
+    if (wa, ha) != (wb, hb) {
+        anyhow::bail!(
+            "{} is {wa}x{ha} and {} is {wb}x{hb}: the images differ in size",
+            glint::printable::path(&a.a),
+            glint::printable::path(&a.b)
+        );
+    }
     let img = io::read(&a.a)?;
     let reference = io::read(&a.b)?;
     let figures = diff::figures(&img, &reference)?;

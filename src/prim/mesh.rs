@@ -41,7 +41,7 @@ pub fn load(f: &MeshFile, dir: &Path, at: &At) -> Result<Vec<Triangle>, SceneErr
     };
     let path = dir.join(&f.file);
     let shown = crate::printable::path(&path);
-    let file = std::fs::File::open(&path)
+    let file = crate::input::open(&path, crate::input::Kind::Mesh)
         .or_else(|e| at.invalid("file", format!("cannot read {shown}: {e}")))?;
     let options = tobj::LoadOptions {
         triangulate: true,

@@ -2,7 +2,6 @@
 //! through [`crate::output`]: to a temporary file beside the target, renamed
 //! over it, so a failed run leaves the old file whole.
 
-use std::fs::File;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
@@ -182,16 +181,15 @@ fn write_exr(out: &mut dyn Write, img: &Image, path: &Path) -> Result<(), ImageI
 pub fn read(path: &Path) -> Result<Image, ImageIoError> {
     match Format::of(path)? {
         Format::Pfm => {
-            let mut bytes = Vec::new();
-            File::open(path)
-                .and_then(|mut f| f.read_to_end(&mut bytes))
-                .map_err(io_err(path))?;
+            let bytes = crate::input::read(path, crate::input::Kind::Pfm).map_err(io_err(path))?;
             read_pfm(&bytes).map_err(|reason| ImageIoError::BadPfm {
                 path: path.to_owned(),
                 reason,
             })
         }
         Format::Png | Format::Exr => {
+            // A FIFO would block the open, a device never end.
+            crate::input::check(path, crate::input::Kind::Image).map_err(io_err(path))?;
             let mut reader = image::ImageReader::open(path)
                 .map_err(io_err(path))?
                 .with_guessed_format()
@@ -213,7 +211,6 @@ pub fn read(path: &Path) -> Result<Image, ImageIoError> {
     }
 }
 
-/// Parses PFM bytes (colour "PF" only; either byte order).
 /// The largest image any reader accepts: a side of 65,536 pixels and 2^28
 /// pixels in all (16384², the largest image glint renders), so that a
 /// crafted header can neither overflow the size arithmetic nor ask for
@@ -232,8 +229,9 @@ fn check_size(w: u32, h: u32) -> Result<(), String> {
     Ok(())
 }
 
-/// A PFM file's image (colour, either byte order, rows bottom-up), or what is wrong with it.
-pub fn read_pfm(bytes: &[u8]) -> Result<Image, String> {
+/// A PFM header: width, height, whether little-endian, and where the
+/// pixels start.
+fn pfm_header(bytes: &[u8]) -> Result<(u32, u32, bool, usize), String> {
     // The header is three whitespace-separated tokens after "PF".
     let mut fields = Vec::new();
     let mut pos = 0;
@@ -266,8 +264,44 @@ pub fn read_pfm(bytes: &[u8]) -> Result<Image, String> {
             fields[3]
         ));
     }
-    let little = scale < 0.0;
     check_size(w, h)?;
+    Ok((w, h, scale < 0.0, pos))
+}
+
+/// An image file's width and height, from its header alone: `diff`
+/// compares them before it decodes either image.
+pub fn dimensions(path: &Path) -> Result<(u32, u32), ImageIoError> {
+    match Format::of(path)? {
+        Format::Pfm => {
+            // The header fits in 4 tokens of at most 16 characters each.
+            let mut head = Vec::new();
+            crate::input::open(path, crate::input::Kind::Pfm)
+                .and_then(|f| f.take(128).read_to_end(&mut head))
+                .map_err(io_err(path))?;
+            let (w, h, _, _) = pfm_header(&head).map_err(|reason| ImageIoError::BadPfm {
+                path: path.to_owned(),
+                reason,
+            })?;
+            Ok((w, h))
+        }
+        Format::Png | Format::Exr => {
+            crate::input::check(path, crate::input::Kind::Image).map_err(io_err(path))?;
+            image::ImageReader::open(path)
+                .map_err(io_err(path))?
+                .with_guessed_format()
+                .map_err(io_err(path))?
+                .into_dimensions()
+                .map_err(|cause| ImageIoError::Codec {
+                    path: path.to_owned(),
+                    cause,
+                })
+        }
+    }
+}
+
+/// A PFM file's image (colour, either byte order, rows bottom-up), or what is wrong with it.
+pub fn read_pfm(bytes: &[u8]) -> Result<Image, String> {
+    let (w, h, little, pos) = pfm_header(bytes)?;
     let count = w as usize * h as usize;
     let data = bytes.get(pos..).unwrap_or_default();
     if data.len() != count * 12 {

@@ -161,9 +161,11 @@ pub fn is_nff(path: &Path) -> bool {
 impl Scene {
     /// Reads and validates a scene file, then applies command-line overrides.
     pub fn load(path: &Path, overrides: &Overrides) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|cause| SceneError::Read {
-            path: path.to_owned(),
-            cause,
+        let text = crate::input::read_text(path, crate::input::Kind::Scene).map_err(|cause| {
+            SceneError::Read {
+                path: path.to_owned(),
+                cause,
+            }
         })?;
         if is_nff(path) {
             validate::parse_nff(&text, path, overrides)

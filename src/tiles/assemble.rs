@@ -134,10 +134,12 @@ pub fn read_tile(path: &Path) -> Result<Tile, TileError> {
         _ => return Err(TileError::NotFloat(path.to_owned())),
     }
     let sidecar = sidecar_path(path);
-    let text = std::fs::read_to_string(&sidecar).map_err(|err| TileError::NoSidecar {
-        tile: path.to_owned(),
-        sidecar: sidecar.clone(),
-        err,
+    let text = crate::input::read_text(&sidecar, crate::input::Kind::Sidecar).map_err(|err| {
+        TileError::NoSidecar {
+            tile: path.to_owned(),
+            sidecar: sidecar.clone(),
+            err,
+        }
     })?;
     let sidecar: Sidecar =
         serde_json::from_str(&text).map_err(|e| TileError::BadSidecar(sidecar, e.to_string()))?;
