@@ -145,8 +145,53 @@ fn config() -> ProptestConfig {
     }
 }
 
+/// Issue 21's classes: every reader refuses a device that never ends, by
+/// its name or through a link with the reader's extension.
+#[test]
+fn every_reader_refuses_an_endless_device() {
+    let dir = tempfile::tempdir().unwrap();
+    let zero = Path::new("/dev/zero");
+    assert!(Scene::load(zero, &Overrides::default()).is_err());
+    for name in ["z.toml", "z.nff", "z.pfm", "z.png", "z.exr"] {
+        let link = dir.path().join(name);
+        std::os::unix::fs::symlink(zero, &link).unwrap();
+        let refused = |e: String| assert!(e.contains("not a regular file"), "{name}: {e}");
+        if name.ends_with(".toml") || name.ends_with(".nff") {
+            refused(
+                Scene::load(&link, &Overrides::default())
+                    .unwrap_err()
+                    .to_string(),
+            );
+        } else {
+            refused(io::read(&link).unwrap_err().to_string());
+            refused(io::dimensions(&link).unwrap_err().to_string());
+        }
+    }
+}
+
 proptest! {
     #![proptest_config(config())]
+
+    /// Non-finite values at any channels of either image, or both: always
+    /// counted, never identical, never within tolerance.
+    #[test]
+    fn a_nonfinite_value_in_either_image_fails_the_comparison(
+        at in proptest::collection::vec((0usize..24, 0usize..3, any::<bool>(), 0u8..3), 1..6),
+    ) {
+        use glint::raster::diff::{figures, Tolerance};
+        use glint::raster::Image;
+        let clean = Image::new(6, 4, (0..24).map(|i| [i as f32 / 24.0; 3]).collect());
+        let (mut a, mut b) = (clean.clone(), clean);
+        for (pixel, channel, in_a, value) in at {
+            let v = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY][usize::from(value)];
+            let img = if in_a { &mut a } else { &mut b };
+            img.pixels[pixel][channel] = v;
+        }
+        let f = figures(&a, &b).unwrap();
+        prop_assert!(f.nonfinite > 0);
+        prop_assert!(f.psnr_db == f64::NEG_INFINITY);
+        prop_assert!(!Tolerance::default().violations(&f).is_empty());
+    }
 
     /// Any text at all: a scene or an error.
     #[test]

@@ -605,3 +605,44 @@ fn reads_are_of_regular_files_within_a_bound() {
     assert_user_error(&o, "16384x16384 and");
     assert!(start.elapsed().as_secs() < 30);
 }
+
+#[test]
+fn a_ray_tree_past_the_cpus_bound_is_refused_with_the_depth_that_fits() {
+    // 15 nested spheres that reflect and transmit: at depth 64 each eye ray
+    // could become 2^64 rays.
+    let mut text = String::from(
+        "[image]\nwidth = 4\nheight = 4\n[render]\nmax_depth = 64\n\
+         [camera]\neye = [0, 0, 40]\nscreen_center = [0, 0, 0]\n\
+         screen_right = [20, 0, 0]\nscreen_up = [0, 20, 0]\n\
+         [materials.glass]\ndiffuse = [0.1, 0.1, 0.1]\nreflectivity = 0.2\n\
+         transmittance = 0.8\nior = 1.5\n\
+         [[lights]]\ntype = \"point\"\nposition = [30, 30, 50]\ndiffuse = [1, 1, 1]\n",
+    );
+    for i in 1..=15 {
+        text += &format!("[[spheres]]\ncenter = [0, 0, 0]\nradius = {i}\nmaterial = \"glass\"\n");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("shells.toml");
+    std::fs::write(&scene, text).unwrap();
+    let start = std::time::Instant::now();
+    for args in [
+        vec!["render", scene.to_str().unwrap(), "--backend", "cpu"],
+        vec!["compare", scene.to_str().unwrap()],
+    ] {
+        let o = glint(&args);
+        assert_user_error(&o, "lower max_depth to 34 or less");
+    }
+    assert!(start.elapsed().as_secs() < 30);
+    // At the depth it names, the same scene renders.
+    let o = glint(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--backend",
+        "cpu",
+        "--max-depth",
+        "12",
+        "-o",
+        dir.path().join("ok.png").to_str().unwrap(),
+    ]);
+    common::assert_ok(&o);
+}

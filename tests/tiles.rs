@@ -238,4 +238,28 @@ fn render_tile_and_assemble_through_the_binary() {
         "not inside",
     );
     assert!(!d.join("t.exr").exists() && !d.join("t.png").exists());
+
+    // Sidecars edited (issue 21, defect 8): a huge scene name is cut in the
+    // message; a size past any render is refused, not reported as a
+    // missing tile with an empty list.
+    // copy.exr is tile 0 again, with a sidecar of its own to edit.
+    let sidecar = d.join("copy.exr.json");
+    let edit = |from: &str, to: &str| {
+        let text = std::fs::read_to_string(&sidecar).unwrap();
+        assert!(text.contains(from), "{from} not in {text}");
+        std::fs::write(&sidecar, text.replacen(from, to, 1)).unwrap();
+    };
+    let original = std::fs::read_to_string(&sidecar).unwrap();
+    edit("tetra.nff", &"x".repeat(100_000));
+    let o = assemble(&["tiles/0.exr", "copy.exr"], "g.pfm");
+    fails_with(&o, "is not of the render of");
+    assert!(o.stderr.len() < 2000, "{} bytes of error", o.stderr.len());
+    std::fs::write(&sidecar, &original).unwrap();
+    edit("\"width\": 67", "\"width\": 65536");
+    fails_with(
+        &assemble(&["copy.exr"], "h.pfm"),
+        "larger than any render (16384 a side)",
+    );
+    no_output("g.pfm");
+    no_output("h.pfm");
 }

@@ -59,7 +59,7 @@ pub fn run(a: &AssembleArgs) -> anyhow::Result<ExitCode> {
     eprintln!(
         "assembled {} tiles of {} ({}x{}, {} {}) -> {}",
         tiles.len(),
-        whole.scene,
+        glint::printable::text(&whole.scene),
         whole.width,
         whole.height,
         whole.render.backend,

@@ -56,6 +56,7 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
     let mut rows = Vec::new();
     for path in &scenes {
         let scene = Scene::load(path, &Overrides::default())?;
+        cpu::bound::check(&scene)?;
         bar.set_message(path.display().to_string());
         renderer.prepare_for(&scene)?;
         renderer.render(&scene, &|_| {})?;

@@ -120,6 +120,9 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     let loading = Instant::now();
     let scene = a.scene.load()?;
     let input_s = loading.elapsed().as_secs_f64();
+    if a.backend == Backend::Cpu {
+        cpu::bound::check(&scene)?;
+    }
     // Every output can be written, and none is an input, before the render.
     let mut outputs = Outputs::new(a.inputs(&scene), a.force);
     for out in a.outputs(&output) {

@@ -56,6 +56,9 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
         .iter()
         .map(|p| Scene::load(p, &overrides))
         .collect::<Result<Vec<_>, _>>()?;
+    for scene in &scenes {
+        glint::cpu::bound::check(scene)?;
+    }
     let settings = Settings {
         runs: if a.quick { 2 } else { a.runs },
         sweeps: !a.quick,

@@ -32,6 +32,7 @@ pub fn run(a: &StabilityArgs) -> anyhow::Result<ExitCode> {
     let mut results = Vec::new();
     for path in &scenes {
         let scene = Scene::load(path, &Overrides::default())?;
+        glint::cpu::bound::check(&scene)?;
         bar.set_message(
             path.file_stem()
                 .unwrap_or_default()

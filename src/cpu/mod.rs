@@ -2,6 +2,7 @@
 //! Shading) in f32 or f64, one function per stage of the shader (ray,
 //! intersect, shade, trace) so that a disagreement points at one stage.
 
+pub mod bound;
 pub(crate) mod exact;
 pub(crate) mod intersect;
 pub(crate) mod ray;

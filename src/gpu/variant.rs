@@ -104,6 +104,34 @@ pub struct Features {
     pub layouts: usize,
 }
 
+/// Overrides of the variant choice, for measuring it on a driver
+/// (docs/performance.md, Two lavapipes): `GLINT_EXPERIMENT` holds a
+/// comma-separated list of `storage` (never uniform buffers),
+/// `uniforms-always` (uniform buffers for the scenes that take storage
+/// buffers to dodge Mesa 22.3's crash), `no-unroll` and `unroll-all` (no
+/// cap on the objects and lights unrolled). Not for rendering: a name it
+/// does not know is ignored.
+#[derive(Debug, Default, Clone, Copy)]
+struct Experiment {
+    storage: bool,
+    uniforms_always: bool,
+    no_unroll: bool,
+    unroll_all: bool,
+}
+
+impl Experiment {
+    fn from_env() -> Self {
+        let v = std::env::var("GLINT_EXPERIMENT").unwrap_or_default();
+        let has = |name: &str| v.split(',').any(|f| f.trim() == name);
+        Self {
+            storage: has("storage"),
+            uniforms_always: has("uniforms-always"),
+            no_unroll: has("no-unroll"),
+            unroll_all: has("unroll-all"),
+        }
+    }
+}
+
 impl Features {
     /// What `scene`, laid out as `uploads`, needs on `device`.
     pub(crate) fn of(scene: &Scene, uploads: &Uploads, device: &DeviceInfo) -> Self {
@@ -122,15 +150,20 @@ impl Features {
         let range = device.max_uniform_buffer_range as usize;
         let spheres_only = kinds.iter().skip(1).all(|n| *n == 0);
         let positioned = has(LightKind::Point) || has(LightKind::Spot);
-        let fits = kinds[0] > 0
-            && !(spheres_only && lights > 0 && !positioned)
+        let experiment = Experiment::from_env();
+        let fits = (experiment.uniforms_always
+            || kinds[0] > 0 && !(spheres_only && lights > 0 && !positioned))
+            && !experiment.storage
             && uploads.array_bytes().iter().all(|b| *b <= range)
             && uploads
                 .nodes
                 .as_ref()
                 .is_none_or(|n| n.bytes.len() <= range);
         Self {
-            unroll: fits && scene.prims.len() <= UNROLL_OBJECTS && lights <= UNROLL_LIGHTS,
+            unroll: fits
+                && !experiment.no_unroll
+                && (experiment.unroll_all
+                    || scene.prims.len() <= UNROLL_OBJECTS && lights <= UNROLL_LIGHTS),
             kinds,
             lights,
             point: has(LightKind::Point),

@@ -141,8 +141,19 @@ pub fn read_tile(path: &Path) -> Result<Tile, TileError> {
             err,
         }
     })?;
-    let sidecar: Sidecar =
-        serde_json::from_str(&text).map_err(|e| TileError::BadSidecar(sidecar, e.to_string()))?;
+    let sidecar_path = sidecar;
+    let sidecar: Sidecar = serde_json::from_str(&text)
+        .map_err(|e| TileError::BadSidecar(sidecar_path.clone(), e.to_string()))?;
+    let max = crate::scene::MAX_SIZE;
+    if sidecar.width > max || sidecar.height > max {
+        return Err(TileError::BadSidecar(
+            sidecar_path,
+            format!(
+                "it claims a {}x{} image, larger than any render ({max} a side)",
+                sidecar.width, sidecar.height
+            ),
+        ));
+    }
     let image = io::read(path).map_err(|e| TileError::Image(path.to_owned(), e.to_string()))?;
     let r = sidecar.region;
     if (image.width, image.height) != (r.width, r.height) {
@@ -188,25 +199,37 @@ pub fn assemble(tiles: &[Tile]) -> Result<(Image, Sidecar), TileError> {
             return Err(TileError::Mismatch {
                 tile: t.path.clone(),
                 first: first.path.clone(),
-                got: g.get(&field).map(|v| v.to_string()).unwrap_or_default(),
-                want: w.get(&field).map(|v| v.to_string()).unwrap_or_default(),
-                field,
+                // A sidecar's values are anyone's text: shown as every name is.
+                got: crate::printable::text(
+                    &g.get(&field).map(|v| v.to_string()).unwrap_or_default(),
+                ),
+                want: crate::printable::text(
+                    &w.get(&field).map(|v| v.to_string()).unwrap_or_default(),
+                ),
+                field: crate::printable::text(&field),
             });
         }
     }
     let (width, height) = (first.sidecar.width, first.sidecar.height);
-    check_cover(tiles, width, height).map_err(|e| match (e, split_of(tiles)) {
-        (TileError::Gap { w, h, .. }, Some((n, present))) => TileError::Missing {
-            missing: (0..n)
-                .filter(|i| !present.contains(i))
-                .map(|i| format!("{i}/{n}"))
-                .collect::<Vec<_>>()
-                .join(", "),
-            n,
-            w,
-            h,
-        },
-        (e, _) => e,
+    check_cover(tiles, width, height).map_err(|e| {
+        let Some((n, present)) = split_of(tiles) else {
+            return e;
+        };
+        let missing: Vec<String> = (0..n)
+            .filter(|i| !present.contains(i))
+            .map(|i| format!("{i}/{n}"))
+            .collect();
+        match e {
+            // Every index present and still a gap: the split does not
+            // cover the image the sidecars claim; the gap says where.
+            TileError::Gap { w, h, .. } if !missing.is_empty() => TileError::Missing {
+                missing: missing.join(", "),
+                n,
+                w,
+                h,
+            },
+            e => e,
+        }
     })?;
     let mut pixels = vec![[0.0f32; 3]; width as usize * height as usize];
     for t in tiles {
