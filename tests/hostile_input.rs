@@ -646,3 +646,84 @@ fn a_ray_tree_past_the_cpus_bound_is_refused_with_the_depth_that_fits() {
     ]);
     common::assert_ok(&o);
 }
+
+/// OBJ, NFF and `convert` are held to the peaks measured for issue 21,
+/// defect 7, with 10 % to spare (docs/guarantees.md): a million-face OBJ
+/// (31 MB) renders in 12.0 times its size, 300,000 NFF spheres (4.6 MB) in
+/// 14.5 times, and convert writes them as TOML in 19.5 times. They were
+/// 18.3, 19.8 and 172 times; the 10 times of TOML is not reached.
+#[test]
+fn obj_nff_and_convert_stay_within_their_measured_peaks() {
+    use std::fmt::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let n = 707;
+    let mut obj = String::new();
+    for y in 0..=n {
+        for x in 0..=n {
+            writeln!(obj, "v {:.4} {:.4} 0", x as f64 * 0.01, y as f64 * 0.01).unwrap();
+        }
+    }
+    for y in 0..n {
+        for x in 0..n {
+            let a = y * (n + 1) + x + 1;
+            let (b, c, d) = (a + 1, a + n + 1, a + n + 2);
+            writeln!(obj, "f {a} {b} {d}\nf {a} {d} {c}").unwrap();
+        }
+    }
+    std::fs::write(dir.path().join("grid.obj"), &obj).unwrap();
+    let scene = dir.path().join("grid.toml");
+    std::fs::write(
+        &scene,
+        "[image]\nwidth = 1\nheight = 1\n[render]\nmax_depth = 1\n[camera]\neye = [0, 0, 50]\n\
+         look_at = [0, 0, 0]\nvfov = 40\n[materials.m]\n[[meshes]]\nfile = \"grid.obj\"\nmaterial = \"m\"\n",
+    )
+    .unwrap();
+    let mut nff = String::from(
+        "v\nfrom 0 0 50\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 2 2\nb 0 0 0\n\
+         l 10 10 10\nf 1 0 0 1 0 0 0 1\n",
+    );
+    for i in 0..300_000 {
+        writeln!(nff, "s {} {} {} 0.25", i % 100, (i / 100) % 100, i / 10_000).unwrap();
+    }
+    let nff_path = dir.path().join("many.nff");
+    std::fs::write(&nff_path, &nff).unwrap();
+    let out = |name: &str| dir.path().join(name).to_str().unwrap().to_owned();
+    let (a, b, c) = (out("a.pfm"), out("b.pfm"), out("c.toml"));
+    let cpu = ["--backend", "cpu", "--accel", "none", "-o"];
+    for (args, size, times) in [
+        (
+            [
+                &["render", scene.to_str().unwrap()][..],
+                &cpu,
+                &[a.as_str()],
+            ]
+            .concat(),
+            obj.len(),
+            13.2,
+        ),
+        (
+            [
+                &["render", nff_path.to_str().unwrap()][..],
+                &cpu,
+                &[b.as_str()],
+            ]
+            .concat(),
+            nff.len(),
+            16.0,
+        ),
+        (
+            vec!["convert", nff_path.to_str().unwrap(), "-o", c.as_str()],
+            nff.len(),
+            21.5,
+        ),
+    ] {
+        let (o, peak) = peak_memory(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let ratio = peak as f64 / size as f64;
+        eprintln!(
+            "{}: peak {peak} bytes, {ratio:.1} times {size} bytes",
+            args[1]
+        );
+        assert!(ratio < times, "{args:?}: {ratio:.1} times the file");
+    }
+}

@@ -45,7 +45,13 @@ impl Accel {
 /// scene already in the coordinates it is traced in). Its `orders` hold
 /// each kind's indices in the scene.
 pub fn scene_bvh(scene: &Scene) -> bvh::Bvh {
-    let items = scene.prims.bounds();
+    relative_bvh(scene, glam::DVec3::ZERO)
+}
+
+/// The BVH of `scene` translated by `-origin` (that of
+/// `scene.camera_relative()` where `origin` is the eye).
+pub fn relative_bvh(scene: &Scene, origin: glam::DVec3) -> bvh::Bvh {
+    let items = scene.prims.relative_bounds(origin);
     let bounds: Vec<bvh::Aabb> = items.iter().map(|(b, _)| *b).collect();
     let kinds: Vec<u32> = items.iter().map(|(_, id)| id.kind).collect();
     let mut tree = bvh::build(&bounds, &kinds);

@@ -33,7 +33,10 @@ pub fn run(a: &ConvertArgs) -> anyhow::Result<ExitCode> {
         }
     })?;
     let read = nff::read(&text, &a.scene)?;
-    let toml = toml::to_string(&read.scene).context("cannot write the scene as TOML")?;
+    let toml = read
+        .scene
+        .to_toml()
+        .context("cannot write the scene as TOML")?;
     // The whole scene is checked before anything is written: what is
     // written is a valid scene.
     read.check(&a.scene, &Overrides::default())?;

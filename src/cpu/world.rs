@@ -59,15 +59,21 @@ impl<R: Real> World<R> {
     pub fn new(scene: &Scene, accel: Accel) -> Self {
         let grid = scene.corner_grid();
         let corners = grid.is_some();
-        let scene = &grid.as_ref().unwrap_or(scene).camera_relative();
-        let bvh = accel.uses_bvh(scene).then(|| accel::scene_bvh(scene));
+        let scene = grid.as_ref().unwrap_or(scene);
+        // Camera-relative, as `Scene::camera_relative` makes it, primitive
+        // by primitive: no translated copy of the scene is held.
+        let origin = scene.camera.eye;
+        let bvh = accel
+            .uses_bvh(scene)
+            .then(|| accel::relative_bvh(scene, origin));
         let cam = &scene.camera;
+        let (eye, screen_center) = (cam.eye - origin, cam.screen_center - origin);
         Self {
-            eye: Vec3::of(cam.eye),
-            to_screen: Vec3::of(cam.screen_center - cam.eye),
+            eye: Vec3::of(eye),
+            to_screen: Vec3::of(screen_center - eye),
             screen_right: Vec3::of(cam.screen_right),
             screen_up: Vec3::of(cam.screen_up),
-            prims: scene.prims.cpu(),
+            prims: scene.prims.relative_cpu(origin),
             bvh,
             materials: scene
                 .materials
@@ -87,7 +93,7 @@ impl<R: Real> World<R> {
                 .iter()
                 .map(|l| LightR {
                     kind: l.kind,
-                    position: Vec3::of(l.position),
+                    position: Vec3::of(l.position - origin),
                     direction: Vec3::of(l.direction),
                     ambient: Vec3::of(l.ambient),
                     diffuse: Vec3::of(l.diffuse),

@@ -241,11 +241,17 @@ macro_rules! generate {
 
             /// The bounded primitives' boxes, with their ids.
             pub(crate) fn bounds(&self) -> Vec<(Aabb, PrimId)> {
+                self.relative_bounds(DVec3::ZERO)
+            }
+
+            /// The boxes of the primitives translated by `-origin` (those
+            /// of `relative_to(origin)`, without holding that copy).
+            pub(crate) fn relative_bounds(&self, origin: DVec3) -> Vec<(Aabb, PrimId)> {
                 let mut out = Vec::new();
                 let mut _kind = 0u32;
                 $(
                     for (i, p) in self.$key.iter().enumerate() {
-                        if let Some(b) = p.bounds() {
+                        if let Some(b) = p.relative_to(origin).bounds() {
                             out.push((b, PrimId { kind: _kind, index: i as u32 }));
                         }
                     }
@@ -265,10 +271,12 @@ macro_rules! generate {
                 ),)*]
             }
 
-            /// The CPU reference's forms, in `R`.
-            pub(crate) fn cpu<R: Real>(&self) -> CpuPrims<R> {
+            /// The CPU reference's forms of the primitives translated by
+            /// `-origin`, in `R` (those of `relative_to(origin)`, without
+            /// holding that copy: a million triangles are 152 MB).
+            pub(crate) fn relative_cpu<R: Real>(&self, origin: DVec3) -> CpuPrims<R> {
                 CpuPrims {
-                    $($key: self.$key.iter().map(|p| p.cpu()).collect(),)*
+                    $($key: self.$key.iter().map(|p| p.relative_to(origin).cpu()).collect(),)*
                 }
             }
         }

@@ -13,7 +13,7 @@ use glam::DVec3;
 use super::file::{
     CameraFile, ImageFile, LightFile, MaterialFile, RenderFile, Sampling, SceneFile, Triple,
 };
-use super::locate::{KeyPath, LineCol, Locate};
+use super::locate::{KeyPath, LineCol, Locate, Seg};
 use super::SceneError;
 use crate::prim::cylinder::CylinderFile;
 use crate::prim::sphere::SphereFile;
@@ -42,22 +42,39 @@ impl Nff {
     }
 }
 
-/// The NFF line of each table (`spheres[3]`, `materials.f2`, `camera`).
+/// The NFF line of each table: of each row of an array (`spheres[3]`), in
+/// a list per array rather than a name per row (300,000 spheres took 60
+/// bytes each as names), and of each single table (`materials.f2`,
+/// `camera`).
 #[derive(Default)]
-pub struct Lines(HashMap<String, usize>);
+pub struct Lines {
+    rows: HashMap<&'static str, Vec<usize>>,
+    tables: HashMap<String, usize>,
+}
 
 impl Lines {
+    /// The next row of `array` comes from `line`.
+    fn note_row(&mut self, array: &'static str, line: usize) {
+        self.rows.entry(array).or_default().push(line);
+    }
+
     fn note(&mut self, key: String, line: usize) {
-        self.0.entry(key).or_insert(line);
+        self.tables.entry(key).or_insert(line);
     }
 }
 
 impl Locate for Lines {
     /// The line of the table the path starts in: its first two steps
-    /// (`spheres[3]`), else its first (`camera`).
+    /// (`spheres[3]`, `materials.f2`), else its first (`camera`).
     fn find(&self, path: &KeyPath) -> Option<LineCol> {
+        let row = match path.0.as_slice() {
+            [Seg::Key(k), Seg::Index(i), ..] => self.rows.get(k.as_str()).and_then(|r| r.get(*i)),
+            _ => None,
+        };
         let head = |n: usize| KeyPath(path.0.iter().take(n).cloned().collect()).to_string();
-        let line = self.0.get(&head(2)).or_else(|| self.0.get(&head(1)))?;
+        let line = row
+            .or_else(|| self.tables.get(&head(2)))
+            .or_else(|| self.tables.get(&head(1)))?;
         Some(LineCol {
             line: *line,
             column: 1,
@@ -261,7 +278,7 @@ impl<'a> Reader<'a> {
                 }
                 "b" => background = Self::triple(&self.numbers(line, rest, 3, 0, "b")?),
                 "l" => {
-                    lines.note(format!("lights[{}]", lights.len()), line);
+                    lines.note_row("lights", line);
                     lights.push((line, self.numbers(line, rest, 3, 3, "l")?));
                 }
                 "f" => {
@@ -278,7 +295,7 @@ impl<'a> Reader<'a> {
                 "s" => {
                     let m = needs_material(&material)?;
                     let v = self.numbers(line, rest, 4, 0, "s")?;
-                    lines.note(format!("spheres[{}]", spheres.len()), line);
+                    lines.note_row("spheres", line);
                     // A negative radius shows the inside only: glint's
                     // surfaces show both sides (docs/scene-format.md, NFF).
                     spheres.push(SphereFile {
@@ -300,7 +317,7 @@ impl<'a> Reader<'a> {
                         let v = self.numbers(line, rest, 8, 0, "c")?;
                         (v[..4].to_vec(), v[4..].to_vec())
                     };
-                    lines.note(format!("cylinders[{}]", cylinders.len()), line);
+                    lines.note_row("cylinders", line);
                     cylinders.push(CylinderFile {
                         base: Self::triple(&base),
                         base_radius: base[3].abs(),
@@ -321,7 +338,7 @@ impl<'a> Reader<'a> {
                     let smooth = keyword == "pp";
                     let corners = self.vertices(count as usize, smooth, keyword)?;
                     for tri in fan(&corners) {
-                        lines.note(format!("triangles[{}]", triangles.len()), line);
+                        lines.note_row("triangles", line);
                         triangles.push(TriangleFile {
                             vertices: tri.map(|(p, _)| Triple(p.to_array())),
                             normals: smooth.then(|| tri.map(|(_, n)| Triple(n.to_array()))),
@@ -471,9 +488,12 @@ mod tests {
         assert_eq!(nff.scene.triangles.len(), 3);
         assert!(nff.scene.triangles[0].normals.is_none());
         assert!(nff.scene.triangles[2].normals.is_some());
-        let at = |k: &str| nff.lines.0.get(k).copied();
-        assert_eq!(at("triangles[1]"), Some(9));
-        assert_eq!(at("triangles[2]"), Some(14));
+        let at = |i: usize| {
+            let path = KeyPath::default().key("triangles").index(i);
+            nff.lines.find(&path).map(|at| at.line)
+        };
+        assert_eq!(at(1), Some(9));
+        assert_eq!(at(2), Some(14));
     }
 
     #[test]

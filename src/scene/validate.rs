@@ -389,9 +389,9 @@ impl Check<'_> {
                 names: &names,
                 path: root().key("meshes").index(i),
             };
-            prims
-                .triangles
-                .extend(crate::prim::mesh::load(mesh, dir, &at)?);
+            // Straight into the scene's list: a list of the mesh's own, then
+            // copied, would hold every triangle twice.
+            crate::prim::mesh::load(mesh, dir, &at, &mut prims.triangles)?;
         }
 
         let lights = raw
