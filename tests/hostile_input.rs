@@ -727,3 +727,37 @@ fn obj_nff_and_convert_stay_within_their_measured_peaks() {
         assert!(ratio < times, "{args:?}: {ratio:.1} times the file");
     }
 }
+
+/// `diff` holds each image once as f32 (12 bytes a pixel) and one 8-bit
+/// decode at a time (3 bytes a pixel): 27 bytes a pixel for two PNGs, so
+/// two of the largest (2^28 pixels) fit in 7.3 GB. At 75387a1 it took 39.5
+/// bytes a pixel here (a float copy of each decode, a list of per-pixel errors).
+#[test]
+fn diff_of_two_large_pngs_holds_27_bytes_a_pixel() {
+    use glint::raster::{io, Image};
+    let dir = tempfile::tempdir().unwrap();
+    let side = 4096u32;
+    let pixels = (0..side * side)
+        .map(|i| {
+            [
+                (i % side) as f32 / side as f32,
+                (i / side) as f32 / side as f32,
+                0.5,
+            ]
+        })
+        .collect();
+    let img = Image::new(side, side, pixels);
+    let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));
+    io::write(&a, &img, false).unwrap();
+    drop(img);
+    std::fs::copy(&a, &b).unwrap();
+    let (o, peak) = peak_memory(&["diff", a.to_str().unwrap(), b.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let n = u64::from(side * side);
+    eprintln!(
+        "diff peak {peak} bytes, {:.1} a pixel",
+        peak as f64 / n as f64
+    );
+    // 27 bytes a pixel and 40 MB for the process itself.
+    assert!(peak < 27 * n + (40 << 20), "peak {peak} for {n} pixels");
+}

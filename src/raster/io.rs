@@ -203,9 +203,17 @@ pub fn read(path: &Path) -> Result<Image, ImageIoError> {
                 path: path.to_owned(),
                 cause,
             })?;
-            let rgb = decoded.to_rgb32f();
-            let (w, h) = rgb.dimensions();
-            let pixels = rgb.pixels().map(|p| p.0).collect();
+            // Straight into the image's pixels: a float copy of the whole
+            // decode first would hold every pixel twice more (12 bytes each).
+            let (w, h) = (decoded.width(), decoded.height());
+            let pixels = match decoded {
+                image::DynamicImage::ImageRgb8(rgb) => rgb
+                    .pixels()
+                    .map(|p| p.0.map(|c| f32::from(c) / 255.0))
+                    .collect(),
+                image::DynamicImage::ImageRgb32F(rgb) => rgb.pixels().map(|p| p.0).collect(),
+                other => other.to_rgb32f().pixels().map(|p| p.0).collect(),
+            };
             Ok(Image::new(w, h, pixels))
         }
     }
