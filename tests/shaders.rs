@@ -287,3 +287,58 @@ fn watch_rerenders_on_change_and_keeps_the_last_good_image() {
         "{err}"
     );
 }
+
+/// A main shader finds the files it includes beside it, without `-I`:
+/// `shader check` and `render --shader` alike (issue 21, defect 10).
+#[test]
+fn a_main_shader_finds_its_includes_beside_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let main = dir.path().join("mine.comp");
+    let text = std::fs::read_to_string(common::repo().join("shaders/main.comp")).unwrap();
+    // One include that only this folder has.
+    let text = text.replacen(
+        "#include \"trace.glsl\"",
+        "#include \"trace.glsl\"\n#include \"beside.glsl\"",
+        1,
+    );
+    assert!(
+        text.contains("beside.glsl"),
+        "main.comp includes trace.glsl"
+    );
+    std::fs::write(&main, text).unwrap();
+    std::fs::write(
+        dir.path().join("beside.glsl"),
+        "// found beside the main shader\n",
+    )
+    .unwrap();
+    let o = common::glint(&["shader", "check", main.to_str().unwrap()]);
+    common::assert_ok(&o);
+    let out = dir.path().join("x.png");
+    let scene = common::repo().join("scenes/seed-fig3.toml");
+    let o = common::glint(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--shader",
+        main.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    common::assert_ok(&o);
+    // And the render's output may be written beside the shader again.
+    common::assert_ok(&common::glint(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--shader",
+        main.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]));
+}

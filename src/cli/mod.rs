@@ -135,9 +135,18 @@ pub struct DeviceArgs {
 impl DeviceArgs {
     /// The files the shader is read from: `--shader` and those in the
     /// include directories.
+    /// Of the include folders' files (the `-I` folders and the shader's
+    /// own), those a shader can include: .glsl and .comp. An output written
+    /// beside them (`-I .`) is not taken for one.
     pub fn inputs(&self) -> Vec<PathBuf> {
+        let mut dirs = self.include.clone();
+        dirs.extend(self.shader.as_deref().map(parent_dir));
         let mut v: Vec<PathBuf> = self.shader.iter().cloned().collect();
-        v.extend(glint::files::in_dirs(&self.include));
+        v.extend(
+            glint::files::in_dirs(&dirs)
+                .into_iter()
+                .filter(|f| f.extension().is_some_and(|e| e == "glsl" || e == "comp")),
+        );
         v
     }
 
@@ -170,6 +179,9 @@ impl DeviceArgs {
                 shader.display()
             );
             options.main_shader = Some(shader.clone());
+            // As a C compiler does: a file the shader includes may sit
+            // beside it (searched after the -I folders).
+            options.include_dirs.push(parent_dir(shader));
         }
         options.defines = self
             .define
@@ -192,6 +204,14 @@ impl DeviceArgs {
         };
         options.settings.intersect = self.intersect;
         Ok(options)
+    }
+}
+
+/// The folder `file` is in ("." for a bare name).
+pub fn parent_dir(file: &Path) -> PathBuf {
+    match file.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
+        _ => PathBuf::from("."),
     }
 }
 

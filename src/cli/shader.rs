@@ -52,8 +52,11 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
                 "{}: no such file",
                 glint::printable::path(file)
             );
+            // Includes beside the file are found, as `render --shader` finds them.
+            let mut dirs = include.clone();
+            dirs.push(super::parent_dir(file));
             let sources = compile::Sources {
-                dirs: include.clone(),
+                dirs,
                 main: Some(file.clone()),
                 main_builtin: None,
                 generated: Variant::generic().generated(),
