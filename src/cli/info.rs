@@ -30,6 +30,14 @@ pub fn run(a: &InfoArgs) -> anyhow::Result<ExitCode> {
             "   shaderFloat64     {}",
             if d.shader_float64 { "yes" } else { "no" }
         );
+        println!(
+            "   loop budget       {}",
+            if d.loop_budget {
+                "may cut long loops short: shaders carry the canary"
+            } else {
+                "none (every loop runs to its end)"
+            }
+        );
         println!("   storage range     {} bytes", d.max_storage_buffer_range);
         println!("   uniform range     {} bytes", d.max_uniform_buffer_range);
         let [x, y, z] = d.max_compute_work_group_count;

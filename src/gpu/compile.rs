@@ -170,6 +170,7 @@ pub fn reserved_define(name: &str) -> bool {
         "SAMPLES",
         "SCENE_IN_UNIFORMS",
         "UNROLL_LOOPS",
+        "NO_LOOP_CANARY",
         "INTERSECT_NAIVE",
         "GLINT_F64",
         "USE_BVH",

@@ -98,6 +98,9 @@ pub struct Features {
     pub uniform_slots: Option<Vec<usize>>,
     /// Whether the light loop is unrolled (few lights).
     pub unroll: bool,
+    /// Whether the shader carries the loop-budget canary
+    /// (`DeviceInfo::loop_budget`).
+    pub canary: bool,
     /// BVH nodes per layout; 0 without a BVH.
     pub nodes: usize,
     /// BVH layouts: 8 (one per ray octant) or 1.
@@ -109,7 +112,8 @@ pub struct Features {
 /// comma-separated list of `storage` (never uniform buffers),
 /// `uniforms-always` (uniform buffers for the scenes that take storage
 /// buffers to dodge Mesa 22.3's crash), `no-unroll` and `unroll-all` (no
-/// cap on the objects and lights unrolled). Not for rendering: a name it
+/// cap on the objects and lights unrolled), `canary` (the loop-budget
+/// canary on a driver that needs none). Not for rendering: a name it
 /// does not know is ignored.
 #[derive(Debug, Default, Clone, Copy)]
 struct Experiment {
@@ -117,6 +121,7 @@ struct Experiment {
     uniforms_always: bool,
     no_unroll: bool,
     unroll_all: bool,
+    canary: bool,
 }
 
 impl Experiment {
@@ -128,6 +133,7 @@ impl Experiment {
             uniforms_always: has("uniforms-always"),
             no_unroll: has("no-unroll"),
             unroll_all: has("unroll-all"),
+            canary: has("canary"),
         }
     }
 }
@@ -164,6 +170,7 @@ impl Features {
                 && !experiment.no_unroll
                 && (experiment.unroll_all
                     || scene.prims.len() <= UNROLL_OBJECTS && lights <= UNROLL_LIGHTS),
+            canary: device.loop_budget || experiment.canary,
             kinds,
             lights,
             point: has(LightKind::Point),
@@ -215,6 +222,9 @@ impl Features {
         }
         if self.unroll {
             d.push(("UNROLL_LOOPS".to_owned(), None));
+        }
+        if !self.canary {
+            d.push(("NO_LOOP_CANARY".to_owned(), None));
         }
         if self.nodes > 0 {
             d.push(("NODE_COUNT".to_owned(), Some(format!("{}u", self.nodes))));
@@ -386,6 +396,7 @@ impl Variant {
                     (f.transmits, "refract"),
                     (f.uniform_slots.is_some(), "ubo"),
                     (f.unroll, "unrolled"),
+                    (!f.canary, "nocanary"),
                 ] {
                     if on {
                         parts.push(name.to_owned());

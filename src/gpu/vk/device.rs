@@ -23,6 +23,11 @@ pub struct DeviceInfo {
     pub driver: String,
     /// Whether shaders may use doubles (`--precision f64` on the GPU).
     pub shader_float64: bool,
+    /// Whether the driver may cut an invocation's loops short: llvmpipe
+    /// before Mesa 25.0 does after about 65,535 iterations, and a driver
+    /// not known to run every loop to its end is taken to. Shaders carry
+    /// the canary of shaders/budget.glsl where this holds.
+    pub loop_budget: bool,
     /// The largest storage buffer a shader may bind, in bytes.
     pub max_storage_buffer_range: u32,
     /// The largest uniform buffer a shader may bind, in bytes.
@@ -49,6 +54,21 @@ impl DeviceInfo {
 }
 
 /// A candidate, with the rank that orders the default choice.
+/// Whether a driver is known to run every loop to its end: llvmpipe from
+/// Mesa 25.0 on ("gallivm: Remove loop limiting", 25.0.0's release notes;
+/// tests/loop_budget.rs checks both lavapipes). `info` is the driver's
+/// info string, `Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)`.
+fn runs_loops_to_the_end(name: &str, info: &str) -> bool {
+    let version = info
+        .split_whitespace()
+        .skip_while(|w| *w != "Mesa")
+        .nth(1)
+        .unwrap_or("");
+    let mut numbers = version.split(|c: char| !c.is_ascii_digit());
+    let major: u32 = numbers.next().and_then(|n| n.parse().ok()).unwrap_or(0);
+    name == "llvmpipe" && major >= 25
+}
+
 pub struct Candidate {
     pub physical: vk::PhysicalDevice,
     pub info: DeviceInfo,
@@ -124,6 +144,10 @@ pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
                     cstr(driver.driver_info_as_c_str())
                 ),
                 shader_float64: features.shader_float64 == vk::TRUE,
+                loop_budget: !runs_loops_to_the_end(
+                    &cstr(driver.driver_name_as_c_str()),
+                    &cstr(driver.driver_info_as_c_str()),
+                ),
                 max_storage_buffer_range: limits.max_storage_buffer_range,
                 max_uniform_buffer_range: limits.max_uniform_buffer_range,
                 max_compute_work_group_count: limits.max_compute_work_group_count,
@@ -276,5 +300,33 @@ impl Drop for Device {
         unsafe {
             self.raw.destroy_device(None);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::runs_loops_to_the_end;
+
+    #[test]
+    fn llvmpipe_runs_loops_to_the_end_from_mesa_25() {
+        assert!(runs_loops_to_the_end(
+            "llvmpipe",
+            "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"
+        ));
+        assert!(runs_loops_to_the_end(
+            "llvmpipe",
+            "Mesa 26.2.6-1 (LLVM 22.1.8)"
+        ));
+        assert!(!runs_loops_to_the_end(
+            "llvmpipe",
+            "Mesa 22.3.6 (LLVM 15.0.6)"
+        ));
+        assert!(!runs_loops_to_the_end(
+            "llvmpipe",
+            "Mesa 24.3.4 (LLVM 19.1.7)"
+        ));
+        assert!(!runs_loops_to_the_end("llvmpipe", "no version"));
+        // Any other driver is not known to: it keeps the canary.
+        assert!(!runs_loops_to_the_end("NVIDIA", "570.86.15"));
     }
 }
