@@ -7,28 +7,9 @@
 mod common;
 
 use std::os::unix::fs::PermissionsExt;
-use std::path::Path;
 
 use assert_cmd::assert::OutputAssertExt;
-use common::glint;
-
-fn render(out: &Path, extra: &[&str]) -> std::process::Output {
-    let scene = common::repo().join("scenes/seed-fig3.toml");
-    let mut args = vec![
-        "render",
-        scene.to_str().unwrap(),
-        "--backend",
-        "cpu",
-        "--width",
-        "40",
-        "--height",
-        "30",
-        "-o",
-        out.to_str().unwrap(),
-    ];
-    args.extend_from_slice(extra);
-    glint(&args)
-}
+use common::small_cpu_render;
 
 #[test]
 fn a_read_only_output_is_refused_unless_forced() {
@@ -36,13 +17,13 @@ fn a_read_only_output_is_refused_unless_forced() {
     let out = dir.path().join("ro.pfm");
     std::fs::write(&out, b"old").unwrap();
     std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o444)).unwrap();
-    render(&out, &[])
+    small_cpu_render(&out, &[])
         .assert()
         .code(2)
         .stderr(predicates::str::contains("is read-only"));
     assert_eq!(std::fs::read(&out).unwrap(), b"old");
 
-    render(&out, &["--force"]).assert().success();
+    small_cpu_render(&out, &["--force"]).assert().success();
     assert_ne!(std::fs::read(&out).unwrap(), b"old");
     let mode = std::fs::metadata(&out).unwrap().permissions().mode() & 0o777;
     assert_eq!(mode, 0o444, "the new file keeps the old one's permissions");
@@ -55,7 +36,7 @@ fn a_symbolic_link_keeps_pointing_at_its_target_which_gets_the_image() {
     std::fs::write(&target, b"old").unwrap();
     let link = dir.path().join("link.pfm");
     std::os::unix::fs::symlink("real.pfm", &link).unwrap();
-    render(&link, &[]).assert().success();
+    small_cpu_render(&link, &[]).assert().success();
     assert!(std::fs::symlink_metadata(&link)
         .unwrap()
         .file_type()
@@ -66,7 +47,7 @@ fn a_symbolic_link_keeps_pointing_at_its_target_which_gets_the_image() {
     // A dangling link: its target is created.
     let dangling = dir.path().join("dangling.pfm");
     std::os::unix::fs::symlink("made.pfm", &dangling).unwrap();
-    render(&dangling, &[]).assert().success();
+    small_cpu_render(&dangling, &[]).assert().success();
     assert!(std::fs::symlink_metadata(&dangling)
         .unwrap()
         .file_type()
@@ -81,7 +62,7 @@ fn a_hard_links_other_name_keeps_the_old_image() {
     std::fs::write(&out, b"old").unwrap();
     let other = dir.path().join("other.pfm");
     std::fs::hard_link(&out, &other).unwrap();
-    render(&out, &[]).assert().success();
+    small_cpu_render(&out, &[]).assert().success();
     assert_eq!(std::fs::read(&other).unwrap(), b"old");
     assert!(glint::raster::io::read(&out).is_ok());
 }

@@ -92,20 +92,8 @@ fn a_killed_runs_temporary_file_is_removed_by_the_next_write() {
     std::fs::write(&stale, b"half an image").unwrap();
     let unrelated = dir.path().join("notes.tmp");
     std::fs::write(&unrelated, b"mine").unwrap();
-    let scene = common::repo().join("scenes/seed-fig3.toml");
     let out = dir.path().join("x.png");
-    let o = common::glint(&[
-        "render",
-        scene.to_str().unwrap(),
-        "--backend",
-        "cpu",
-        "--width",
-        "40",
-        "--height",
-        "30",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let o = common::small_cpu_render(&out, &[]);
     assert!(o.status.success());
     assert!(!stale.exists(), "the stale temporary file is still there");
     assert!(unrelated.exists());

@@ -10,28 +10,10 @@ mod common;
 use std::os::unix::fs::FileTypeExt;
 use std::path::{Path, PathBuf};
 
-use common::{assert_ok, assert_user_error, glint};
+use common::{assert_ok, assert_user_error, glint, small_cpu_render};
 
 fn seed3() -> PathBuf {
     common::repo().join("scenes/seed-fig3.toml")
-}
-
-fn small_cpu_render(out: &Path, extra: &[&str]) -> std::process::Output {
-    let scene = seed3();
-    let mut args = vec![
-        "render",
-        scene.to_str().unwrap(),
-        "--backend",
-        "cpu",
-        "--width",
-        "16",
-        "--height",
-        "12",
-        "-o",
-        out.to_str().unwrap(),
-    ];
-    args.extend_from_slice(extra);
-    glint(&args)
 }
 
 fn null_device(dir: &Path) -> Option<PathBuf> {

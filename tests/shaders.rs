@@ -315,30 +315,21 @@ fn a_main_shader_finds_its_includes_beside_it() {
     common::assert_ok(&o);
     let out = dir.path().join("x.png");
     let scene = common::repo().join("scenes/seed-fig3.toml");
-    let o = common::glint(&[
-        "render",
-        scene.to_str().unwrap(),
-        "--width",
-        "16",
-        "--height",
-        "12",
-        "--shader",
-        main.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    common::assert_ok(&o);
+    let render = || {
+        common::glint(&[
+            "render",
+            scene.to_str().unwrap(),
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--shader",
+            main.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+    };
+    common::assert_ok(&render());
     // And the render's output may be written beside the shader again.
-    common::assert_ok(&common::glint(&[
-        "render",
-        scene.to_str().unwrap(),
-        "--width",
-        "16",
-        "--height",
-        "12",
-        "--shader",
-        main.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]));
+    common::assert_ok(&render());
 }

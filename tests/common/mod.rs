@@ -35,6 +35,26 @@ pub fn glint(args: &[&str]) -> Output {
     cmd().args(args).output().expect("run glint")
 }
 
+/// A 40x30 CPU render of seed-fig3 to `out`, with `extra` arguments: a
+/// quick run for tests of what happens to the files around it.
+pub fn small_cpu_render(out: &Path, extra: &[&str]) -> Output {
+    let scene = repo().join("scenes/seed-fig3.toml");
+    let mut args = vec![
+        "render",
+        scene.to_str().unwrap(),
+        "--backend",
+        "cpu",
+        "--width",
+        "40",
+        "--height",
+        "30",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    glint(&args)
+}
+
 /// A run that succeeded (its stderr shown where not).
 pub fn assert_ok(o: &Output) {
     o.clone().assert().success();
