@@ -30,7 +30,22 @@ void two_square(real a, out real hi, out real lo) {
 
 // f.f - r^2 with every rounding of the squares and sums carried along; see
 // power() in src/cpu/exact.rs for why the plain form is not enough.
+//
+// POWER_FILTER (a device that skips a branch no invocation takes: llvmpipe
+// from Mesa 24.3, a GPU): where f.f >= 2 r^2 the difference keeps at least
+// half of f.f, so the plain form is within a few roundings of the exact one,
+// and only origins near the surface pay for the exact sum. On a driver that
+// runs both sides of every branch (llvmpipe before 24.3) the filter only
+// adds work. The CPU reference keeps the exact sum everywhere: it is the
+// oracle (docs/performance.md, The robust forms' cheap filter).
 real power(vec3r f, real r) {
+#ifdef POWER_FILTER
+    real ff = dot(f, f);
+    real r2 = r * r;
+    if (ff >= 2.0 * r2) {
+        return ff - r2;
+    }
+#endif
     real x, ex, y, ey, z, ez, rr, er;
     two_square(f.x, x, ex);
     two_square(f.y, y, ey);

@@ -171,6 +171,7 @@ pub fn reserved_define(name: &str) -> bool {
         "SCENE_IN_UNIFORMS",
         "UNROLL_LOOPS",
         "NO_LOOP_CANARY",
+        "POWER_FILTER",
         "INTERSECT_NAIVE",
         "GLINT_F64",
         "USE_BVH",

@@ -68,6 +68,9 @@ pub struct Variant {
     pub features: Option<Features>,
     /// Counts rays, tests and BVH nodes (shaders/count.glsl).
     pub count: bool,
+    /// The robust forms' cheap filter (`power()` in shaders/exact.glsl),
+    /// taken where the device skips a branch no invocation takes.
+    pub power_filter: bool,
 }
 
 /// What one scene needs of the shader.
@@ -113,7 +116,8 @@ pub struct Features {
 /// `uniforms-always` (uniform buffers for the scenes that take storage
 /// buffers to dodge Mesa 22.3's crash), `no-unroll` and `unroll-all` (no
 /// cap on the objects and lights unrolled), `canary` (the loop-budget
-/// canary on a driver that needs none). Not for rendering: a name it
+/// canary on a driver that needs none), `no-filter` (the robust forms'
+/// exact power everywhere, also where the device skips untaken branches). Not for rendering: a name it
 /// does not know is ignored.
 #[derive(Debug, Default, Clone, Copy)]
 struct Experiment {
@@ -122,6 +126,7 @@ struct Experiment {
     no_unroll: bool,
     unroll_all: bool,
     canary: bool,
+    no_filter: bool,
 }
 
 impl Experiment {
@@ -134,6 +139,7 @@ impl Experiment {
             no_unroll: has("no-unroll"),
             unroll_all: has("unroll-all"),
             canary: has("canary"),
+            no_filter: has("no-filter"),
         }
     }
 }
@@ -255,6 +261,11 @@ impl Variant {
             bvh_layouts: uploads.layouts,
             features: (!generic).then(|| Features::of(scene, uploads, device)),
             count,
+            // The generic shader takes it too: a scene's variant renders the
+            // generic shader's bits.
+            power_filter: intersect == Intersect::Robust
+                && device.skips_untaken_branches
+                && !Experiment::from_env().no_filter,
         }
     }
 
@@ -267,6 +278,7 @@ impl Variant {
             bvh_layouts: 0,
             features: None,
             count: false,
+            power_filter: false,
         }
     }
 
@@ -278,6 +290,9 @@ impl Variant {
         }
         if self.precision == Precision::F64 {
             d.push(("GLINT_F64".to_owned(), None));
+        }
+        if self.power_filter {
+            d.push(("POWER_FILTER".to_owned(), None));
         }
         if self.bvh_layouts > 0 {
             d.push(("USE_BVH".to_owned(), None));
@@ -377,6 +392,9 @@ impl Variant {
         }
         if self.count {
             parts.push("counted".to_owned());
+        }
+        if self.power_filter {
+            parts.push("filtered".to_owned());
         }
         match &self.features {
             None => parts.push("generic".to_owned()),

@@ -28,6 +28,12 @@ pub struct DeviceInfo {
     /// not known to run every loop to its end is taken to. Shaders carry
     /// the canary of shaders/budget.glsl where this holds.
     pub loop_budget: bool,
+    /// Whether a branch that no invocation of a SIMD group takes costs
+    /// nothing: llvmpipe runs both sides of every branch before Mesa 24.3
+    /// ("gallivm: Skip inactive branches"); a GPU skips a branch its whole
+    /// group leaves. Where it holds, the robust intersections take their
+    /// cheap filter (shaders/exact.glsl).
+    pub skips_untaken_branches: bool,
     /// The largest storage buffer a shader may bind, in bytes.
     pub max_storage_buffer_range: u32,
     /// The largest uniform buffer a shader may bind, in bytes.
@@ -59,14 +65,26 @@ impl DeviceInfo {
 /// tests/loop_budget.rs checks both lavapipes). `info` is the driver's
 /// info string, `Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)`.
 fn runs_loops_to_the_end(name: &str, info: &str) -> bool {
+    name == "llvmpipe" && mesa_version(info) >= (25, 0)
+}
+
+/// Whether a driver skips a branch no invocation takes: every driver but
+/// llvmpipe before Mesa 24.3 (see `DeviceInfo::skips_untaken_branches`).
+fn skips_untaken_branches(name: &str, info: &str) -> bool {
+    name != "llvmpipe" || mesa_version(info) >= (24, 3)
+}
+
+/// The Mesa version in a driver's info string (0.0 where it names none).
+fn mesa_version(info: &str) -> (u32, u32) {
     let version = info
         .split_whitespace()
         .skip_while(|w| *w != "Mesa")
         .nth(1)
         .unwrap_or("");
-    let mut numbers = version.split(|c: char| !c.is_ascii_digit());
-    let major: u32 = numbers.next().and_then(|n| n.parse().ok()).unwrap_or(0);
-    name == "llvmpipe" && major >= 25
+    let mut numbers = version
+        .split(|c: char| !c.is_ascii_digit())
+        .map(|n| n.parse().unwrap_or(0));
+    (numbers.next().unwrap_or(0), numbers.next().unwrap_or(0))
 }
 
 pub struct Candidate {
@@ -145,6 +163,10 @@ pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
                 ),
                 shader_float64: features.shader_float64 == vk::TRUE,
                 loop_budget: !runs_loops_to_the_end(
+                    &cstr(driver.driver_name_as_c_str()),
+                    &cstr(driver.driver_info_as_c_str()),
+                ),
+                skips_untaken_branches: skips_untaken_branches(
                     &cstr(driver.driver_name_as_c_str()),
                     &cstr(driver.driver_info_as_c_str()),
                 ),
@@ -305,7 +327,7 @@ impl Drop for Device {
 
 #[cfg(test)]
 mod tests {
-    use super::runs_loops_to_the_end;
+    use super::{runs_loops_to_the_end, skips_untaken_branches};
 
     #[test]
     fn llvmpipe_runs_loops_to_the_end_from_mesa_25() {
@@ -328,5 +350,26 @@ mod tests {
         assert!(!runs_loops_to_the_end("llvmpipe", "no version"));
         // Any other driver is not known to: it keeps the canary.
         assert!(!runs_loops_to_the_end("NVIDIA", "570.86.15"));
+    }
+
+    #[test]
+    fn llvmpipe_skips_untaken_branches_from_mesa_24_3() {
+        assert!(skips_untaken_branches(
+            "llvmpipe",
+            "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"
+        ));
+        assert!(skips_untaken_branches(
+            "llvmpipe",
+            "Mesa 24.3.0 (LLVM 19.1.0)"
+        ));
+        assert!(!skips_untaken_branches(
+            "llvmpipe",
+            "Mesa 24.2.8 (LLVM 19.1.0)"
+        ));
+        assert!(!skips_untaken_branches(
+            "llvmpipe",
+            "Mesa 22.3.6 (LLVM 15.0.6)"
+        ));
+        assert!(skips_untaken_branches("NVIDIA", "570.86.15"));
     }
 }
