@@ -49,6 +49,10 @@ pub enum OutputError {
         /// What it is instead.
         what: &'static str,
     },
+    /// Two outputs of one run that are the same file (through a link,
+    /// say): the second would replace the first.
+    #[error("{}: is another output of this run too; name two files", crate::printable::path(.0))]
+    Twice(PathBuf),
     /// The file system refused (a missing folder, no permission, a full disk).
     // The cause is part of the message rather than a `source`, so that a
     // report of the error chain does not print it twice.
@@ -84,6 +88,14 @@ enum Staged {
     Stream { target: PathBuf, bytes: Vec<u8> },
 }
 
+impl Staged {
+    fn target(&self) -> &Path {
+        match self {
+            Staged::File { target, .. } | Staged::Stream { target, .. } => target,
+        }
+    }
+}
+
 /// A command's outputs: checked against its inputs and their targets,
 /// staged, then committed together.
 pub struct Outputs {
@@ -117,7 +129,21 @@ impl Outputs {
     /// folder where no file can be made. A command calls it for every
     /// output before it starts its work.
     pub fn check(&self, path: &Path) -> Result<TargetKind, OutputError> {
+        let (kind, target, _) = self.target(path)?;
+        if kind == TargetKind::File {
+            // The folder takes a new file: proven by making one (removed at once).
+            temp_beside(&target, None)?;
+        }
+        Ok(kind)
+    }
+
+    /// What `path` ends at, after its links, with its metadata where it
+    /// exists; every rule of `check` but the folder's.
+    fn target(&self, path: &Path) -> Result<(TargetKind, PathBuf, Option<Metadata>), OutputError> {
         let target = follow_links(path);
+        if self.staged.iter().any(|s| s.target() == target) {
+            return Err(OutputError::Twice(path.to_owned()));
+        }
         let meta = std::fs::metadata(&target).ok();
         if let Some(meta) = &meta {
             if let Some((input, _)) = self.inputs.iter().find(|(_, m)| same_file(m, meta)) {
@@ -131,14 +157,13 @@ impl Outputs {
             None => TargetKind::File,
             Some(m) => kind_of(&target, m)?,
         };
-        if kind == TargetKind::File {
-            if meta.as_ref().is_some_and(|m| m.permissions().readonly()) && !self.force {
-                return Err(OutputError::ReadOnly(target));
-            }
-            // The folder takes a new file: proven by making one (removed at once).
-            temp_beside(&target, None)?;
+        if kind == TargetKind::File
+            && meta.as_ref().is_some_and(|m| m.permissions().readonly())
+            && !self.force
+        {
+            return Err(OutputError::ReadOnly(target));
         }
-        Ok(kind)
+        Ok((kind, target, meta))
     }
 
     /// Checks `path` (as `check`), then has `fill` write its contents: into
@@ -149,8 +174,7 @@ impl Outputs {
         path: &Path,
         fill: impl FnOnce(&mut dyn Write) -> Result<(), E>,
     ) -> Result<(), E> {
-        let kind = self.check(path)?;
-        let target = follow_links(path);
+        let (kind, target, old) = self.target(path)?;
         match kind {
             TargetKind::Stream => {
                 let mut bytes = Vec::new();
@@ -158,7 +182,6 @@ impl Outputs {
                 self.staged.push(Staged::Stream { target, bytes });
             }
             TargetKind::File => {
-                let old = std::fs::metadata(&target).ok();
                 let tmp = temp_beside(&target, old.as_ref())?;
                 {
                     let mut out = BufWriter::new(tmp.file());

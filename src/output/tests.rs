@@ -186,3 +186,17 @@ fn a_read_only_file_is_replaced_only_with_force() {
     assert_eq!(std::fs::read_to_string(&path).unwrap(), "new");
     assert!(std::fs::metadata(&path).unwrap().permissions().readonly());
 }
+
+#[test]
+fn two_outputs_that_are_one_file_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = dir.path().join("out.png");
+    let link = dir.path().join("stats.json");
+    std::os::unix::fs::symlink(&image, &link).unwrap();
+    let mut outputs = Outputs::new::<&Path>([], false);
+    text(&mut outputs, &link, "{}").unwrap();
+    assert!(matches!(
+        text(&mut outputs, &image, "image"),
+        Err(OutputError::Twice(_))
+    ));
+}
