@@ -90,33 +90,39 @@ fn report_refuses_to_overwrite_its_shader_or_scene() {
     std::fs::create_dir(&out).unwrap();
     // The user's main shader, saved where the report's page goes.
     let shader = out.join("index.html");
-    let main = std::fs::read(common::repo().join("shaders/main.comp")).unwrap();
-    std::fs::write(&shader, &main).unwrap();
-    let o = glint(&[
-        "report",
-        seed3().to_str().unwrap(),
-        "--quick",
-        "--shader",
-        shader.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert_user_error(&o, "refusing to overwrite an input");
-    assert_eq!(std::fs::read(&shader).unwrap(), main);
-
+    std::fs::copy(common::repo().join("shaders/main.comp"), &shader).unwrap();
+    assert_refused_over(
+        &[
+            "report",
+            seed3().to_str().unwrap(),
+            "--quick",
+            "--shader",
+            shader.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        &shader,
+    );
     // A scene saved as report.md.
     let scene = out.join("report.md");
     std::fs::copy(seed3(), &scene).unwrap();
-    let before = std::fs::read(&scene).unwrap();
-    let o = glint(&[
-        "report",
-        scene.to_str().unwrap(),
-        "--quick",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert_user_error(&o, "refusing to overwrite an input");
-    assert_eq!(std::fs::read(&scene).unwrap(), before);
+    assert_refused_over(
+        &[
+            "report",
+            scene.to_str().unwrap(),
+            "--quick",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        &scene,
+    );
+}
+
+/// A run refused for overwriting `input`, which it leaves as it was.
+fn assert_refused_over(args: &[&str], input: &Path) {
+    let before = std::fs::read(input).unwrap();
+    assert_user_error(&glint(args), "refusing to overwrite an input");
+    assert_eq!(std::fs::read(input).unwrap(), before);
 }
 
 #[test]
@@ -141,17 +147,17 @@ fn shader_dump_refuses_to_overwrite_the_shader_it_compiles() {
     let out = dir.path().join("out");
     std::fs::create_dir(&out).unwrap();
     let shader = out.join(name);
-    let main = std::fs::read(common::repo().join("shaders/main.comp")).unwrap();
-    std::fs::write(&shader, &main).unwrap();
-    let o = glint(&[
-        "shader",
-        "dump",
-        seed3().to_str().unwrap(),
-        "--shader",
-        shader.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert_user_error(&o, "refusing to overwrite an input");
-    assert_eq!(std::fs::read(&shader).unwrap(), main);
+    std::fs::copy(common::repo().join("shaders/main.comp"), &shader).unwrap();
+    assert_refused_over(
+        &[
+            "shader",
+            "dump",
+            seed3().to_str().unwrap(),
+            "--shader",
+            shader.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        &shader,
+    );
 }
