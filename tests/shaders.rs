@@ -333,3 +333,66 @@ fn a_main_shader_finds_its_includes_beside_it() {
     // And the render's output may be written beside the shader again.
     common::assert_ok(&render());
 }
+
+/// `watch` after a render that timed out (a runaway loop in an include, on
+/// a driver without a loop limit): the device is opened again, so fixing
+/// the include renders (issue 21's watchdog, for watch). On a driver with
+/// a loop limit the budget ends the loop, and the fix renders too.
+#[test]
+fn watch_renders_again_after_a_timeout() {
+    let dir = tempfile::tempdir().unwrap();
+    let inc = dir.path().join("inc");
+    std::fs::create_dir(&inc).unwrap();
+    let specular = inc.join("specular.glsl");
+    std::fs::write(
+        &specular,
+        "real specular(vec3r n, vec3r l, vec3r v, real shininess) {\n\
+         \x20   real s = 0.0;\n\
+         \x20   while (dot(n, n) >= 0.0) { s += 1.0; }\n\
+         \x20   return s;\n\
+         }\n",
+    )
+    .unwrap();
+    let scene = dir.path().join("scene.toml");
+    let small = std::fs::read_to_string(repo("scenes/seed-fig3.toml"))
+        .unwrap()
+        .replace("width = 800", "width = 32")
+        .replace("height = 600", "height = 24");
+    std::fs::write(&scene, small).unwrap();
+    let out = dir.path().join("out.pfm");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args([
+            "watch",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .args(["-I", inc.to_str().unwrap(), "--timeout", "1"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let result = std::panic::catch_unwind(|| {
+        // The first render fails (a timeout, or the loop budget).
+        std::thread::sleep(Duration::from_secs(4));
+        assert!(!out.exists(), "a runaway shader wrote an image");
+        // The include fixed: the built-in specular term again.
+        std::fs::write(
+            &specular,
+            std::fs::read_to_string(repo("shaders/specular.glsl")).unwrap(),
+        )
+        .unwrap();
+        assert!(
+            wait_for(Duration::from_secs(60), || out.exists()),
+            "no render after the fix"
+        );
+    });
+    child.kill().unwrap();
+    let output = child.wait_with_output().unwrap();
+    result.unwrap();
+    let err = text(&output.stderr);
+    assert!(
+        err.contains("did not finish the tile") || err.contains("loops were cut short"),
+        "{err}"
+    );
+}

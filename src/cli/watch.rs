@@ -7,7 +7,7 @@ use anyhow::Context;
 use clap::Args;
 use notify_debouncer_mini::{new_debouncer, notify::RecursiveMode};
 
-use glint::gpu::Renderer;
+use glint::gpu::{GpuError, Renderer};
 use glint::output::Outputs;
 use glint::raster::io;
 
@@ -74,7 +74,8 @@ pub fn run(a: &WatchArgs) -> anyhow::Result<ExitCode> {
     let mut inputs = a.device.inputs();
     inputs.push(a.scene.scene.clone());
     Outputs::new(inputs, false).check(&a.output)?;
-    let mut renderer = Renderer::new(&a.device.options()?)?;
+    let options = a.device.options()?;
+    let mut renderer = Renderer::new(&options)?;
     // Editors write a file in bursts (truncate, write, rename): one render
     // for a burst, once it has been quiet this long.
     let (events, changes) = mpsc::channel();
@@ -97,7 +98,17 @@ pub fn run(a: &WatchArgs) -> anyhow::Result<ExitCode> {
             last = Some(now);
             match render_once(a, &mut renderer) {
                 Ok(seconds) => eprintln!("rendered in {seconds:.3} s -> {}", a.output.display()),
-                Err(e) => eprintln!("error: {e:#}\n(keeping the last good image)"),
+                Err(e) => {
+                    eprintln!("error: {e:#}\n(keeping the last good image)");
+                    // A timed-out render may run on, and its device takes no
+                    // more work: the next change renders on a new one.
+                    if e.downcast_ref::<GpuError>()
+                        .is_some_and(GpuError::device_lost)
+                    {
+                        renderer = Renderer::new(&options)?;
+                        eprintln!("(the device was opened again for the next change)");
+                    }
+                }
             }
         }
         match changes.recv() {

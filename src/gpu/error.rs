@@ -99,3 +99,14 @@ impl<T> VkContext<T> for Result<T, vk::Result> {
         self.map_err(|result| GpuError::Vk { what, result })
     }
 }
+
+impl GpuError {
+    /// Whether the renderer that returned it takes no more work: a wait
+    /// timed out (the work may still run), or an earlier one did.
+    pub fn device_lost(&self) -> bool {
+        matches!(
+            self,
+            GpuError::Timeout { .. } | GpuError::CompileTimeout { .. } | GpuError::Lost
+        )
+    }
+}
