@@ -218,7 +218,9 @@ impl Outputs {
 }
 
 /// A temporary file, listed for removal on a signal (`partial`) until it
-/// is renamed over its target or dropped (which removes it).
+/// is renamed over its target or dropped (which removes it). It leaves the
+/// list only once it is gone from its name: a signal in between then finds
+/// it listed, never an unlisted file.
 struct Temp(Option<tempfile::NamedTempFile>);
 
 impl Temp {
@@ -228,16 +230,20 @@ impl Temp {
 
     fn persist(mut self, target: &Path) -> Result<(), OutputError> {
         let tmp = self.0.take().expect("held until persisted");
-        partial::unregister(tmp.path());
-        tmp.persist(target).map_err(|e| io_err(target)(e.error))?;
-        Ok(())
+        let path = tmp.path().to_owned();
+        // A failed rename hands the file back; dropping it removes it.
+        let renamed = tmp.persist(target).map(drop).map_err(|e| e.error);
+        partial::unregister(&path);
+        renamed.map_err(io_err(target))
     }
 }
 
 impl Drop for Temp {
     fn drop(&mut self) {
-        if let Some(tmp) = &self.0 {
-            partial::unregister(tmp.path());
+        if let Some(tmp) = self.0.take() {
+            let path = tmp.path().to_owned();
+            drop(tmp);
+            partial::unregister(&path);
         }
     }
 }
@@ -296,19 +302,27 @@ fn temp_beside(target: &Path, old: Option<&Metadata>) -> Result<Temp, OutputErro
     };
     partial::remove_stale(dir);
     let prefix = partial::prefix();
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(&prefix).suffix(".tmp");
-    // tempfile makes private files; an output is as readable as any new file.
-    #[cfg(unix)]
-    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    // Each name is listed before its file is made: a signal at any moment
+    // finds every temporary file of this process listed.
+    let made = tempfile::Builder::new()
+        .prefix(&prefix)
+        .suffix(".tmp")
+        .make_in(dir, |path| {
+            partial::register(path);
+            let mut open = std::fs::OpenOptions::new();
+            open.write(true).create_new(true);
+            // As readable as any new file (tempfile's own are private).
+            #[cfg(unix)]
+            std::os::unix::fs::OpenOptionsExt::mode(&mut open, 0o666);
+            open.open(path).inspect_err(|_| partial::unregister(path))
+        });
     // tempfile's error names the temporary file; the user named the target.
-    let tmp = builder.tempfile_in(dir).map_err(|e| {
+    let tmp = made.map_err(|e| {
         let cause = e
             .raw_os_error()
             .map_or(e, std::io::Error::from_raw_os_error);
         io_err(target)(cause)
     })?;
-    partial::register(tmp.path());
     let tmp = Temp(Some(tmp));
     if let Some(meta) = old {
         tmp.file()
