@@ -341,18 +341,8 @@ fn a_main_shader_finds_its_includes_beside_it() {
 #[test]
 fn watch_renders_again_after_a_timeout() {
     let dir = tempfile::tempdir().unwrap();
-    let inc = dir.path().join("inc");
-    std::fs::create_dir(&inc).unwrap();
+    let inc = common::runaway_include(dir.path());
     let specular = inc.join("specular.glsl");
-    std::fs::write(
-        &specular,
-        "real specular(vec3r n, vec3r l, vec3r v, real shininess) {\n\
-         \x20   real s = 0.0;\n\
-         \x20   while (dot(n, n) >= 0.0) { s += 1.0; }\n\
-         \x20   return s;\n\
-         }\n",
-    )
-    .unwrap();
     let scene = dir.path().join("scene.toml");
     let small = std::fs::read_to_string(repo("scenes/seed-fig3.toml"))
         .unwrap()

@@ -81,28 +81,10 @@ fn the_binary_stops_at_once_and_writes_nothing() {
     assert_eq!(o.status.code(), Some(2));
 }
 
-/// A copy of shaders/specular.glsl whose loop never ends (the condition
-/// holds for every finite normal): a hung shader, on a driver without a
-/// loop limit; on one with a limit (Mesa 22.3) the budget ends it.
-fn runaway_include(dir: &std::path::Path) -> std::path::PathBuf {
-    let inc = dir.join("runaway");
-    std::fs::create_dir(&inc).unwrap();
-    std::fs::write(
-        inc.join("specular.glsl"),
-        "real specular(vec3r n, vec3r l, vec3r v, real shininess) {\n\
-         \x20   real s = 0.0;\n\
-         \x20   while (dot(n, n) >= 0.0) { s += 1.0; }\n\
-         \x20   return s;\n\
-         }\n",
-    )
-    .unwrap();
-    inc
-}
-
 #[test]
 fn every_command_stops_a_runaway_shader_within_its_limit() {
     let dir = tempfile::tempdir().unwrap();
-    let inc = runaway_include(dir.path());
+    let inc = common::runaway_include(dir.path());
     let scene = common::repo().join("scenes/seed-fig3.toml");
     let (scene, inc) = (scene.to_str().unwrap(), inc.to_str().unwrap());
     let report = dir.path().join("report");

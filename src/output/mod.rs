@@ -261,6 +261,15 @@ pub fn write_one<E: From<OutputError>>(
     Ok(outputs.commit()?)
 }
 
+/// What `path` names after its links, where it exists and an output may
+/// be written as it (a file, a character device or a FIFO); nothing is
+/// made or opened.
+pub fn target_kind(path: &Path) -> Option<TargetKind> {
+    let target = follow_links(path);
+    let meta = std::fs::metadata(&target).ok()?;
+    kind_of(&target, &meta).ok()
+}
+
 /// What an existing target is, or why no output can be written as it.
 fn kind_of(target: &Path, meta: &Metadata) -> Result<TargetKind, OutputError> {
     let refuse = |what| {

@@ -6,7 +6,7 @@ use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
 use super::{quantize, Image};
-use crate::output::{OutputError, Outputs, TargetKind};
+use crate::output::{self, OutputError, Outputs, TargetKind};
 
 /// An image file that cannot be read or written; each names the file.
 #[derive(Debug, thiserror::Error)]
@@ -75,10 +75,8 @@ impl Format {
     /// PNG (the default output) where `path` is a character device or FIFO
     /// whose name has none (`-o /dev/null`, `-o /dev/stdout`).
     pub fn of_output(path: &Path) -> Result<Format, ImageIoError> {
-        let streamed = || {
-            path.extension().is_none()
-                && Outputs::new::<&Path>([], false).check(path).ok() == Some(TargetKind::Stream)
-        };
+        let streamed =
+            || path.extension().is_none() && output::target_kind(path) == Some(TargetKind::Stream);
         match Format::of(path) {
             Err(_) if streamed() => Ok(Format::Png),
             other => other,

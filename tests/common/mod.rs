@@ -179,3 +179,21 @@ diffuse = [0.5, 0.5, 0.5]
 cutoff = 30.0
 exponent = 4.0
 "#;
+
+/// A copy of shaders/specular.glsl whose loop never ends (the condition
+/// holds for every finite normal): a hung shader, on a driver without a
+/// loop limit; on one with a limit (Mesa 22.3) the budget ends it.
+pub fn runaway_include(dir: &Path) -> PathBuf {
+    let inc = dir.join("runaway");
+    std::fs::create_dir(&inc).unwrap();
+    std::fs::write(
+        inc.join("specular.glsl"),
+        "real specular(vec3r n, vec3r l, vec3r v, real shininess) {\n\
+         \x20   real s = 0.0;\n\
+         \x20   while (dot(n, n) >= 0.0) { s += 1.0; }\n\
+         \x20   return s;\n\
+         }\n",
+    )
+    .unwrap();
+    inc
+}
