@@ -28,13 +28,13 @@
 
 use glam::DVec3;
 
-use crate::accel::{bvh::Aabb, Accel};
+use crate::accel::Accel;
+use crate::base::aabb::Aabb;
 use crate::cpu;
 use crate::raster::diff::{figures, figures_where, pixel_errors, ErrorFigures, Tolerance};
 use crate::raster::Image;
 use crate::rng::Xorshift;
 use crate::scene::Scene;
-use crate::stability::{peak, scaled};
 
 /// Perturbed renders of the reference (and then the f32 one). Without the
 /// f32 trial, on balls at 512×512, 4 trials of 2 ulp leave 0.21 % of its
@@ -52,7 +52,7 @@ pub const MOVE: f64 = 2.0 / 16_777_216.0;
 /// scene lit at 1e15 is judged as one lit at 1 (as `glint stability`
 /// judges every scene).
 pub fn unit(reference: &Image) -> f64 {
-    peak(reference).max(1.0)
+    reference.peak().max(1.0)
 }
 
 /// Pixels an f32 renderer cannot be held to, by index; `reference` is the
@@ -195,7 +195,7 @@ pub fn judge(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Judgement {
     let unit = unit(reference);
-    let (img_u, reference_u) = (&scaled(img, unit), &scaled(reference, unit));
+    let (img_u, reference_u) = (&img.scaled(unit), &reference.scaled(unit));
     let error = figures(img_u, reference_u).expect("the same size");
     let violations = tolerance.violations(&error);
     if violations.is_empty() {

@@ -21,8 +21,3 @@ pub fn in_dirs(dirs: &[PathBuf]) -> Vec<PathBuf> {
         .flat_map(|d| sorted(d, |_| true).unwrap_or_default())
         .collect()
 }
-
-/// Whether `path` names a scene file: TOML, or NFF by its extension.
-pub fn is_scene(path: &Path) -> bool {
-    path.extension().is_some_and(|e| e == "toml") || crate::scene::is_nff(path)
-}

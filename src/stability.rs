@@ -7,7 +7,6 @@ use serde::Serialize;
 use crate::cpu;
 use crate::gpu::{GpuError, Intersect, RenderSettings, Renderer};
 use crate::raster::diff::{figures, ErrorFigures, Tolerance};
-use crate::raster::Image;
 use crate::scene::Scene;
 
 /// One renderer's result on one extreme scene.
@@ -30,37 +29,11 @@ pub struct SceneRows {
     pub rows: Vec<Row>,
 }
 
-/// The largest finite channel value, or 1 for an image that is all zero.
-pub fn peak(image: &Image) -> f64 {
-    let p = image
-        .pixels
-        .iter()
-        .flatten()
-        .filter(|v| v.is_finite())
-        .fold(0.0f64, |m, v| m.max(f64::from(v.abs())));
-    if p > 0.0 {
-        p
-    } else {
-        1.0
-    }
-}
-
-/// `image` divided by `by`, in f64 before rounding back, so that 1e-30 and
-/// 1e30 scale without loss.
-pub fn scaled(image: &Image, by: f64) -> Image {
-    let pixels = image
-        .pixels
-        .iter()
-        .map(|p| p.map(|c| (f64::from(c) / by) as f32))
-        .collect();
-    Image::new(image.width, image.height, pixels)
-}
-
 /// GPU f32 robust, GPU f32 naive and CPU f32 against CPU f64 on `scene`.
 pub fn evaluate(renderer: &mut Renderer, scene: &Scene) -> Result<SceneRows, GpuError> {
     let reference = cpu::render::<f64>(scene);
-    let peak = peak(&reference);
-    let reference = scaled(&reference, peak);
+    let peak = reference.peak();
+    let reference = reference.scaled(peak);
     let mut images = Vec::new();
     for (variant, form) in [
         ("gpu f32 robust", Intersect::Robust),
@@ -77,7 +50,7 @@ pub fn evaluate(renderer: &mut Renderer, scene: &Scene) -> Result<SceneRows, Gpu
     let rows = images
         .into_iter()
         .map(|(variant, image)| {
-            let error = figures(&scaled(&image, peak), &reference).expect("same size");
+            let error = figures(&image.scaled(peak), &reference).expect("same size");
             Row {
                 variant,
                 error,

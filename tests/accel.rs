@@ -7,9 +7,11 @@ mod common;
 
 use glint::accel::Accel;
 use glint::cpu;
+#[cfg(feature = "gpu")]
 use glint::gpu::{GpuOptions, Intersect, Precision, RenderSettings, Renderer};
 use glint::scene::{Overrides, Scene};
 
+#[cfg(feature = "gpu")]
 fn gpu(accel: Accel, intersect: Intersect, precision: Precision) -> Renderer {
     let options = GpuOptions {
         validate: true,
@@ -54,6 +56,7 @@ fn all_scenes() -> Vec<(String, Scene)> {
 }
 
 #[test]
+#[cfg(feature = "gpu")]
 fn gpu_images_do_not_depend_on_the_bvh() {
     for (intersect, precision) in [
         (Intersect::Robust, Precision::F32),
@@ -93,10 +96,11 @@ fn cpu_images_do_not_depend_on_the_bvh() {
 }
 
 #[test]
+#[cfg(feature = "gpu")]
 fn auto_takes_the_bvh_from_its_threshold_up() {
     let r = gpu(Accel::Auto, Intersect::Robust, Precision::F32);
     assert!(r.variant_for(&crowd()).0.bvh_layouts == 8);
     let few = small(&common::repo().join("scenes/seed-fig3.toml"));
     assert_eq!(r.variant_for(&few).0.bvh_layouts, 0);
-    assert!(Accel::Auto.uses_bvh(&crowd()) && !Accel::Auto.uses_bvh(&few));
+    assert!(Accel::Auto.uses_bvh(&crowd().prims) && !Accel::Auto.uses_bvh(&few.prims));
 }

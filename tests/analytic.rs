@@ -78,6 +78,7 @@ fn eye_and_light_at_the_centre_of_a_sphere() {
         // a few ulp per operation along the ray.
         common::assert_uniform(&cpu::render::<f64>(&scene), want, 1e-7, "CPU f64");
         common::assert_uniform(&cpu::render::<f32>(&scene), want, 1e-5, "CPU f32");
+        #[cfg(feature = "gpu")]
         common::assert_uniform(&common::render_gpu(&scene), want, 1e-5, "GPU f32");
     }
 }

@@ -1,5 +1,7 @@
 //! `glint bench`: the ceiling shader and the figures it prints.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use glint::bench::{self, CEILING_TESTS};

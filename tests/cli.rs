@@ -1,6 +1,8 @@
 //! The `glint` binary run as a user runs it: exit codes, files written,
 //! JSON parsed, errors on stderr. GPU runs use the validation layer.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use std::path::{Path, PathBuf};

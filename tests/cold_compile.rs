@@ -4,6 +4,8 @@
 //! not fire on it. A runaway shader is still stopped at the limit
 //! (tests/watchdog.rs).
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use std::time::Duration;

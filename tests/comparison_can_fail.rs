@@ -56,6 +56,7 @@ fn one_infinite_pixel_fails() {
 }
 
 #[test]
+#[cfg(feature = "gpu")]
 fn a_gpu_image_perturbed_fails() {
     let scene = common::scene_sized(common::SMALL, 200, 150);
     let r = cpu::render::<f64>(&scene);
@@ -75,6 +76,7 @@ fn a_gpu_image_perturbed_fails() {
 /// passes, where an absolute 1/255 would fail nearly every pixel, and 1 % of
 /// its pixels off by 4/255 of the peak fails.
 #[test]
+#[cfg(feature = "gpu")]
 fn a_bright_scene_is_judged_relative_to_its_peak() {
     use glint::accel::Accel;
     use glint::condition;

@@ -3,6 +3,8 @@
 //! same places, so they can differ only where the two arithmetics decide a
 //! hit differently: by at most 0.1 % of a counter (the bound).
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use std::path::Path;

@@ -4,12 +4,15 @@
 
 mod common;
 
+#[cfg(feature = "gpu")]
 use glint::cpu;
+#[cfg(feature = "gpu")]
 use glint::raster::diff::figures;
 
 /// scenes/cylinders.toml: the GPU and the CPU f32 agree with the f64
 /// reference, and a cylinder moved by a tenth of its radius fails the check.
 #[test]
+#[cfg(feature = "gpu")]
 fn the_cylinders_scene_agrees_and_a_moved_cylinder_does_not() {
     let path = common::repo().join("scenes/cylinders.toml");
     let text = std::fs::read_to_string(&path).unwrap();

@@ -4,6 +4,8 @@
 //! gets the new image, atomically; a hard link's other names keep the old
 //! image, since the write renames a new file over the name.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use std::os::unix::fs::PermissionsExt;

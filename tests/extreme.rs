@@ -2,6 +2,8 @@
 //! a property that a textbook f32 ray tracer fails, and where the issue asks
 //! for it, that the naive forms (--intersect naive) do fail it.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use std::path::Path;
@@ -11,7 +13,6 @@ use glint::gpu::{GpuOptions, Intersect, RenderSettings, Renderer};
 use glint::raster::diff::{figures, ErrorFigures, Tolerance};
 use glint::raster::{io, Image};
 use glint::scene::{Overrides, Scene};
-use glint::stability::{peak, scaled};
 
 fn load(name: &str) -> Scene {
     let path = common::repo()
@@ -35,8 +36,8 @@ fn gpu(scene: &Scene, intersect: Intersect) -> Image {
 
 /// Error relative to the reference's peak, as `glint stability` reports it.
 fn error(image: &Image, reference: &Image) -> ErrorFigures {
-    let p = peak(reference);
-    figures(&scaled(image, p), &scaled(reference, p)).expect("same size")
+    let p = reference.peak();
+    figures(&image.scaled(p), &reference.scaled(p)).expect("same size")
 }
 
 fn passes(image: &Image, reference: &Image) -> bool {
@@ -262,7 +263,7 @@ fn extreme_intensities_stay_finite_and_survive_hdr_files() {
             image.pixels.iter().flatten().all(|v| v.is_finite()),
             "{name}"
         );
-        let p = peak(&image);
+        let p = image.peak();
         let expected_scale: f64 = format!("1e{e}").parse().unwrap();
         assert!(
             p > 0.1 * expected_scale && p < 10.0 * expected_scale,

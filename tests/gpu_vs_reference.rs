@@ -1,6 +1,8 @@
 //! Every scene in scenes/ rendered on the GPU in f32 (and on the CPU in
 //! f32) agrees with the CPU f64 reference within the documented tolerance.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use glint::cpu;

@@ -3,6 +3,8 @@
 //! and a triple with extra elements. Each is one clear error with exit
 //! status 2, in bounded time, and no panic.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use std::process::{Command, Output, Stdio};

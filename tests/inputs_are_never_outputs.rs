@@ -3,6 +3,8 @@
 //! an image, a `./` spelling, a hard link or a symbolic link are all caught,
 //! and the input is left byte for byte as it was.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use std::path::Path;

@@ -2,6 +2,8 @@
 //! during a write removes the temporary file, and a temporary file that a
 //! killed run left behind is removed by the next write into its directory.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use std::path::Path;

@@ -6,6 +6,8 @@
 //! pixel. These tests ask the driver rather than its version: a render past
 //! the budget is either that error or an image equal to the CPU reference.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use assert_cmd::assert::OutputAssertExt;

@@ -2,6 +2,8 @@
 //! convert` writing a TOML scene that renders the same image, errors that
 //! name the NFF file and line, and corner sampling on both renderers.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use std::path::Path;

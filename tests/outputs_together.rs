@@ -5,6 +5,8 @@
 //! ones made by mknod in a temporary folder: CI runs as root; where mknod
 //! is refused, those tests say so and check nothing.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use std::os::unix::fs::FileTypeExt;

@@ -12,11 +12,12 @@ use glint::raster::Image;
 use glint::scene::Scene;
 
 fn renders(scene: &Scene) -> Vec<(&'static str, Image)> {
-    vec![
+    let mut renders = vec![
         ("CPU f64", cpu::render::<f64>(scene)),
         ("CPU f32", cpu::render::<f32>(scene)),
-        ("GPU f32", common::render_gpu(scene)),
-    ]
+    ];
+    renders.extend(common::render_gpu_if_built(scene).map(|image| ("GPU f32", image)));
+    renders
 }
 
 const BEHIND: &str = r#"

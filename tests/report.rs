@@ -2,6 +2,8 @@
 //! every variant, the reference has no error against itself, f32 has some,
 //! every time is positive; and GPU f64 agrees with CPU f64 far closer than f32.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use glint::cpu;

@@ -2,6 +2,8 @@
 //! next render of the same scene with the same pipeline (docs/performance.md,
 //! On a real GPU): renders in any order give the images of fresh renderers.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use glint::scene::Scene;

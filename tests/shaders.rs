@@ -1,6 +1,8 @@
 //! Users' own shader code: errors that name their file and line, defines,
 //! a replaced main shader, the experiments, `shader dump` and `watch`.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use std::path::Path;

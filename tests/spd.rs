@@ -5,8 +5,10 @@
 mod common;
 
 use glint::accel::Accel;
+#[cfg(feature = "gpu")]
 use glint::condition::{self, Judgement};
 use glint::cpu;
+#[cfg(feature = "gpu")]
 use glint::raster::diff::Tolerance;
 use glint::scene::{Overrides, Scene};
 use glint::stats::RayCounts;
@@ -61,6 +63,7 @@ fn ray_counts_are_within_ten_percent_of_the_published_ones() {
     assert!((gears.reflect as f64) < 0.5 * 304643.0, "{gears:?}");
 }
 
+#[cfg(feature = "gpu")]
 fn judge(scene: &Scene, image: &glint::raster::Image) -> Judgement {
     let reference = cpu::render::<f64>(scene);
     condition::judge(
@@ -79,6 +82,7 @@ fn judge(scene: &Scene, image: &glint::raster::Image) -> Judgement {
 /// (balls, gears and rings), over the well-conditioned ones
 /// (src/condition.rs).
 #[test]
+#[cfg(feature = "gpu")]
 fn the_databases_pass_the_comparison() {
     let mut gpu = common::gpu();
     for name in [
@@ -96,6 +100,7 @@ fn the_databases_pass_the_comparison() {
 /// spheres moved by a tenth of its radius, and with a patch of 8×8 pixels
 /// brightened by 0.02, both fail it.
 #[test]
+#[cfg(feature = "gpu")]
 fn the_conditioned_comparison_can_fail() {
     let mut gpu = common::gpu();
     let scene = load("balls", Some(128));

@@ -5,13 +5,17 @@
 
 mod common;
 
+#[cfg(feature = "gpu")]
 use std::path::Path;
 
+#[cfg(feature = "gpu")]
 use common::{assert_ok as ok, assert_user_error as fails_with};
 use glint::accel::Accel;
 use glint::cpu;
+#[cfg(feature = "gpu")]
+use glint::raster::io;
 use glint::raster::region::Region;
-use glint::raster::{io, Image};
+use glint::raster::Image;
 use glint::scene::{Overrides, Scene};
 
 fn load(path: &str) -> Scene {
@@ -48,6 +52,7 @@ fn same_bits(a: &Image, b: &Image) -> bool {
 const SCENES: [&str; 2] = ["scenes/seed-fig5.toml", "scenes/spd/mount.nff"];
 
 #[test]
+#[cfg(feature = "gpu")]
 fn gpu_tiles_are_the_whole_render_bit_for_bit() {
     let mut gpu = common::gpu();
     for path in SCENES {
@@ -109,6 +114,7 @@ fn cpu_tiles_are_the_whole_render_bit_for_bit() {
     assert!(!same_bits(&cpu::render::<f64>(&a), &b));
 }
 
+#[cfg(feature = "gpu")]
 fn glint_in(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> std::process::Output {
     let mut c = common::cmd();
     c.current_dir(dir).args(args);
@@ -125,6 +131,7 @@ fn glint_in(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> std::process::Ou
 /// engine's variables, assembled, equal the whole render; each way a set of
 /// tiles can be wrong is one error naming the tile, with no image written.
 #[test]
+#[cfg(feature = "gpu")]
 fn render_tile_and_assemble_through_the_binary() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

@@ -2,6 +2,8 @@
 //! render: a shader whose binding 0 is a storage buffer, where the host binds
 //! a uniform buffer, must not render quietly.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use glint::gpu::{GpuError, GpuOptions, Renderer};

@@ -1,6 +1,8 @@
 //! Every scene's own shader variant renders the same image as the generic
 //! shader that handles every feature: leaving code out changes nothing.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use glint::cpu;

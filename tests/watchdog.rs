@@ -4,6 +4,8 @@
 //! On lavapipe a runaway loop ends at the loop budget, so these tests use a
 //! limit shorter than an ordinary render instead.
 
+#![cfg(feature = "gpu")]
+
 mod common;
 
 use std::time::{Duration, Instant};

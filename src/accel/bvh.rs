@@ -24,6 +24,8 @@
 
 use glam::DVec3;
 
+use crate::base::aabb::Aabb;
+
 /// Primitives in a leaf at most (the leaf word keeps the count in 4 bits).
 pub const LEAF_MAX: usize = 4;
 /// Beyond this depth the build splits at the median, which halves each
@@ -40,7 +42,7 @@ const BINS: usize = 16;
 const COST_NODE: f64 = 3.0;
 const COST_PRIM: f64 = 1.5;
 
-crate::gpu::interface::gpu_struct!(
+crate::base::interface::gpu_struct!(
     /// One node as both renderers read it: 32 bytes, f32 in both precisions.
     pub mod node: "Node" {
         lo: float3,
@@ -67,49 +69,6 @@ impl Node {
             let kind = (self.leaf >> 4 & 15) as usize;
             (kind, first..first + (self.leaf & 15) as usize)
         })
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Aabb {
-    pub lo: DVec3,
-    pub hi: DVec3,
-}
-
-impl Aabb {
-    pub const EMPTY: Aabb = Aabb {
-        lo: DVec3::splat(f64::INFINITY),
-        hi: DVec3::splat(f64::NEG_INFINITY),
-    };
-
-    pub fn sphere(center: DVec3, radius: f64) -> Aabb {
-        Aabb {
-            lo: center - radius,
-            hi: center + radius,
-        }
-    }
-
-    fn union(self, o: Aabb) -> Aabb {
-        Aabb {
-            lo: self.lo.min(o.lo),
-            hi: self.hi.max(o.hi),
-        }
-    }
-
-    fn grow(self, p: DVec3) -> Aabb {
-        Aabb {
-            lo: self.lo.min(p),
-            hi: self.hi.max(p),
-        }
-    }
-
-    fn half_area(&self) -> f64 {
-        let d = (self.hi - self.lo).max(DVec3::ZERO);
-        d.x * d.y + d.y * d.z + d.z * d.x
-    }
-
-    fn center(&self) -> DVec3 {
-        (self.lo + self.hi) * 0.5
     }
 }
 

@@ -7,7 +7,7 @@
 
 pub(crate) mod bvh;
 
-use crate::scene::Scene;
+use crate::prim::Prims;
 
 /// From this many bounded primitives up `auto` takes the BVH
 /// (docs/performance.md, The BVH: where the linear scan stops winning on
@@ -30,9 +30,9 @@ pub enum Accel {
 }
 
 impl Accel {
-    /// Whether `scene` is traced through a BVH.
-    pub fn uses_bvh(self, scene: &Scene) -> bool {
-        let bounded = scene.prims.bounded_count();
+    /// Whether a scene of `prims` is traced through a BVH.
+    pub fn uses_bvh(self, prims: &Prims) -> bool {
+        let bounded = prims.bounded_count();
         match self {
             Accel::Auto => bounded >= AUTO_MIN_BOUNDED,
             Accel::Bvh => bounded > 0,
@@ -41,18 +41,18 @@ impl Accel {
     }
 }
 
-/// The BVH over `scene`'s bounded primitives, as the renderers trace it (the
-/// scene already in the coordinates it is traced in). Its `orders` hold
-/// each kind's indices in the scene.
-pub fn scene_bvh(scene: &Scene) -> bvh::Bvh {
-    relative_bvh(scene, glam::DVec3::ZERO)
+/// The BVH over the bounded ones of `prims`, as the renderers trace it
+/// (the scene already in the coordinates it is traced in). Its `orders`
+/// hold each kind's indices in the scene.
+pub fn scene_bvh(prims: &Prims) -> bvh::Bvh {
+    relative_bvh(prims, glam::DVec3::ZERO)
 }
 
-/// The BVH of `scene` translated by `-origin` (that of
-/// `scene.camera_relative()` where `origin` is the eye).
-pub fn relative_bvh(scene: &Scene, origin: glam::DVec3) -> bvh::Bvh {
-    let items = scene.prims.relative_bounds(origin);
-    let bounds: Vec<bvh::Aabb> = items.iter().map(|(b, _)| *b).collect();
+/// The BVH of `prims` translated by `-origin` (that of the scene's
+/// `camera_relative()` where `origin` is the eye).
+pub fn relative_bvh(prims: &Prims, origin: glam::DVec3) -> bvh::Bvh {
+    let items = prims.relative_bounds(origin);
+    let bounds: Vec<crate::base::aabb::Aabb> = items.iter().map(|(b, _)| *b).collect();
     let kinds: Vec<u32> = items.iter().map(|(_, id)| id.kind).collect();
     let mut tree = bvh::build(&bounds, &kinds);
     for order in &mut tree.orders {

@@ -4,10 +4,10 @@ use std::process::ExitCode;
 use clap::Args;
 use serde_json::json;
 
+use glint::condition;
 use glint::output::Outputs;
 use glint::raster::diff::{self, ErrorFigures, Tolerance};
 use glint::raster::io;
-use glint::{condition, stability};
 
 use super::render::{render_cpu_timed, render_gpu_timed};
 use super::{DeviceArgs, Precision, SceneArgs};
@@ -72,10 +72,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         (cpu64.image, cpu32.image, cpu64.times, cpu32.times);
     let (cpu64_s, cpu32_s) = (cpu64.render_s, cpu32.render_s);
     let unit = condition::unit(&reference);
-    let cpu32_err = diff::figures(
-        &stability::scaled(&cpu32_image, unit),
-        &stability::scaled(&reference, unit),
-    )?;
+    let cpu32_err = diff::figures(&cpu32_image.scaled(unit), &reference.scaled(unit))?;
     let tolerance = Tolerance::default();
     let bar = super::progress::bar(
         u64::from(scene.height) * u64::from(condition::TRIALS + 1),

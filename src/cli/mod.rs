@@ -228,7 +228,7 @@ pub fn inputs(path: &Path, scene: &Scene, device: &DeviceArgs) -> Vec<PathBuf> {
 /// directory of the repository.
 pub fn scene_files(dir: &str) -> anyhow::Result<Vec<PathBuf>> {
     use anyhow::Context;
-    glint::files::sorted(Path::new(dir), glint::files::is_scene).with_context(|| {
+    glint::files::sorted(Path::new(dir), glint::scene::is_scene).with_context(|| {
         format!("cannot list {dir}/ (name scene files, or run from the repository)")
     })
 }

@@ -6,9 +6,9 @@ use crate::accel::bvh::{Bvh, Node};
 use crate::prim::{PrimId, KINDS};
 use crate::stats::{Counter, Tally};
 
-use super::ray::Ray;
-use super::real::{Real, Vec3};
 use super::world::World;
+use crate::base::ray::Ray;
+use crate::base::real::{Real, Vec3};
 
 #[derive(Debug, Clone, Copy)]
 pub struct Hit<R> {

@@ -3,10 +3,8 @@
 //! intersect, shade, trace) so that a disagreement points at one stage.
 
 pub mod bound;
-pub(crate) mod exact;
 pub(crate) mod intersect;
 pub(crate) mod ray;
-pub(crate) mod real;
 pub(crate) mod shade;
 pub(crate) mod trace;
 pub(crate) mod world;
@@ -18,8 +16,8 @@ use crate::raster::region::Region;
 use crate::raster::Image;
 use crate::scene::Scene;
 
+pub use crate::base::real::Real;
 use crate::stats::{Counts, Tally};
-pub use real::Real;
 use world::World;
 
 /// Renders `scene` in precision `R`, rows in parallel, with the BVH where
@@ -126,7 +124,7 @@ fn render_tallied<R: Real, T: Tally>(
             let y = traced.y as usize + row_index;
             for (column, px) in row.iter_mut().enumerate() {
                 let x = traced.x as usize + column;
-                let mut sum = real::Vec3::zero();
+                let mut sum = crate::base::real::Vec3::zero();
                 for j in 0..samples {
                     for i in 0..samples {
                         let ray = ray::primary_ray(world, x as u32, y as u32, i, j);

@@ -1,20 +1,8 @@
 //! Eye rays through the virtual screen (docs/scene-format.md, Rays); mirrors shaders/ray.glsl.
 
-use super::real::{Real, Vec3};
 use super::world::World;
-
-#[derive(Debug, Clone, Copy)]
-pub struct Ray<R> {
-    pub origin: Vec3<R>,
-    /// Unit length.
-    pub dir: Vec3<R>,
-}
-
-impl<R: Real> Ray<R> {
-    pub fn at(&self, t: R) -> Vec3<R> {
-        self.origin + self.dir * t
-    }
-}
+use crate::base::ray::Ray;
+use crate::base::real::Real;
 
 /// The eye ray for sample (i, j) of pixel (x, y).
 pub fn primary_ray<R: Real>(w: &World<R>, x: u32, y: u32, i: u32, j: u32) -> Ray<R> {

@@ -4,9 +4,9 @@
 use crate::scene::LightKind;
 
 use super::intersect::occluded;
-use super::ray::Ray;
-use super::real::{Real, Vec3};
 use super::world::{MaterialR, World};
+use crate::base::ray::Ray;
+use crate::base::real::{Real, Vec3};
 use crate::prim::PrimId;
 use crate::stats::{Counter, RayType, Tally};
 

@@ -3,10 +3,10 @@
 //! once, and refraction rays wait on a stack, the most recent first.
 
 use super::intersect::{intersect_scene, lift, surface};
-use super::ray::Ray;
-use super::real::{Real, Vec3};
 use super::shade::shade;
 use super::world::World;
+use crate::base::ray::Ray;
+use crate::base::real::{Real, Vec3};
 use crate::prim::PrimId;
 use crate::stats::{Counter, RayType, Tally};
 

@@ -4,7 +4,7 @@ use crate::accel::{self, bvh::Bvh, Accel};
 use crate::prim::CpuPrims;
 use crate::scene::{LightKind, Scene};
 
-use super::real::{Real, Vec3};
+use crate::base::real::{Real, Vec3};
 
 pub struct World<R: Real> {
     pub eye: Vec3<R>,
@@ -64,8 +64,8 @@ impl<R: Real> World<R> {
         // by primitive: no translated copy of the scene is held.
         let origin = scene.camera.eye;
         let bvh = accel
-            .uses_bvh(scene)
-            .then(|| accel::relative_bvh(scene, origin));
+            .uses_bvh(&scene.prims)
+            .then(|| accel::relative_bvh(&scene.prims, origin));
         let cam = &scene.camera;
         let (eye, screen_center) = (cam.eye - origin, cam.screen_center - origin);
         Self {

@@ -12,11 +12,11 @@
 
 use std::fmt::Write;
 
-use super::interface::{declaration, GpuStruct};
 use super::layout::{globals, light, material, LIGHT_KINDS};
 use super::variant::{Block, Variant};
-use super::WORKGROUP;
 use crate::accel::bvh::node;
+use crate::base::interface::{declaration, GpuStruct};
+use crate::base::WORKGROUP;
 use crate::prim::{KindInfo, KINDS};
 use crate::stats::{Counter, RayType};
 

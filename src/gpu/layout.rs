@@ -5,13 +5,14 @@
 use bytemuck::{Pod, Zeroable};
 use glam::UVec4;
 
-use super::interface::{self, Array, GpuStruct};
-use super::{Intersect, Precision};
+use super::Intersect;
 use crate::accel::{self, Accel};
+use crate::base::interface::{self, Array, GpuStruct};
+use crate::base::Precision;
 use crate::prim::KINDS;
 use crate::scene::{LightKind, Scene};
 
-crate::gpu::interface::gpu_struct!(
+crate::base::interface::gpu_struct!(
     /// The uniform block.
     pub mod globals: "Globals" {
         eye: real4,
@@ -31,7 +32,7 @@ crate::gpu::interface::gpu_struct!(
     }
 );
 
-crate::gpu::interface::gpu_struct!(
+crate::base::interface::gpu_struct!(
     pub mod material: "Material" {
         /// rgb Ka
         ambient: real4,
@@ -44,7 +45,7 @@ crate::gpu::interface::gpu_struct!(
     }
 );
 
-crate::gpu::interface::gpu_struct!(
+crate::base::interface::gpu_struct!(
     pub mod light: "Light" {
         /// xyz (point, spot)
         position: real4,
@@ -137,7 +138,9 @@ impl Uploads {
             Intersect::Naive => scene,
         };
         let t0 = std::time::Instant::now();
-        let bvh = accel.uses_bvh(scene).then(|| accel::scene_bvh(scene));
+        let bvh = accel
+            .uses_bvh(&scene.prims)
+            .then(|| accel::scene_bvh(&scene.prims));
         let bvh_s = t0.elapsed().as_secs_f64();
         let orders: Vec<Option<Vec<u32>>> = (0..KINDS.len())
             .map(|k| {

@@ -4,7 +4,6 @@
 pub mod compile;
 mod error;
 pub(crate) mod generated;
-pub(crate) mod interface;
 pub(crate) mod layout;
 pub mod variant;
 pub(crate) mod vk;
@@ -18,6 +17,7 @@ use ash::vk as raw;
 use glam::UVec4;
 
 use crate::accel::Accel;
+pub use crate::base::{Precision, WORKGROUP};
 use crate::raster::region::Region;
 use crate::raster::Image;
 use crate::scene::Scene;
@@ -37,8 +37,6 @@ use vk::query::Timestamps;
 /// Rays per dispatch at most: small enough that no single dispatch runs long
 /// enough to trip a desktop GPU's watchdog, large enough to fill one.
 const RAYS_PER_DISPATCH: u64 = 1 << 22;
-/// The workgroup's width and height (interface.glsl declares it from this).
-pub const WORKGROUP: u32 = 8;
 /// The word the output tile is filled with before each dispatch: a NaN.
 const UNWRITTEN: u32 = 0xffff_ffff;
 
@@ -52,19 +50,6 @@ pub enum Intersect {
     Robust,
     /// The textbook forms with a fixed epsilon of 1e-4, in world coordinates.
     Naive,
-}
-
-/// The arithmetic: the shader's, or the CPU reference's (`glint render
-/// --precision`).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize, clap::ValueEnum)]
-#[serde(rename_all = "lowercase")]
-pub enum Precision {
-    /// Floats throughout, as the CPU reference's f32.
-    #[default]
-    F32,
-    /// Doubles throughout, the scene uploaded in doubles; needs the device's
-    /// shaderFloat64. GLSL has no double pow, so the specular power is f32.
-    F64,
 }
 
 /// How a [`Renderer`] is made: the device, validation, the shader files and

@@ -7,7 +7,8 @@ use ash::vk;
 
 use super::layout::Uploads;
 use super::vk::device::DeviceInfo;
-use super::{Intersect, Precision};
+use super::Intersect;
+use crate::base::Precision;
 use crate::prim::KINDS;
 use crate::scene::{LightKind, Scene};
 

@@ -20,11 +20,12 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::{Kind, Shape};
-use crate::accel::bvh::Aabb;
-use crate::cpu::exact::power;
-use crate::cpu::ray::Ray;
-use crate::cpu::real::{Real, Vec3};
-use crate::scene::{unit_vector, At, SceneError, Triple, MAX_COORDINATE};
+use crate::base::aabb::Aabb;
+use crate::base::exact::power;
+use crate::base::ray::Ray;
+use crate::base::real::{Real, Vec3};
+use crate::input::error::SceneError;
+use crate::input::field::{unit_vector, At, Triple, MAX_COORDINATE};
 
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -84,7 +85,7 @@ impl Cylinder {
     }
 }
 
-crate::gpu::interface::gpu_struct!(
+crate::base::interface::gpu_struct!(
     /// The cylinder or cone in the shader's buffers.
     pub mod gpu: "Cylinder" {
         /// xyz the axis' midpoint, w the radius there

@@ -4,8 +4,8 @@
 use glam::DVec3;
 
 use super::{Cylinder, CylinderR};
-use crate::cpu::ray::Ray;
-use crate::cpu::real::{Real, Vec3};
+use crate::base::ray::Ray;
+use crate::base::real::{Real, Vec3};
 use crate::prim::{Kind, Shape};
 use crate::rng::Xorshift;
 

@@ -9,7 +9,8 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::triangle::Triangle;
-use crate::scene::{unit_vector, At, SceneError, Triple};
+use crate::input::error::SceneError;
+use crate::input::field::{unit_vector, At, Triple};
 
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -78,17 +79,16 @@ pub fn load(f: &MeshFile, dir: &Path, at: &At, out: &mut Vec<Triangle>) -> Resul
         let smooth = m.normal_indices.len() == m.indices.len();
         for (face, corners) in m.indices.chunks_exact(3).enumerate() {
             let vertices = [point(corners[0]), point(corners[1]), point(corners[2])];
-            if let Some(bad) = vertices
-                .iter()
-                .find(|v| !v.is_finite() || v.abs().max_element() > crate::scene::MAX_COORDINATE)
-            {
+            if let Some(bad) = vertices.iter().find(|v| {
+                !v.is_finite() || v.abs().max_element() > crate::input::field::MAX_COORDINATE
+            }) {
                 return at.invalid(
                     "file",
                     format!(
                         "{shown}: object \"{}\", face {face}: vertex {bad} is not finite \
                          or beyond ±{:e} once scaled and translated",
                         crate::printable::text(&model.name),
-                        crate::scene::MAX_COORDINATE
+                        crate::input::field::MAX_COORDINATE
                     ),
                 );
             }

@@ -17,13 +17,14 @@ pub mod triangle;
 use glam::DVec3;
 use serde::de::DeserializeOwned;
 
-use crate::accel::bvh::Aabb;
-use crate::cpu::ray::Ray;
-use crate::cpu::real::{Real, Vec3};
-use crate::gpu::interface::{self, Array, GpuStruct};
-use crate::gpu::Precision;
-use crate::scene::{At, SceneError};
-use crate::stats::{Counter, Tally};
+use crate::base::aabb::Aabb;
+use crate::base::count::{Counter, Tally};
+use crate::base::interface::{self, Array, GpuStruct};
+use crate::base::ray::Ray;
+use crate::base::real::{Real, Vec3};
+use crate::base::Precision;
+use crate::input::error::SceneError;
+use crate::input::field::At;
 
 /// The table of kinds: the scene file's key of each kind's array, and the
 /// kind. Kinds with bounds come before the unbounded ones (tested): a tie in

@@ -6,10 +6,11 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::{Kind, Shape};
-use crate::accel::bvh::Aabb;
-use crate::cpu::ray::Ray;
-use crate::cpu::real::{Real, Vec3};
-use crate::scene::{At, SceneError, Triple};
+use crate::base::aabb::Aabb;
+use crate::base::ray::Ray;
+use crate::base::real::{Real, Vec3};
+use crate::input::error::SceneError;
+use crate::input::field::{At, Triple};
 
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -30,7 +31,7 @@ pub struct Plane {
     pub material: u32,
 }
 
-crate::gpu::interface::gpu_struct!(
+crate::base::interface::gpu_struct!(
     /// The plane in the shader's buffers.
     pub mod gpu: "Plane" {
         /// xyz

@@ -15,10 +15,11 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::{Kind, Shape};
-use crate::accel::bvh::Aabb;
-use crate::cpu::ray::Ray;
-use crate::cpu::real::{Real, Vec3};
-use crate::scene::{unit_vector, At, SceneError, Triple};
+use crate::base::aabb::Aabb;
+use crate::base::ray::Ray;
+use crate::base::real::{Real, Vec3};
+use crate::input::error::SceneError;
+use crate::input::field::{unit_vector, At, Triple};
 
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -58,7 +59,7 @@ impl Triangle {
     }
 }
 
-crate::gpu::interface::gpu_struct!(
+crate::base::interface::gpu_struct!(
     /// The triangle in the shader's buffers.
     pub mod gpu: "Triangle" {
         /// xyz the first vertex, w the geometric normal's x

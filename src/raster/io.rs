@@ -6,6 +6,7 @@ use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
 use super::{quantize, Image};
+use crate::input::{MAX_PIXELS, MAX_SIDE};
 use crate::output::{self, OutputError, Outputs, TargetKind};
 
 /// An image file that cannot be read or written; each names the file.
@@ -216,14 +217,6 @@ pub fn read(path: &Path) -> Result<Image, ImageIoError> {
         }
     }
 }
-
-/// The largest image any reader accepts: a side of 65,536 pixels and 2^28
-/// pixels in all (16384², the largest image glint renders), so that a
-/// crafted header can neither overflow the size arithmetic nor ask for
-/// more memory than such an image takes (3 GiB of f32 RGB).
-pub const MAX_SIDE: u32 = 1 << 16;
-/// The most pixels in all (see `MAX_SIDE`).
-pub const MAX_PIXELS: u64 = 1 << 28;
 
 fn check_size(w: u32, h: u32) -> Result<(), String> {
     if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE || u64::from(w) * u64::from(h) > MAX_PIXELS

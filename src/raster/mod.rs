@@ -16,6 +16,33 @@ pub struct Image {
 }
 
 impl Image {
+    /// The largest finite channel value, or 1 for an image that is all zero
+    /// (the scale errors are relative to).
+    pub fn peak(&self) -> f64 {
+        let p = self
+            .pixels
+            .iter()
+            .flatten()
+            .filter(|v| v.is_finite())
+            .fold(0.0f64, |m, v| m.max(f64::from(v.abs())));
+        if p > 0.0 {
+            p
+        } else {
+            1.0
+        }
+    }
+
+    /// This image divided by `by`, in f64 before rounding back, so that
+    /// 1e-30 and 1e30 scale without loss.
+    pub fn scaled(&self, by: f64) -> Image {
+        let pixels = self
+            .pixels
+            .iter()
+            .map(|p| p.map(|c| (f64::from(c) / by) as f32))
+            .collect();
+        Image::new(self.width, self.height, pixels)
+    }
+
     /// An image of these pixels (`width × height` of them; panics otherwise).
     pub fn new(width: u32, height: u32, pixels: Vec<[f32; 3]>) -> Self {
         assert_eq!(

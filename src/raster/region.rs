@@ -18,7 +18,7 @@ pub struct Region {
 
 /// Rows of a band are whole workgroups of the shader (its 8×8), so that no
 /// workgroup straddles two tiles.
-pub const BAND_ROWS: u32 = crate::gpu::WORKGROUP;
+pub const BAND_ROWS: u32 = crate::base::WORKGROUP;
 
 /// A region or tile that does not fit its image.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]

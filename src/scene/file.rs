@@ -5,32 +5,7 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-/// Three numbers, exactly: serde's own `[f64; 3]` takes the first three
-/// elements of a longer array and ignores the rest.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Triple(pub [f64; 3]);
-
-impl std::ops::Deref for Triple {
-    type Target = [f64; 3];
-    fn deref(&self) -> &[f64; 3] {
-        &self.0
-    }
-}
-
-impl Serialize for Triple {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        self.0.serialize(s)
-    }
-}
-
-impl<'de> Deserialize<'de> for Triple {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let v = Vec::<f64>::deserialize(d)?;
-        <[f64; 3]>::try_from(v.as_slice())
-            .map(Triple)
-            .map_err(|_| serde::de::Error::invalid_length(v.len(), &"exactly three numbers"))
-    }
-}
+use crate::input::field::Triple;
 
 /// The scene file's tables, with an array for each kind of primitive
 /// (`crate::prim`'s table; serde's `flatten` would not work with

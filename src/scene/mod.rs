@@ -3,9 +3,7 @@
 //! as an eye and a virtual screen).
 
 mod corners;
-mod error;
 mod file;
-mod locate;
 pub mod nff;
 mod rebase;
 mod split;
@@ -15,9 +13,10 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
-pub use error::SceneError;
-pub use file::{Sampling, Triple};
-pub use validate::{parse, parse_nff, unit_vector, At, Overrides, MAX_COORDINATE};
+pub use crate::input::error::SceneError;
+pub use crate::input::field::{Triple, MAX_COORDINATE};
+pub use file::Sampling;
+pub use validate::{parse, parse_nff, Overrides};
 
 pub use crate::prim::cylinder::Cylinder;
 pub use crate::prim::plane::Plane;
@@ -156,6 +155,11 @@ impl Light {
 pub fn is_nff(path: &Path) -> bool {
     path.extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("nff"))
+}
+
+/// Whether `path` names a scene file: TOML, or NFF by its extension.
+pub fn is_scene(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e == "toml") || is_nff(path)
 }
 
 impl Scene {

@@ -11,10 +11,11 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::file::{
-    CameraFile, ImageFile, LightFile, MaterialFile, RenderFile, Sampling, SceneFile, Triple,
+    CameraFile, ImageFile, LightFile, MaterialFile, RenderFile, Sampling, SceneFile,
 };
-use super::locate::{KeyPath, LineCol, Locate, Seg};
 use super::SceneError;
+use crate::input::field::Triple;
+use crate::input::locate::{KeyPath, LineCol, Locate, Seg};
 use crate::prim::cylinder::CylinderFile;
 use crate::prim::sphere::SphereFile;
 use crate::prim::triangle::{Triangle, TriangleFile};

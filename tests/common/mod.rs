@@ -10,10 +10,12 @@ use assert_cmd::assert::OutputAssertExt;
 use predicates::prelude::*;
 use predicates::str::{contains, starts_with};
 
+#[cfg(feature = "gpu")]
 use glint::gpu::{GpuOptions, Renderer};
 use glint::raster::Image;
 use glint::scene::{parse, Overrides, Scene};
 
+#[cfg(feature = "gpu")]
 pub fn gpu() -> Renderer {
     let options = GpuOptions {
         validate: true,
@@ -24,6 +26,7 @@ pub fn gpu() -> Renderer {
 }
 
 /// The glint binary with validation on, as a user runs it.
+#[cfg(feature = "gpu")]
 pub fn cmd() -> assert_cmd::Command {
     let mut c = assert_cmd::Command::new(env!("CARGO_BIN_EXE_glint"));
     c.env("GLINT_VALIDATION", "1");
@@ -31,12 +34,14 @@ pub fn cmd() -> assert_cmd::Command {
 }
 
 /// Runs the glint binary with validation on, as a user would.
+#[cfg(feature = "gpu")]
 pub fn glint(args: &[&str]) -> Output {
     cmd().args(args).output().expect("run glint")
 }
 
 /// A 40x30 CPU render of seed-fig3 to `out`, with `extra` arguments: a
 /// quick run for tests of what happens to the files around it.
+#[cfg(feature = "gpu")]
 pub fn small_cpu_render(out: &Path, extra: &[&str]) -> Output {
     let scene = repo().join("scenes/seed-fig3.toml");
     let mut args = vec![
@@ -96,6 +101,19 @@ pub fn assert_uniform(image: &Image, want: [f64; 3], rel: f64, what: &str) {
     }
 }
 
+/// The GPU's render where glint is built with it; none in the CPU-only
+/// build, whose tests check the CPU renderers alone.
+pub fn render_gpu_if_built(scene: &Scene) -> Option<Image> {
+    #[cfg(feature = "gpu")]
+    return Some(render_gpu(scene));
+    #[cfg(not(feature = "gpu"))]
+    {
+        let _ = scene;
+        None
+    }
+}
+
+#[cfg(feature = "gpu")]
 pub fn render_gpu(scene: &Scene) -> Image {
     let mut r = gpu();
     r.render(scene, &|_| {})

@@ -1,3 +1,5 @@
+//! The error of a scene that cannot be read or is not valid, naming where.
+
 use std::path::PathBuf;
 
 /// A scene that cannot be read or is not valid. Each variant names where.

@@ -99,35 +99,35 @@ macro_rules! gpu_struct {
             /// The values as the host computes them.
             #[derive(Debug, Clone, Copy, PartialEq, Default)]
             pub struct Values {
-                $( $(#[$fdoc])* pub $field: $crate::gpu::interface::gpu_struct!(@host $ty), )*
+                $( $(#[$fdoc])* pub $field: $crate::base::interface::gpu_struct!(@host $ty), )*
             }
 
-            const BYTES_64: usize = 0 $( + $crate::gpu::interface::gpu_struct!(@bytes64 $ty) )*;
+            const BYTES_64: usize = 0 $( + $crate::base::interface::gpu_struct!(@bytes64 $ty) )*;
 
             /// The f32 layout.
             #[repr(C)]
             #[derive(Debug, Clone, Copy, Pod, Zeroable)]
             pub struct F32 {
-                $( pub $field: $crate::gpu::interface::gpu_struct!(@f32 $ty), )*
+                $( pub $field: $crate::base::interface::gpu_struct!(@f32 $ty), )*
             }
 
             /// The f64 layout, padded to a multiple of 32 bytes.
             #[repr(C)]
             #[derive(Debug, Clone, Copy, Pod, Zeroable)]
             pub struct F64 {
-                $( pub $field: $crate::gpu::interface::gpu_struct!(@f64 $ty), )*
+                $( pub $field: $crate::base::interface::gpu_struct!(@f64 $ty), )*
                 pub pad: [u32; (32 - BYTES_64 % 32) % 32 / 4],
             }
 
-            impl $crate::gpu::interface::GpuStruct for Values {
+            impl $crate::base::interface::GpuStruct for Values {
                 type F32 = F32;
                 type F64 = F64;
                 const NAME: &'static str = $name;
                 const MEMBERS: &'static str = concat!(
-                    $( "    ", $crate::gpu::interface::gpu_struct!(@glsl $ty), " ", stringify!($field), ";\n", )*
+                    $( "    ", $crate::base::interface::gpu_struct!(@glsl $ty), " ", stringify!($field), ";\n", )*
                 );
                 fn f32(&self) -> F32 {
-                    F32 { $( $field: $crate::gpu::interface::gpu_struct!(@to32 $ty, self.$field), )* }
+                    F32 { $( $field: $crate::base::interface::gpu_struct!(@to32 $ty, self.$field), )* }
                 }
                 fn f64(&self) -> F64 {
                     F64 { $( $field: self.$field, )* pad: Zeroable::zeroed() }
@@ -142,7 +142,7 @@ pub(crate) use gpu_struct;
 mod tests {
     use super::*;
 
-    crate::gpu::interface::gpu_struct!(
+    crate::base::interface::gpu_struct!(
         pub mod probe: "Probe" {
             a: real4,
             b: uvec4,

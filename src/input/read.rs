@@ -7,6 +7,14 @@
 use std::io::Read;
 use std::path::Path;
 
+/// The largest image any reader accepts: a side of 65,536 pixels and 2^28
+/// pixels in all (16384², the largest image glint renders), so that a
+/// crafted header can neither overflow the size arithmetic nor ask for
+/// more memory than such an image takes (3 GiB of f32 RGB).
+pub const MAX_SIDE: u32 = 1 << 16;
+/// The most pixels in all (see `MAX_SIDE`).
+pub const MAX_PIXELS: u64 = 1 << 28;
+
 /// What a file is read as, and how large it may be.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kind {
@@ -18,7 +26,7 @@ pub enum Kind {
     /// A tile's sidecar: 1 MiB.
     Sidecar,
     /// A PFM image: the largest image any reader accepts
-    /// (`raster::io::MAX_PIXELS`, 12 bytes a pixel) and its header.
+    /// (`MAX_PIXELS`, 12 bytes a pixel) and its header.
     Pfm,
     /// A PNG or EXR image, whose decoder bounds its own allocations
     /// (`image::Limits`): a regular file of any size.
@@ -31,7 +39,7 @@ impl Kind {
         match self {
             Kind::Scene | Kind::Mesh => 256 << 20,
             Kind::Sidecar => 1 << 20,
-            Kind::Pfm => crate::raster::io::MAX_PIXELS * 12 + 4096,
+            Kind::Pfm => MAX_PIXELS * 12 + 4096,
             Kind::Image => u64::MAX >> 1,
         }
     }
