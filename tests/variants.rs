@@ -109,7 +109,7 @@ material = "m"
 "#,
     );
     let (variant, defines) = r.variant_for(&scene);
-    let blocks: Vec<Block> = variant.bindings().iter().map(|(b, _, _)| *b).collect();
+    let blocks: Vec<Block> = variant.blocks().iter().map(|(b, _)| *b).collect();
     // No planes, no lights, and the rest numbered without gaps.
     assert_eq!(
         blocks,
@@ -120,7 +120,7 @@ material = "m"
             Block::Pixels
         ]
     );
-    let numbers: Vec<u32> = variant.bindings().iter().map(|(_, n, _)| *n).collect();
+    let numbers: Vec<u32> = variant.blocks().iter().map(|(_, n)| *n).collect();
     assert_eq!(numbers, [0, 1, 2, 3]);
     let has = |name: &str, value: &str| {
         defines

@@ -191,9 +191,9 @@ pub struct Renderer {
     /// Keyed by the variant and the fingerprint of the shader sources, so
     /// that an edited shader file makes a new pipeline (`glint watch`),
     /// which replaces the variant's old one.
-    pipelines: HashMap<(Variant, u64), ComputePipeline>,
+    pipelines: HashMap<PipelineKey, ComputePipeline>,
     /// The pipelines dispatched at least once, so compiled by the driver.
-    driver_compiled: std::collections::HashSet<(Variant, u64)>,
+    driver_compiled: std::collections::HashSet<PipelineKey>,
     pipeline_cache: PipelineCache,
     /// The last render's buffers, which the next render of the same scene
     /// with the same pipeline uses again (`watch`, `report`, `compare`'s
@@ -219,8 +219,11 @@ pub struct Renderer {
 }
 
 /// Buffers bound to a pipeline's descriptor set, and what they hold.
+/// A pipeline: its variant, and the hash of its shader's sources and defines.
+type PipelineKey = (Variant, u64);
+
 struct Resident {
-    pipeline: (Variant, u64),
+    pipeline: PipelineKey,
     uploads: std::rc::Rc<Uploads>,
     tile: (u32, u32),
     /// In the variant's binding order; the output tile last.
@@ -267,6 +270,32 @@ pub fn tile_timeout(scene: &Scene, pixels: u64, bvh: bool) -> Duration {
 
 fn secs(d: Duration) -> f64 {
     d.as_secs_f64()
+}
+
+/// The counters' buffer as the counts, read once `done` has completed.
+fn read_counts(buffer: &Buffer, done: &Completed) -> Counts {
+    let words: &[[u32; 2]] = buffer.read(done, Counter::SLOTS);
+    Counts::from_slots(std::array::from_fn(|i| {
+        u64::from(words[i][1]) << 32 | u64::from(words[i][0])
+    }))
+}
+
+/// The error of a tile whose pixel was not finished: alpha 1 means every
+/// loop of the invocation ran to its end (shaders/budget.glsl), 0 that
+/// they were cut short, NaN (the fill before each dispatch) that the
+/// shader wrote nothing there. `(x0, y0, w)`: the tile's corner and width.
+fn unfinished(tile: &[[f32; 4]], (x0, y0, w): (u32, u32, u32), device: &str) -> Option<GpuError> {
+    let i = tile.iter().position(|s| s[3] != 1.0)?;
+    let (x, y) = (x0 + i as u32 % w, y0 + i as u32 / w);
+    Some(if tile[i][3].is_nan() {
+        GpuError::Unwritten { x, y }
+    } else {
+        GpuError::LoopBudget {
+            x,
+            y,
+            device: device.to_owned(),
+        }
+    })
 }
 
 impl Renderer {
@@ -422,7 +451,7 @@ impl Renderer {
         &mut self,
         variant: &Variant,
         defines: &[(String, Option<String>)],
-    ) -> Result<((Variant, u64), SetupTimes), GpuError> {
+    ) -> Result<(PipelineKey, SetupTimes), GpuError> {
         let sources = self.sources.for_variant(variant);
         let fingerprint = sources.fingerprint();
         let key = (variant.clone(), fingerprint);
@@ -536,7 +565,9 @@ impl Renderer {
         Ok((image, times, counts.expect("a counting render counts")))
     }
 
-    /// Renders `region` of `scene` (inside it), counting where `count`.
+    /// Renders `region` of `scene` (inside it), counting where `count`:
+    /// lays the scene out, builds its variant, makes its buffers resident,
+    /// lets the driver compile, then dispatches the tiles.
     fn render_maybe_counted(
         &mut self,
         scene: &Scene,
@@ -545,22 +576,14 @@ impl Renderer {
         count: bool,
         progress: &dyn Fn(u64),
     ) -> Result<(Image, RenderTimes, Option<Counts>), GpuError> {
-        if self.device.hung() {
-            return Err(GpuError::Lost);
-        }
+        self.check_can_render(settings)?;
         if let Some(grid) = scene.corner_grid() {
             let (image, times, counts) =
                 self.render_maybe_counted(&grid, settings, region.corners(), count, progress)?;
             return Ok((image.corner_mean(), times, counts));
         }
-        if settings.precision == Precision::F64 && !self.device.info.shader_float64 {
-            return Err(GpuError::Unsupported(format!(
-                "{} has no shaderFloat64: render in f32, or on the CPU in f64",
-                self.device.info.name
-            )));
-        }
         // Laying the scene out counts as upload (where this call did it), but
-        // not the compile between; the BVH build is reported apart.
+        // not the compiles; the BVH build is reported apart.
         let (up, layout_s) = self.uploads(scene, settings);
         let (variant, defines) = self.variant_of(scene, settings, &up, count);
         let (key, setup) = self.prepare(&variant, &defines)?;
@@ -572,67 +595,127 @@ impl Renderer {
         let t0 = Instant::now();
         up.check_storage_range(self.device.info.max_storage_buffer_range)
             .map_err(GpuError::Unsupported)?;
-        let (tile_w, tile_h) = self.tile_size(scene);
-        let reuse = self.resident.as_ref().is_some_and(|r| {
-            r.pipeline == key && r.tile == (tile_w, tile_h) && std::rc::Rc::ptr_eq(&r.uploads, &up)
-        });
-        if !reuse {
-            // The old buffers go first: the device is idle between renders.
-            self.resident = None;
-            let buffers = self.scene_buffers(&variant, &up, (tile_w, tile_h))?;
-            // SAFETY: the device is idle between renders; the buffers are
-            // kept in `resident` until the set is bound again or the
-            // pipeline is dropped, or leaked where a dispatch timed out.
-            unsafe { self.pipelines[&key].bind(&buffers.iter().collect::<Vec<_>>()) };
-            self.resident = Some(Resident {
-                pipeline: key.clone(),
-                uploads: up.clone(),
-                tile: (tile_w, tile_h),
-                buffers,
-            });
-        }
-        let pipeline = &self.pipelines[&key];
-        let buffers = &self.resident.as_ref().expect("set above").buffers;
-        let out = buffers.last().expect("the output binding is last");
-        if !self.driver_compiled.contains(&key) {
-            // The first dispatch of a pipeline pays for the driver's compile:
-            // one workgroup over an empty tile, so that the render's own
-            // watchdog below times shading alone.
-            let t = Instant::now();
-            let empty = Dispatch {
-                pipeline,
-                out: out.raw,
-                zero: None,
-                rect: TileRect(UVec4::ZERO),
-            };
-            match dispatch(&mut self.commands, None, &empty, COMPILE_TIMEOUT) {
-                Err(GpuError::Vk {
-                    result: raw::Result::TIMEOUT,
-                    ..
-                }) => {
-                    std::mem::forget(self.resident.take());
-                    return Err(GpuError::CompileTimeout {
-                        seconds: COMPILE_TIMEOUT.as_secs_f64(),
-                    });
-                }
-                other => {
-                    other?;
-                }
-            }
-            times.setup.driver_compile_s = secs(t.elapsed());
-            self.driver_compiled.insert(key.clone());
-        }
-        // The counters start at zero on the device, in the first dispatch.
-        let mut counters = variant.binding_of(Block::Counts).map(|at| buffers[at].raw);
-        // The last tile's token, for reading the counters.
-        let mut counted = None;
-
+        let tile = self.tile_size(scene);
+        self.make_resident(&key, &variant, &up, tile)?;
         times.upload_s = layout_s + secs(t0.elapsed());
         times.bvh_s = up.bvh_s;
+        times.setup.driver_compile_s = self.compile_on_driver(&key)?;
+        let (pixels, counts) =
+            self.dispatch_tiles(scene, &key, &variant, region, tile, &mut times, progress)?;
+        self.check_validation()?;
+        Ok((
+            Image::new(region.width, region.height, pixels),
+            times,
+            counts,
+        ))
+    }
 
-        // Dispatches over the region, in the image's own pixel coordinates.
-        let (width, height) = (region.width, region.height);
-        let (x_end, y_end) = (region.x + width, region.y + height);
+    /// Refuses a render this renderer cannot do: on a lost device, or in
+    /// f64 on a device without doubles.
+    fn check_can_render(&self, settings: &RenderSettings) -> Result<(), GpuError> {
+        if self.device.hung() {
+            return Err(GpuError::Lost);
+        }
+        if settings.precision == Precision::F64 && !self.device.info.shader_float64 {
+            return Err(GpuError::Unsupported(format!(
+                "{} has no shaderFloat64: render in f32, or on the CPU in f64",
+                self.device.info.name
+            )));
+        }
+        Ok(())
+    }
+
+    /// Makes `up`'s buffers, with an output tile of `tile` pixels, the ones
+    /// pipeline `key` is bound to, unless they already are.
+    fn make_resident(
+        &mut self,
+        key: &PipelineKey,
+        variant: &Variant,
+        up: &std::rc::Rc<Uploads>,
+        tile: (u32, u32),
+    ) -> Result<(), GpuError> {
+        let reuse = self.resident.as_ref().is_some_and(|r| {
+            r.pipeline == *key && r.tile == tile && std::rc::Rc::ptr_eq(&r.uploads, up)
+        });
+        if reuse {
+            return Ok(());
+        }
+        // The old buffers go first: the device is idle between renders.
+        self.resident = None;
+        let buffers = self.scene_buffers(variant, up, tile)?;
+        // SAFETY: the device is idle between renders; the buffers are
+        // kept in `resident` until the set is bound again or the
+        // pipeline is dropped, or leaked where a dispatch timed out.
+        unsafe { self.pipelines[key].bind(&buffers.iter().collect::<Vec<_>>()) };
+        self.resident = Some(Resident {
+            pipeline: key.clone(),
+            uploads: up.clone(),
+            tile,
+            buffers,
+        });
+        Ok(())
+    }
+
+    /// The first dispatch of pipeline `key`, where the driver compiles its
+    /// shader: one workgroup over an empty tile, under `COMPILE_TIMEOUT`,
+    /// so that the render's own watchdog times shading alone. Its seconds;
+    /// 0 for a pipeline the driver has compiled already.
+    fn compile_on_driver(&mut self, key: &PipelineKey) -> Result<f64, GpuError> {
+        if self.driver_compiled.contains(key) {
+            return Ok(0.0);
+        }
+        let t = Instant::now();
+        let resident = self.resident.as_ref().expect("made resident first");
+        let empty = Dispatch {
+            pipeline: &self.pipelines[key],
+            out: resident
+                .buffers
+                .last()
+                .expect("the output binding is last")
+                .raw,
+            zero: None,
+            rect: TileRect(UVec4::ZERO),
+        };
+        match dispatch(&mut self.commands, None, &empty, COMPILE_TIMEOUT) {
+            Err(GpuError::Vk {
+                result: raw::Result::TIMEOUT,
+                ..
+            }) => {
+                // The device may still read and write these: never free them.
+                std::mem::forget(self.resident.take());
+                return Err(GpuError::CompileTimeout {
+                    seconds: COMPILE_TIMEOUT.as_secs_f64(),
+                });
+            }
+            other => {
+                other?;
+            }
+        }
+        self.driver_compiled.insert(key.clone());
+        Ok(secs(t.elapsed()))
+    }
+
+    /// Dispatches `region` in tiles of `tile` pixels, in the image's own
+    /// pixel coordinates, each under its watchdog; the region's pixels, and
+    /// the counts where `variant` counts.
+    #[allow(clippy::too_many_arguments)]
+    fn dispatch_tiles(
+        &mut self,
+        scene: &Scene,
+        key: &PipelineKey,
+        variant: &Variant,
+        region: Region,
+        (tile_w, tile_h): (u32, u32),
+        times: &mut RenderTimes,
+        progress: &dyn Fn(u64),
+    ) -> Result<(Vec<[f32; 3]>, Option<Counts>), GpuError> {
+        let pipeline = &self.pipelines[key];
+        let buffers = &self.resident.as_ref().expect("made resident first").buffers;
+        let out = buffers.last().expect("the output binding is last");
+        // The counters start at zero on the device, in the first dispatch.
+        let mut counters = variant.binding_of(Block::Counts).map(|at| buffers[at].raw);
+        let mut last = None;
+        let (x_end, y_end) = (region.x + region.width, region.y + region.height);
         let mut pixels = vec![[0.0f32; 3]; region.pixel_count() as usize];
         for y0 in (region.y..y_end).step_by(tile_h as usize) {
             for x0 in (region.x..x_end).step_by(tile_w as usize) {
@@ -641,12 +724,11 @@ impl Renderer {
                 let timeout = self.timeout.unwrap_or_else(|| {
                     tile_timeout(scene, u64::from(w) * u64::from(h), variant.bvh_layouts > 0)
                 });
-                let rect = TileRect(UVec4::new(x0, y0, w, h));
                 let job = Dispatch {
                     pipeline,
                     out: out.raw,
                     zero: counters.take(),
-                    rect,
+                    rect: TileRect(UVec4::new(x0, y0, w, h)),
                 };
                 let done = dispatch(&mut self.commands, self.timestamps.as_ref(), &job, timeout);
                 let (done, on_device) = match done {
@@ -671,24 +753,11 @@ impl Renderer {
                 }
                 let t2 = Instant::now();
                 let tile: &[[f32; 4]] = out.read(&done, w as usize * h as usize);
-                // Alpha 1: every loop of the invocation ran to its end
-                // (shaders/budget.glsl); 0: they were cut short; NaN, the
-                // fill below: the shader wrote nothing there.
-                if let Some(i) = tile.iter().position(|s| s[3] != 1.0) {
-                    let (x, y) = (x0 + i as u32 % w, y0 + i as u32 / w);
-                    return Err(if tile[i][3].is_nan() {
-                        GpuError::Unwritten { x, y }
-                    } else {
-                        GpuError::LoopBudget {
-                            x,
-                            y,
-                            device: self.device.info.name.clone(),
-                        }
-                    });
+                if let Some(e) = unfinished(tile, (x0, y0, w), &self.device.info.name) {
+                    return Err(e);
                 }
                 for (row, src) in tile.chunks_exact(w as usize).enumerate() {
-                    let start = (y0 - region.y) as usize * width as usize
-                        + row * width as usize
+                    let start = ((y0 - region.y) as usize + row) * region.width as usize
                         + (x0 - region.x) as usize;
                     for (dst, s) in pixels[start..start + w as usize].iter_mut().zip(src) {
                         *dst = [s[0], s[1], s[2]];
@@ -697,18 +766,15 @@ impl Renderer {
                 times.dispatch_s += secs(t2 - t1);
                 times.readback_s += secs(t2.elapsed());
                 progress(u64::from(w) * u64::from(h));
-                counted = Some(done);
+                last = Some(done);
             }
         }
+        let buffers = &self.resident.as_ref().expect("made resident first").buffers;
         let counts = variant.binding_of(Block::Counts).map(|at| {
-            let done = counted.as_ref().expect("a region has at least one tile");
-            let words: &[[u32; 2]] = buffers[at].read(done, Counter::SLOTS);
-            Counts::from_slots(std::array::from_fn(|i| {
-                u64::from(words[i][1]) << 32 | u64::from(words[i][0])
-            }))
+            let done = last.as_ref().expect("a region has at least one tile");
+            read_counts(&buffers[at], done)
         });
-        self.check_validation()?;
-        Ok((Image::new(width, height, pixels), times, counts))
+        Ok((pixels, counts))
     }
 
     /// The buffers of `variant`'s bindings, in order, holding `up` (the

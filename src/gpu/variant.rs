@@ -161,11 +161,12 @@ impl Features {
         // renders every mix of kinds and light types). Those take storage
         // buffers.
         let range = device.max_uniform_buffer_range as usize;
-        let spheres_only = kinds.iter().skip(1).all(|n| *n == 0);
+        let spheres = scene.prims.spheres.len();
+        let spheres_only = spheres == scene.prims.len();
         let positioned = has(LightKind::Point) || has(LightKind::Spot);
         let experiment = Experiment::from_env();
         let fits = (experiment.uniforms_always
-            || kinds[0] > 0 && !(spheres_only && lights > 0 && !positioned))
+            || spheres > 0 && !(spheres_only && lights > 0 && !positioned))
             && !experiment.storage
             && uploads.array_bytes().iter().all(|b| *b <= range)
             && uploads
@@ -308,9 +309,18 @@ impl Variant {
         d
     }
 
+    /// The blocks the shader declares, with their binding numbers (dense
+    /// from 0, in the order of docs/shaders.md's table).
+    pub fn blocks(&self) -> Vec<(Block, u32)> {
+        self.bindings()
+            .into_iter()
+            .map(|(b, n, _)| (b, n))
+            .collect()
+    }
+
     /// The blocks the shader declares, numbered densely from 0, with their
     /// descriptor types.
-    pub fn bindings(&self) -> Vec<(Block, u32, vk::DescriptorType)> {
+    pub(crate) fn bindings(&self) -> Vec<(Block, u32, vk::DescriptorType)> {
         let scene_type = if self.in_uniforms() {
             vk::DescriptorType::UNIFORM_BUFFER
         } else {
@@ -353,7 +363,7 @@ impl Variant {
     }
 
     /// (binding, descriptor type) for the descriptor set layout.
-    pub fn descriptor_layout(&self) -> Vec<(u32, vk::DescriptorType)> {
+    pub(crate) fn descriptor_layout(&self) -> Vec<(u32, vk::DescriptorType)> {
         self.bindings()
             .into_iter()
             .map(|(_, b, t)| (b, t))

@@ -177,6 +177,12 @@ impl Kind for Cylinder {
         }
     }
 
+    #[cfg(test)]
+    fn example(material: u32) -> Self {
+        let (base, apex) = (DVec3::new(-1.0, 0.0, 0.5), DVec3::new(1.0, 0.5, 1.0));
+        Cylinder::new(base, 0.5, apex, 0.25, material).expect("a cylinder with an axis")
+    }
+
     fn cpu<R: Real>(&self) -> CylinderR<R> {
         CylinderR {
             center: Vec3::of(self.center),

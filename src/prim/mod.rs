@@ -67,16 +67,23 @@ pub trait Kind: Clone + PartialEq + std::fmt::Debug + Send + Sync + 'static {
 
     /// Checks the file's table (`at` names where it is) and resolves it.
     fn check(file: &Self::File, at: &At) -> Result<Self, SceneError>;
+    /// The index of its material in the scene's list.
     fn material(&self) -> u32;
     /// The same primitive with `origin` moved to 0 (camera-relative
     /// coordinates, `Scene::camera_relative`).
     fn relative_to(&self, origin: DVec3) -> Self;
     /// Its box; None where it is unbounded.
     fn bounds(&self) -> Option<Aabb>;
-    /// Its struct in the shader's buffers; `file_index`: its place among
-    /// its kind in the scene file (ties in t go to the lower).
+    /// Its struct in the shader's buffers, whose last member is `uvec4
+    /// meta`: x the material, y `file_index`, its place among its kind in
+    /// the scene file (ties in t go to the lower); z and w are the kind's.
     fn gpu(&self, file_index: u32) -> Self::Gpu;
+    /// Its form in the CPU reference's arithmetic.
     fn cpu<R: Real>(&self) -> Self::Cpu<R>;
+    /// One primitive of this kind, of material `material`, for the tests
+    /// that every kind must pass (src/prim/contract_tests.rs).
+    #[cfg(test)]
+    fn example(material: u32) -> Self;
 }
 
 /// A primitive as the CPU reference traces it; mirrors its GLSL include.
@@ -347,6 +354,9 @@ macro_rules! generate {
 }
 
 with_kinds!(generate);
+
+#[cfg(test)]
+mod contract_tests;
 
 #[cfg(test)]
 mod tests {

@@ -91,6 +91,15 @@ impl Kind for Plane {
         }
     }
 
+    #[cfg(test)]
+    fn example(material: u32) -> Self {
+        Plane {
+            point: DVec3::new(0.0, -1.0, 0.0),
+            normal: DVec3::Y,
+            material,
+        }
+    }
+
     fn cpu<R: Real>(&self) -> PlaneR<R> {
         PlaneR {
             point: Vec3::of(self.point),

@@ -93,6 +93,15 @@ impl Kind for Sphere {
         }
     }
 
+    #[cfg(test)]
+    fn example(material: u32) -> Self {
+        Sphere {
+            center: DVec3::new(0.5, -1.0, 2.0),
+            radius: 0.75,
+            material,
+        }
+    }
+
     fn cpu<R: Real>(&self) -> SphereR<R> {
         SphereR {
             center: Vec3::of(self.center),

@@ -159,6 +159,16 @@ impl Kind for Triangle {
         }
     }
 
+    #[cfg(test)]
+    fn example(material: u32) -> Self {
+        let vertices = [
+            DVec3::new(-1.0, -0.5, 1.0),
+            DVec3::new(1.5, -0.25, 1.5),
+            DVec3::new(0.0, 1.0, 2.0),
+        ];
+        Triangle::new(vertices, None, material).expect("a triangle with area")
+    }
+
     fn cpu<R: Real>(&self) -> TriangleR<R> {
         TriangleR {
             vertices: self.vertices.map(Vec3::of),

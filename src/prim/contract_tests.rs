@@ -1,0 +1,174 @@
+//! The contract every kind keeps, checked for each kind of the table and
+//! failing with its name (docs/shaders.md, Adding a kind). What the
+//! generated code assumes of a kind, and nothing else says:
+//!
+//! - its GPU struct ends with `uvec4 meta`, x the material and y the
+//!   primitive's place among its kind in the scene file (the scans read
+//!   `p.meta.x` and `p.meta.y`);
+//! - its include defines `<name>_intersect`, `<name>_shape` (a hit keeps
+//!   one `vec4r` of shape), `<name>_normal` and, where `Kind::SHADING`,
+//!   `<name>_shading`, with the signatures the scans call;
+//! - a bounded kind has a box, which holds it and moves with it; an
+//!   unbounded kind has none;
+//! - its CPU form has the same material.
+
+use glam::DVec3;
+
+use super::*;
+
+/// What `K` breaks of the contract, each naming the kind.
+fn problems<K: Kind>() -> Vec<String> {
+    let name = K::NAME;
+    let mut out = Vec::new();
+    let material = 5;
+    let file_index = 7;
+    let p = K::example(material);
+
+    let members = <K::Gpu as GpuStruct>::MEMBERS;
+    if !members.ends_with("    uvec4 meta;\n") {
+        out.push(format!(
+            "{name}: its GPU struct's last member is not `uvec4 meta`: {members:?}"
+        ));
+    } else {
+        let bytes = bytemuck::bytes_of(&p.gpu(file_index).f32()).to_vec();
+        let meta: [u32; 4] = bytemuck::pod_read_unaligned(&bytes[bytes.len() - 16..]);
+        if meta[0] != material || meta[1] != file_index {
+            out.push(format!(
+                "{name}: meta is {meta:?}: x must be the material ({material}), y the file index ({file_index})"
+            ));
+        }
+    }
+
+    let s = <K::Gpu as GpuStruct>::NAME;
+    let mut wanted = vec![
+        format!("real {name}_intersect(Ray r, {s} "),
+        format!("vec4r {name}_shape({s} "),
+        format!("vec3r {name}_normal(uint i, vec4r shape, vec3r p)"),
+    ];
+    if K::SHADING {
+        wanted.push(format!(
+            "vec3r {name}_shading(uint i, vec3r p, vec3r geometric)"
+        ));
+    }
+    for w in wanted {
+        if !K::GLSL.lines().any(|l| l.starts_with(&w)) {
+            out.push(format!(
+                "{name}: its include (shaders/prim/{name}.glsl) does not define `{w}…`"
+            ));
+        }
+    }
+
+    let cpu = p.cpu::<f64>();
+    if cpu.material() != material as usize || p.material() != material {
+        out.push(format!(
+            "{name}: the CPU form's material is {}, not {material}",
+            cpu.material()
+        ));
+    }
+
+    let by = DVec3::new(3.0, -2.0, 0.5);
+    match (K::BOUNDED, p.bounds(), p.relative_to(by).bounds()) {
+        (true, Some(b), Some(moved)) => {
+            let shifted = (moved.lo - (b.lo - by)).abs().max_element()
+                + (moved.hi - (b.hi - by)).abs().max_element();
+            if shifted > 1e-12 {
+                out.push(format!(
+                    "{name}: its box {b:?} does not move with it: {moved:?}"
+                ));
+            }
+            // A ray from outside the box through its centre meets the
+            // primitive inside the box.
+            let origin = b.center() - DVec3::new(0.0, 0.0, 10.0 + (b.hi.z - b.lo.z));
+            let ray = Ray {
+                origin: Vec3::of(origin),
+                dir: Vec3::of(DVec3::Z),
+            };
+            match cpu.intersect(&ray, false) {
+                Some(t) => {
+                    let hit = origin + DVec3::Z * t;
+                    let slack = 1e-9 * (1.0 + hit.abs().max_element());
+                    if (hit - b.lo).min_element() < -slack || (b.hi - hit).min_element() < -slack {
+                        out.push(format!("{name}: a hit at {hit} lies outside its box {b:?}"));
+                    }
+                }
+                None => out.push(format!(
+                    "{name}: its example is not hit along +z through its box's centre, so the box goes unchecked"
+                )),
+            }
+        }
+        (false, None, None) => {}
+        (bounded, b, _) => out.push(format!(
+            "{name}: BOUNDED is {bounded} but its example's box is {b:?}"
+        )),
+    }
+    out
+}
+
+macro_rules! every_kind {
+    ($($key:ident : $kind:ty),* $(,)?) => {
+        /// Every kind's problems, in the table's order.
+        fn every_kind_problems() -> Vec<String> {
+            let mut out = Vec::new();
+            $(out.extend(problems::<$kind>());)*
+            out
+        }
+    };
+}
+with_kinds!(every_kind);
+
+#[test]
+fn every_kind_keeps_the_contract() {
+    let problems = every_kind_problems();
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// A kind that breaks the contract is named: the sphere with its meta's
+/// x and y swapped, as a kind that wrote them the other way would be.
+#[derive(Debug, Clone, PartialEq)]
+struct SwappedMeta(sphere::Sphere);
+
+impl Kind for SwappedMeta {
+    type File = sphere::SphereFile;
+    type Gpu = sphere::gpu::Values;
+    type Cpu<R: Real> = sphere::SphereR<R>;
+    const NAME: &'static str = "swapped";
+    const GLSL: &'static str = "real swapped_intersect(Ray r, Sphere s, bool from_self);\n";
+    const BOUNDED: bool = true;
+
+    fn check(file: &Self::File, at: &At) -> Result<Self, SceneError> {
+        sphere::Sphere::check(file, at).map(SwappedMeta)
+    }
+    fn material(&self) -> u32 {
+        self.0.material()
+    }
+    fn relative_to(&self, origin: DVec3) -> Self {
+        SwappedMeta(self.0.relative_to(origin))
+    }
+    fn bounds(&self) -> Option<Aabb> {
+        self.0.bounds()
+    }
+    fn gpu(&self, file_index: u32) -> Self::Gpu {
+        let mut g = self.0.gpu(file_index);
+        g.meta.swap(0, 1);
+        g
+    }
+    fn cpu<R: Real>(&self) -> Self::Cpu<R> {
+        self.0.cpu()
+    }
+    fn example(material: u32) -> Self {
+        SwappedMeta(sphere::Sphere::example(material))
+    }
+}
+
+#[test]
+fn a_kind_that_breaks_the_contract_is_named() {
+    let problems = problems::<SwappedMeta>();
+    assert_eq!(problems.len(), 3, "{problems:#?}");
+    assert!(
+        problems[0].starts_with("swapped: meta is [7, 5, 0, 0]"),
+        "{}",
+        problems[0]
+    );
+    assert!(problems[1].contains("swapped_shape"), "{}", problems[1]);
+    assert!(problems[2].contains("swapped_normal"), "{}", problems[2]);
+}
