@@ -1,5 +1,5 @@
 // Exact sums and squares for the robust intersections (sphere.glsl,
-// cylinder.glsl); mirrors src/cpu/exact.rs.
+// cylinder.glsl); mirrors src/base/exact.rs.
 
 // a + b as hi + lo exactly (Knuth's TwoSum); `precise` keeps the compiler
 // from folding (s - a) back into b.
@@ -29,7 +29,7 @@ void two_square(real a, out real hi, out real lo) {
 }
 
 // f.f - r^2 with every rounding of the squares and sums carried along; see
-// power() in src/cpu/exact.rs for why the plain form is not enough.
+// power() in src/base/exact.rs for why the plain form is not enough.
 //
 // POWER_FILTER (a device that skips a branch no invocation takes: llvmpipe
 // from Mesa 24.3, a GPU): where f.f >= 2 r^2 the difference keeps at least
