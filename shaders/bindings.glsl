@@ -56,6 +56,9 @@
 #ifndef SHADOWS_ON
 #define SHADOWS_ON (g.lights.y != 0u)
 #endif
+#ifndef SPD_RAYS
+#define SPD_RAYS (g.lights.z != 0u)
+#endif
 #ifndef MAX_DEPTH
 #define MAX_DEPTH g.size.w
 // The refraction stack's size: the deepest any scene may be (MAX_DEPTH in

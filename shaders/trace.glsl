@@ -73,15 +73,20 @@ vec3r trace(Ray ray) {
             Material m = materials[hit.material];
             color += shade(above, n, -ray.dir, m, hit.prim) * weight;
             real kr = m.params.y;
+            // The SPD's procedure (SPD_RAYS) spawns a ray wherever the
+            // surface reflects or transmits, whatever the weight, and a
+            // reflection ray at a transmitter too.
+            bool spd_reflects = SPD_RAYS && kr != 0.0;
 #if HAS_TRANSMISSION
             real kt = m.params.z;
+            spd_reflects = spd_reflects || SPD_RAYS && kt > 0.0;
             if (depth < MAX_DEPTH && kt > 0.0) {
                 // Entering where the ray meets the outward side: eta = 1/ior.
                 real eta = back ? m.params.w : 1.0 / m.params.w;
                 vec3r t;
                 if (!refract_ray(ray.dir, n, eta, t)) {
                     kr += kt;
-                } else if (weight * kt != 0.0) {
+                } else if (SPD_RAYS || weight * kt != 0.0) {
                     COUNT(COUNT_REFRACT);
                     vec3r below = leave(hit, p, ray.origin, -face);
                     stack[top] = Branch(Ray(below, t), hit.prim, depth + 1u, weight * kt);
@@ -89,7 +94,7 @@ vec3r trace(Ray ray) {
                 }
             }
 #endif
-            follow = depth < MAX_DEPTH && kr != 0.0 && weight * kr != 0.0;
+            follow = depth < MAX_DEPTH && (kr != 0.0 && weight * kr != 0.0 || spd_reflects);
             if (follow) {
                 COUNT(COUNT_REFLECT);
                 weight *= kr;

@@ -74,12 +74,16 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
                 color += shade(w, above, n, -ray.dir, m, hit.prim, tally) * weight;
                 let mut kr = m.reflectivity;
                 let kt = m.transmittance;
+                // The SPD's procedure spawns a ray wherever the surface
+                // reflects or transmits, whatever the weight, and a
+                // reflection ray at a transmitter too.
+                let spd_reflects = w.spd_rays && (kr != R::zero() || kt > R::zero());
                 if depth < w.max_depth && kt > R::zero() {
                     // Entering where the ray meets the outward side: eta = 1/ior.
                     let eta = if back { m.ior } else { R::one() / m.ior };
                     match refract(ray.dir, n, eta) {
                         None => kr += kt,
-                        Some(t) if weight * kt != R::zero() => {
+                        Some(t) if w.spd_rays || weight * kt != R::zero() => {
                             tally.count(Counter::Refract);
                             stack.push(Branch {
                                 ray: Ray {
@@ -94,7 +98,8 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
                         Some(_) => {}
                     }
                 }
-                follow = depth < w.max_depth && kr != R::zero() && weight * kr != R::zero();
+                follow = depth < w.max_depth
+                    && (kr != R::zero() && weight * kr != R::zero() || spd_reflects);
                 if follow {
                     tally.count(Counter::Reflect);
                     weight = weight * kr;

@@ -20,6 +20,8 @@ pub struct World<R: Real> {
     pub lights: Vec<LightR<R>>,
     pub background: Vec3<R>,
     pub shadows: bool,
+    /// The SPD's ray tree (`Scene::spd_rays`).
+    pub spd_rays: bool,
     pub max_depth: u32,
     /// The image traced: (w+1)×(h+1) where the scene samples pixel
     /// corners (`Scene::corner_grid`), which `render_world` then averages.
@@ -106,6 +108,7 @@ impl<R: Real> World<R> {
                 .collect(),
             background: Vec3::of(scene.background),
             shadows: scene.shadows,
+            spd_rays: scene.spd_rays,
             max_depth: scene.max_depth,
             width: scene.width,
             height: scene.height,

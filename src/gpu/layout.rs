@@ -23,7 +23,7 @@ crate::base::interface::gpu_struct!(
         background: real4,
         /// width, height, samples, max_depth
         size: uvec4,
-        /// x lights, y shadows (0 or 1)
+        /// x lights, y shadows (0 or 1), z the SPD's ray tree (0 or 1)
         lights: uvec4,
         /// primitives of kinds 0..4 of `prim::KINDS`
         kinds_lo: uvec4,
@@ -97,7 +97,12 @@ fn globals(scene: &Scene) -> globals::Values {
         screen_up: xyz(cam.screen_up),
         background: xyz(scene.background),
         size: [scene.width, scene.height, scene.samples, scene.max_depth],
-        lights: [scene.lights.len() as u32, u32::from(scene.shadows), 0, 0],
+        lights: [
+            scene.lights.len() as u32,
+            u32::from(scene.shadows),
+            u32::from(scene.spd_rays),
+            0,
+        ],
         kinds_lo: [kinds[0], kinds[1], kinds[2], kinds[3]],
         kinds_hi: [kinds[4], kinds[5], kinds[6], kinds[7]],
     }

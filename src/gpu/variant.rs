@@ -93,6 +93,8 @@ pub struct Features {
     pub shadows: bool,
     /// A material transmits: the shader keeps a stack of refraction rays.
     pub transmits: bool,
+    /// The SPD's ray tree (`Scene::spd_rays`).
+    pub spd_rays: bool,
     /// Ray segments traced: 1 where no material reflects or transmits.
     pub max_depth: u32,
     /// Samples a side of each pixel.
@@ -189,6 +191,7 @@ impl Features {
             }),
             shadows: scene.shadows && objects && lights > 0,
             transmits: transmits && scene.max_depth > 1,
+            spd_rays: scene.spd_rays,
             max_depth: if reflects || transmits {
                 scene.max_depth
             } else {
@@ -215,6 +218,7 @@ impl Features {
         def("HAS_SHADOWS", flag(self.shadows));
         def("HAS_TRANSMISSION", flag(self.transmits));
         def("SHADOWS_ON", "true".to_owned());
+        def("SPD_RAYS", self.spd_rays.to_string());
         def("MAX_DEPTH", format!("{}u", self.max_depth));
         def("SAMPLES", format!("{}u", self.samples));
         def("LIGHT_COUNT", format!("{}u", self.lights));

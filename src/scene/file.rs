@@ -111,6 +111,10 @@ pub struct RenderFile {
     pub shadows: bool,
     #[serde(default)]
     pub background: Triple,
+    /// The SPD's ray tree: a ray wherever a surface reflects or transmits,
+    /// whatever its weight (docs/spd.md). Written only where set.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub spd_rays: bool,
 }
 
 impl Default for RenderFile {
@@ -119,6 +123,7 @@ impl Default for RenderFile {
             max_depth: three(),
             shadows: yes(),
             background: Triple::default(),
+            spd_rays: false,
         }
     }
 }

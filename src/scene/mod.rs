@@ -58,6 +58,12 @@ pub struct Scene {
     pub max_depth: u32,
     /// Whether shadow rays are cast.
     pub shadows: bool,
+    /// Whether the ray tree is the SPD's testing procedure's: a reflection
+    /// ray wherever a surface reflects or transmits and a refraction ray
+    /// wherever it transmits, also where the path's weight or the ray's own
+    /// is 0 (docs/spd.md). Such rays change no pixel; they are traced and
+    /// counted. NFF scenes set it.
+    pub spd_rays: bool,
     /// The colour of a ray that meets nothing.
     pub background: DVec3,
     /// The eye and the virtual screen.

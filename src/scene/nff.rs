@@ -408,6 +408,7 @@ impl<'a> Reader<'a> {
                 max_depth: SPD_DEPTH,
                 shadows: true,
                 background,
+                spd_rays: true,
             },
             camera,
             materials,

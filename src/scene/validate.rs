@@ -236,6 +236,7 @@ impl Check<'_> {
             srgb: raw.image.srgb,
             max_depth,
             shadows: raw.render.shadows,
+            spd_rays: raw.render.spd_rays,
             background,
             camera,
             materials,
