@@ -56,6 +56,9 @@
 #ifndef SHADOWS_ON
 #define SHADOWS_ON (g.lights.y != 0u)
 #endif
+#ifndef HAS_TEXTURES
+#define HAS_TEXTURES 1
+#endif
 #ifndef SPD_RAYS
 #define SPD_RAYS (g.lights.z != 0u)
 #endif

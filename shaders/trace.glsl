@@ -7,6 +7,8 @@
 // material (HAS_TRANSMISSION 0) there is no stack and this is the plain
 // reflection loop.
 
+#include "texture.glsl"
+
 #if HAS_TRANSMISSION
 // A refraction ray waiting to be traced.
 struct Branch {
@@ -71,6 +73,9 @@ vec3r trace(Ray ray) {
             // Where the rays that leave on the ray's side start.
             vec3r above = leave(hit, p, ray.origin, face);
             Material m = materials[hit.material];
+#if HAS_TEXTURES
+            apply_textures(m, hit, p);
+#endif
             color += shade(above, n, -ray.dir, m, hit.prim) * weight;
             real kr = m.params.y;
             // The SPD's procedure (SPD_RAYS) spawns a ray wherever the

@@ -24,3 +24,17 @@ vec4r plane_shape(Plane p) {
 vec3r plane_normal(uint i, vec4r shape, vec3r p) {
     return shape.xyz;
 }
+
+// Its own coordinates (the 2D textures), as PlaneR::frame: from its point,
+// u = normalize(a x n) with a the coordinate axis least along n (x, then y,
+// on a tie), and v = n x u.
+void plane_frame(uint i, out vec3r origin, out vec3r u, out vec3r v) {
+    Plane pl = planes[i];
+    vec3r n = pl.normal.xyz;
+    vec3r m = abs(n);
+    vec3r a = m.x <= m.y && m.x <= m.z ? vec3r(1.0, 0.0, 0.0)
+            : (m.y <= m.z ? vec3r(0.0, 1.0, 0.0) : vec3r(0.0, 0.0, 1.0));
+    origin = pl.point.xyz;
+    u = normalize(cross(a, n));
+    v = cross(n, u);
+}

@@ -99,3 +99,12 @@ vec3r triangle_shading(uint i, vec3r p, vec3r geometric) {
     real b0 = 1.0 - b1 - b2;
     return normalize(tri.n0.xyz * b0 + tri.n1.xyz * b1 + tri.n2.xyz * b2);
 }
+
+// Its own coordinates (the 2D textures), as TriangleR::frame: from its
+// first vertex, u along the edge to the second, v = n x u.
+void triangle_frame(uint i, out vec3r origin, out vec3r u, out vec3r v) {
+    Triangle tri = triangles[i];
+    origin = tri.v0.xyz;
+    u = normalize(tri.v1.xyz - tri.v0.xyz);
+    v = cross(vec3r(tri.v0.w, tri.v1.w, tri.v2.w), u);
+}

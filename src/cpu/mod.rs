@@ -6,6 +6,7 @@ pub mod bound;
 pub(crate) mod intersect;
 pub(crate) mod ray;
 pub(crate) mod shade;
+pub(crate) mod texture;
 pub(crate) mod trace;
 pub(crate) mod world;
 

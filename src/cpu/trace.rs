@@ -4,6 +4,7 @@
 
 use super::intersect::{intersect_scene, lift, surface};
 use super::shade::shade;
+use super::texture::at_hit;
 use super::world::World;
 use crate::base::ray::Ray;
 use crate::base::real::{Real, Vec3};
@@ -70,7 +71,12 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
                     }
                 };
                 let above = leave(face);
-                let m = &w.materials[s.material];
+                let textured;
+                let mut m = &w.materials[s.material];
+                if m.texture.is_some() || m.ambient_texture.is_some() {
+                    textured = at_hit(w, m, hit.prim, p);
+                    m = &textured;
+                }
                 color += shade(w, above, n, -ray.dir, m, hit.prim, tally) * weight;
                 let mut kr = m.reflectivity;
                 let kt = m.transmittance;

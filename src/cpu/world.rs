@@ -1,5 +1,6 @@
 //! The scene in the reference's scalar type: what the shader's buffers hold.
 
+use super::texture::TextureR;
 use crate::accel::{self, bvh::Bvh, Accel};
 use crate::prim::CpuPrims;
 use crate::scene::{LightKind, Scene};
@@ -17,6 +18,7 @@ pub struct World<R: Real> {
     /// The BVH over the bounded kinds, where the scene is traced through one.
     pub bvh: Option<Bvh>,
     pub materials: Vec<MaterialR<R>>,
+    pub textures: Vec<TextureR<R>>,
     pub lights: Vec<LightR<R>>,
     pub background: Vec3<R>,
     pub shadows: bool,
@@ -31,6 +33,7 @@ pub struct World<R: Real> {
     pub corners: bool,
 }
 
+#[derive(Debug, Clone, Copy)]
 pub struct MaterialR<R> {
     pub ambient: Vec3<R>,
     pub diffuse: Vec3<R>,
@@ -39,6 +42,9 @@ pub struct MaterialR<R> {
     pub reflectivity: R,
     pub transmittance: R,
     pub ior: R,
+    /// Indices in `World::textures`.
+    pub texture: Option<usize>,
+    pub ambient_texture: Option<usize>,
 }
 
 pub struct LightR<R> {
@@ -88,6 +94,19 @@ impl<R: Real> World<R> {
                     reflectivity: R::of(m.reflectivity),
                     transmittance: R::of(m.transmittance),
                     ior: R::of(m.ior),
+                    texture: m.texture.map(|t| t as usize),
+                    ambient_texture: m.ambient_texture.map(|t| t as usize),
+                })
+                .collect(),
+            textures: scene
+                .textures
+                .iter()
+                .map(|t| TextureR {
+                    pattern: t.pattern,
+                    size: R::of(t.size),
+                    colors: t.colors.map(Vec3::of),
+                    rotation: t.rotation.map(R::of),
+                    origin: Vec3::of(t.origin - origin),
                 })
                 .collect(),
             lights: scene

@@ -29,6 +29,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("shade.glsl", include_str!("../../shaders/shade.glsl")),
     ("specular.glsl", include_str!("../../shaders/specular.glsl")),
     ("trace.glsl", include_str!("../../shaders/trace.glsl")),
+    ("texture.glsl", include_str!("../../shaders/texture.glsl")),
     ("bvh.glsl", include_str!("../../shaders/bvh.glsl")),
     ("budget.glsl", include_str!("../../shaders/budget.glsl")),
     ("ceiling.comp", include_str!("../../shaders/ceiling.comp")),

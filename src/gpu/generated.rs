@@ -12,7 +12,7 @@
 
 use std::fmt::Write;
 
-use super::layout::{globals, light, material, LIGHT_KINDS};
+use super::layout::{globals, light, material, texture, LIGHT_KINDS};
 use super::variant::{Block, Variant};
 use crate::accel::bvh::node;
 use crate::base::interface::{declaration, GpuStruct};
@@ -58,6 +58,7 @@ impl Variant {
         );
         s += &declaration::<material::Values>();
         s += &declaration::<light::Values>();
+        s += &declaration::<texture::Values>();
         s += &declaration::<node::Values>();
         for kind in KINDS {
             let _ = writeln!(
@@ -130,6 +131,10 @@ impl Variant {
                 Block::Lights => writeln!(
                     s,
                     "SCENE_BLOCK({binding}) Lights {{ Light lights[SLOTS(LIGHTS_SLOTS)]; }};"
+                ),
+                Block::Textures => writeln!(
+                    s,
+                    "SCENE_BLOCK({binding}) Textures {{ Texture textures[SLOTS(TEXTURES_SLOTS)]; }};"
                 ),
                 // Two vec4s a Node (bvh.glsl's load_node): llvmpipe loads a
                 // vec4 at once, the struct's vec3 and uint apart, which made
@@ -246,6 +251,23 @@ impl Variant {
         let lifted: Vec<&KindInfo> = declared.iter().copied().filter(|k| k.lift).collect();
         s += &return_by_kind(&lifted, |_| "lift(p, o, side)".to_owned(), "p");
         s += "}\n";
+        let framed: Vec<&KindInfo> = declared.iter().copied().filter(|k| k.frame).collect();
+        s += "\n#if HAS_TEXTURES\n\
+              // The hit primitive's own coordinates, for the 2D textures: false\n\
+              // for a kind without them (the scene's checks give those none).\n\
+              bool surface_frame(Hit hit, out vec3r origin, out vec3r u, out vec3r v) {\n\
+              \x20   origin = vec3r(0.0);\n\
+              \x20   u = vec3r(0.0);\n\
+              \x20   v = vec3r(0.0);\n";
+        for k in &framed {
+            let _ = writeln!(
+                s,
+                "    if (hit.prim >> {KIND_SHIFT} == KIND_{upper}) {{\n        {name}_frame({index}, origin, u, v);\n        return true;\n    }}",
+                upper = k.upper(),
+                name = k.name
+            );
+        }
+        s += "    return false;\n}\n#endif\n";
         s
     }
 }

@@ -42,6 +42,23 @@ crate::base::interface::gpu_struct!(
         specular: real4,
         /// x shininess, y reflectivity, z transmittance, w ior
         params: real4,
+        /// x the diffuse texture + 1, y the ambient texture + 1 (0: none)
+        textures: uvec4,
+    }
+);
+
+crate::base::interface::gpu_struct!(
+    pub mod texture: "Texture" {
+        /// xyz a corner of the solid checker's cubes, w the side
+        origin_size: real4,
+        /// rgb the colour of even cells
+        color0: real4,
+        /// rgb the colour of odd cells
+        color1: real4,
+        /// x cos, y sin of the checker's angle
+        rotation: real4,
+        /// x the pattern (1 checker, 2 solid checker)
+        meta: uvec4,
     }
 );
 
@@ -121,6 +138,7 @@ pub struct Uploads {
     pub kinds: Vec<Array>,
     pub materials: Array,
     pub lights: Array,
+    pub textures: Array,
     /// The BVH's nodes, where the scene is traced through one: one layout
     /// per ray octant (or one), `layout_len` nodes each.
     pub nodes: Option<Array>,
@@ -163,6 +181,19 @@ impl Uploads {
             diffuse: xyz(m.diffuse),
             specular: xyz(m.specular),
             params: [m.shininess, m.reflectivity, m.transmittance, m.ior],
+            textures: [
+                m.texture.map_or(0, |t| t + 1),
+                m.ambient_texture.map_or(0, |t| t + 1),
+                0,
+                0,
+            ],
+        });
+        let textures = scene.textures.iter().map(|t| texture::Values {
+            origin_size: [t.origin.x, t.origin.y, t.origin.z, t.size],
+            color0: xyz(t.colors[0]),
+            color1: xyz(t.colors[1]),
+            rotation: [t.rotation[0], t.rotation[1], 0.0, 0.0],
+            meta: [t.pattern.code(), 0, 0, 0],
         });
         let lights = scene.lights.iter().map(|l| light::Values {
             position: xyz(l.position),
@@ -179,6 +210,7 @@ impl Uploads {
             kinds: scene.prims.gpu_arrays(&orders, precision),
             materials: interface::array(materials, precision),
             lights: interface::array(lights, precision),
+            textures: interface::array(textures, precision),
             layout_len: bvh.as_ref().map_or(0, |b| b.layout_len),
             layouts: bvh.as_ref().map_or(0, |b| b.layouts),
             nodes: bvh.map(|b| interface::array(b.nodes.into_iter(), Precision::F32)),
@@ -186,9 +218,12 @@ impl Uploads {
         }
     }
 
-    /// The scene's arrays: each kind's, then the materials and the lights.
+    /// The scene's arrays: each kind's, then the materials, the lights
+    /// and the textures.
     pub fn arrays(&self) -> impl Iterator<Item = &Array> {
-        self.kinds.iter().chain([&self.materials, &self.lights])
+        self.kinds
+            .iter()
+            .chain([&self.materials, &self.lights, &self.textures])
     }
 
     /// Bytes of each scene array, in the order of `arrays`.
@@ -205,10 +240,11 @@ impl Uploads {
     /// a storage buffer of this device can be (lavapipe: 128 MiB, about four
     /// million spheres in f32 and two million in f64).
     pub fn check_storage_range(&self, limit: u32) -> Result<(), String> {
-        let names = KINDS
-            .iter()
-            .map(|k| k.key)
-            .chain(["materials", "lights", "BVH nodes"]);
+        let names =
+            KINDS
+                .iter()
+                .map(|k| k.key)
+                .chain(["materials", "lights", "textures", "BVH nodes"]);
         let sizes = self
             .arrays()
             .map(|a| a.bytes.len())

@@ -809,6 +809,7 @@ impl Renderer {
                 Block::Kind(k) => scene(&up.kinds[k].bytes, usage, block.name())?,
                 Block::Materials => scene(&up.materials.bytes, usage, "materials")?,
                 Block::Lights => scene(&up.lights.bytes, usage, "lights")?,
+                Block::Textures => scene(&up.textures.bytes, usage, "textures")?,
                 Block::Nodes => scene(
                     &up.nodes.as_ref().expect("a BVH variant has nodes").bytes,
                     usage,

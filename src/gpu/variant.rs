@@ -31,6 +31,8 @@ pub enum Block {
     Materials,
     /// The lights.
     Lights,
+    /// The textures, where a material has one.
+    Textures,
     /// The BVH's nodes.
     Nodes,
     /// The counters of `--stats` (src/stats.rs), where the variant counts.
@@ -47,6 +49,7 @@ impl Block {
             Block::Kind(k) => KINDS[k].key,
             Block::Materials => "materials",
             Block::Lights => "lights",
+            Block::Textures => "textures",
             Block::Nodes => "BVH nodes",
             Block::Counts => "the counters",
             Block::Pixels => "the output tile",
@@ -95,6 +98,8 @@ pub struct Features {
     pub transmits: bool,
     /// The SPD's ray tree (`Scene::spd_rays`).
     pub spd_rays: bool,
+    /// A material of the scene has a texture.
+    pub textures: bool,
     /// Ray segments traced: 1 where no material reflects or transmits.
     pub max_depth: u32,
     /// Samples a side of each pixel.
@@ -192,6 +197,11 @@ impl Features {
             shadows: scene.shadows && objects && lights > 0,
             transmits: transmits && scene.max_depth > 1,
             spd_rays: scene.spd_rays,
+            textures: objects
+                && scene
+                    .materials
+                    .iter()
+                    .any(|m| m.texture.is_some() || m.ambient_texture.is_some()),
             max_depth: if reflects || transmits {
                 scene.max_depth
             } else {
@@ -219,6 +229,7 @@ impl Features {
         def("HAS_TRANSMISSION", flag(self.transmits));
         def("SHADOWS_ON", "true".to_owned());
         def("SPD_RAYS", self.spd_rays.to_string());
+        def("HAS_TEXTURES", flag(self.textures));
         def("MAX_DEPTH", format!("{}u", self.max_depth));
         def("SAMPLES", format!("{}u", self.samples));
         def("LIGHT_COUNT", format!("{}u", self.lights));
@@ -227,7 +238,7 @@ impl Features {
             let names = KINDS
                 .iter()
                 .map(|k| k.upper())
-                .chain(["MATERIALS".to_owned(), "LIGHTS".to_owned()]);
+                .chain(["MATERIALS", "LIGHTS", "TEXTURES"].map(String::from));
             for (name, n) in names.zip(slots) {
                 d.push((format!("{name}_SLOTS"), Some(format!("{n}u"))));
             }
@@ -330,9 +341,13 @@ impl Variant {
         } else {
             vk::DescriptorType::STORAGE_BUFFER
         };
-        let (kinds, lights) = match &self.features {
-            Some(f) => (f.kinds.iter().map(|n| *n > 0).collect(), f.lights > 0),
-            None => (vec![true; KINDS.len()], true),
+        let (kinds, lights, textures) = match &self.features {
+            Some(f) => (
+                f.kinds.iter().map(|n| *n > 0).collect(),
+                f.lights > 0,
+                f.textures,
+            ),
+            None => (vec![true; KINDS.len()], true, true),
         };
         let objects = kinds.iter().any(|k| *k);
         let mut blocks = vec![(Block::Globals, true, vk::DescriptorType::UNIFORM_BUFFER)];
@@ -344,6 +359,7 @@ impl Variant {
         );
         blocks.extend([
             (Block::Materials, objects, scene_type),
+            (Block::Textures, textures, scene_type),
             (Block::Lights, lights, scene_type),
             (Block::Nodes, self.bvh_layouts > 0, scene_type),
             (

@@ -7,7 +7,10 @@
 //!   `p.meta.x` and `p.meta.y`);
 //! - its include defines `<name>_intersect`, `<name>_shape` (a hit keeps
 //!   one `vec4r` of shape), `<name>_normal` and, where `Kind::SHADING`,
-//!   `<name>_shading`, with the signatures the scans call;
+//!   `<name>_shading`, where `Kind::FRAME` `<name>_frame`, with the
+//!   signatures the scans call;
+//! - where `Kind::FRAME`, its frame's axes are unit and at right angles to
+//!   each other and to its normal;
 //! - a bounded kind has a box, which holds it and moves with it; an
 //!   unbounded kind has none;
 //! - its CPU form has the same material.
@@ -50,6 +53,11 @@ fn problems<K: Kind>() -> Vec<String> {
             "vec3r {name}_shading(uint i, vec3r p, vec3r geometric)"
         ));
     }
+    if K::FRAME {
+        wanted.push(format!(
+            "void {name}_frame(uint i, out vec3r origin, out vec3r u, out vec3r v)"
+        ));
+    }
     for w in wanted {
         if !K::GLSL.lines().any(|l| l.starts_with(&w)) {
             out.push(format!(
@@ -59,6 +67,28 @@ fn problems<K: Kind>() -> Vec<String> {
     }
 
     let cpu = p.cpu::<f64>();
+    match (K::FRAME, cpu.frame()) {
+        (false, None) => {}
+        (true, Some(f)) => {
+            // u and v unit, at right angles to each other and to the normal.
+            let n = cpu.normal(f.origin);
+            let off = [
+                f.u.dot(f.u) - 1.0,
+                f.v.dot(f.v) - 1.0,
+                f.u.dot(f.v),
+                f.u.dot(n),
+                f.v.dot(n),
+            ];
+            if off.iter().any(|e| e.abs() > 1e-12) {
+                out.push(format!(
+                    "{name}: its frame {f:?} is not unit and at right angles to its normal {n:?}"
+                ));
+            }
+        }
+        (frame, f) => out.push(format!(
+            "{name}: FRAME is {frame} but its CPU form's frame is {f:?}"
+        )),
+    }
     if cpu.material() != material as usize || p.material() != material {
         out.push(format!(
             "{name}: the CPU form's material is {}, not {material}",

@@ -60,6 +60,9 @@ pub trait Kind: Clone + PartialEq + std::fmt::Debug + Send + Sync + 'static {
     /// Whether its shading normal can differ from its geometric one: its
     /// include then gives `<name>_shading` too (see [`Shape::shading`]).
     const SHADING: bool = false;
+    /// Whether it has its own surface coordinates, for the 2D textures
+    /// (`Shape::frame`): its include then gives `<name>_frame` too.
+    const FRAME: bool = false;
     /// Whether rays leaving it start lifted off its surface: a triangle's
     /// neighbours share its edges, and the rounding of a hit point near an
     /// edge can put it behind a neighbour's plane (`crate::cpu::intersect::lift`).
@@ -99,7 +102,25 @@ pub trait Shape<R: Real>: Send + Sync {
     fn shading(&self, _p: Vec3<R>, geometric: Vec3<R>) -> Vec3<R> {
         geometric
     }
+    /// Its own surface coordinates, where it has them (`Kind::FRAME`): an
+    /// origin on the surface and two unit axes u and v at right angles in
+    /// it. A point's coordinates are its offset from the origin along each.
+    fn frame(&self) -> Option<Frame<R>> {
+        None
+    }
     fn material(&self) -> usize;
+}
+
+/// A surface's own coordinates: `origin` on it, `u` and `v` unit and at
+/// right angles in it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Frame<R> {
+    /// Where u = v = 0.
+    pub origin: Vec3<R>,
+    /// The first axis.
+    pub u: Vec3<R>,
+    /// The second axis, `normal × u`.
+    pub v: Vec3<R>,
 }
 
 /// What the generated code knows of a kind.
@@ -114,6 +135,7 @@ pub struct KindInfo {
     pub bounded: bool,
     pub shading: bool,
     pub lift: bool,
+    pub frame: bool,
 }
 
 impl KindInfo {
@@ -127,6 +149,7 @@ impl KindInfo {
             bounded: K::BOUNDED,
             shading: K::SHADING,
             lift: K::LIFT,
+            frame: K::FRAME,
         }
     }
 
@@ -245,6 +268,23 @@ macro_rules! generate {
             pub fn materials(&self) -> impl Iterator<Item = u32> + '_ {
                 std::iter::empty()
                     $(.chain(self.$key.iter().map(|p| p.material())))*
+            }
+
+            /// The first primitive, of a kind without its own surface
+            /// coordinates (`Kind::FRAME`), whose material `needs_frame`
+            /// picks: its array's key, its index and its material.
+            pub(crate) fn first_without_frame(
+                &self,
+                needs_frame: impl Fn(u32) -> bool,
+            ) -> Option<(&'static str, usize, u32)> {
+                $(
+                    if !<$kind as Kind>::FRAME {
+                        if let Some(i) = self.$key.iter().position(|p| needs_frame(p.material())) {
+                            return Some((stringify!($key), i, self.$key[i].material()));
+                        }
+                    }
+                )*
+                None
             }
 
             /// The bounded primitives' boxes, with their ids.

@@ -5,7 +5,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use super::{Kind, Shape};
+use super::{Frame, Kind, Shape};
 use crate::base::aabb::Aabb;
 use crate::base::ray::Ray;
 use crate::base::real::{Real, Vec3};
@@ -56,6 +56,7 @@ impl Kind for Plane {
     const NAME: &'static str = "plane";
     const GLSL: &'static str = include_str!("../../shaders/prim/plane.glsl");
     const BOUNDED: bool = false;
+    const FRAME: bool = true;
 
     fn check(f: &PlaneFile, at: &At) -> Result<Self, SceneError> {
         Ok(Plane {
@@ -124,6 +125,27 @@ impl<R: Real> Shape<R> for PlaneR<R> {
 
     fn normal(&self, _p: Vec3<R>) -> Vec3<R> {
         self.normal
+    }
+
+    /// From its point: u = normalize(a × n), with a the coordinate axis
+    /// least along n (x, then y, on a tie), and v = n × u.
+    fn frame(&self) -> Option<Frame<R>> {
+        let n = self.normal;
+        let m = Vec3::new(n.x.abs(), n.y.abs(), n.z.abs());
+        let (zero, one) = (R::zero(), R::one());
+        let a = if m.x <= m.y && m.x <= m.z {
+            Vec3::new(one, zero, zero)
+        } else if m.y <= m.z {
+            Vec3::new(zero, one, zero)
+        } else {
+            Vec3::new(zero, zero, one)
+        };
+        let u = a.cross(n).normalize();
+        Some(Frame {
+            origin: self.point,
+            u,
+            v: n.cross(u),
+        })
     }
 
     fn material(&self) -> usize {

@@ -14,7 +14,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use super::{Kind, Shape};
+use super::{Frame, Kind, Shape};
 use crate::base::aabb::Aabb;
 use crate::base::ray::Ray;
 use crate::base::real::{Real, Vec3};
@@ -93,6 +93,7 @@ impl Kind for Triangle {
     const BOUNDED: bool = true;
     const SHADING: bool = true;
     const LIFT: bool = true;
+    const FRAME: bool = true;
 
     fn check(f: &TriangleFile, at: &At) -> Result<Self, SceneError> {
         let mut vertices = [DVec3::ZERO; 3];
@@ -196,6 +197,17 @@ fn permute<R: Real>(v: Vec3<R>, kz: usize, swap: bool) -> Vec3<R> {
 }
 
 impl<R: Real> Shape<R> for TriangleR<R> {
+    /// From its first vertex: u along the edge to the second, v = n × u.
+    fn frame(&self) -> Option<Frame<R>> {
+        let [v0, v1, _] = self.vertices;
+        let u = (v1 - v0).normalize();
+        Some(Frame {
+            origin: v0,
+            u,
+            v: self.normal.cross(u),
+        })
+    }
+
     fn intersect(&self, ray: &Ray<R>, from_self: bool) -> Option<R> {
         // Flat: a ray that leaves a triangle cannot meet it again.
         if from_self {

@@ -21,6 +21,8 @@ macro_rules! scene_file {
             pub camera: CameraFile,
             #[serde(default)]
             pub materials: BTreeMap<String, MaterialFile>,
+            #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+            pub textures: BTreeMap<String, super::texture::TextureFile>,
             $(
                 #[serde(default, skip_serializing_if = "Vec::is_empty")]
                 pub $key: Vec<<$kind as crate::prim::Kind>::File>,
@@ -144,8 +146,9 @@ pub struct CameraFile {
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialFile {
-    #[serde(default)]
-    pub ambient: Triple,
+    /// None: black, or the texture's colour where the material has one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ambient: Option<Triple>,
     #[serde(default)]
     pub diffuse: Triple,
     #[serde(default)]
@@ -158,6 +161,13 @@ pub struct MaterialFile {
     pub transmittance: f64,
     #[serde(default = "one_f")]
     pub ior: f64,
+    /// The name of the texture that gives the diffuse colour.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texture: Option<String>,
+    /// The name of the texture that gives the ambient colour; `texture` by
+    /// default where `ambient` is not written.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ambient_texture: Option<String>,
 }
 
 /// One flat table for every light type: `validate` checks that each key

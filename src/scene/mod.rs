@@ -7,6 +7,7 @@ mod file;
 pub mod nff;
 mod rebase;
 mod split;
+pub mod texture;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -70,6 +71,9 @@ pub struct Scene {
     pub camera: Camera,
     /// The materials, which primitives name by index.
     pub materials: Vec<Material>,
+    /// The textures, which materials name by index (`[textures]`, sorted
+    /// by name).
+    pub textures: Vec<texture::Texture>,
     /// Every primitive, a list for each kind (`crate::prim`).
     pub prims: Prims,
     /// The lights.
@@ -113,6 +117,11 @@ pub struct Material {
     pub transmittance: f64,
     /// Index of refraction, > 0: inside over outside.
     pub ior: f64,
+    /// The texture, in `Scene::textures`, that gives the diffuse colour in
+    /// place of `diffuse`.
+    pub texture: Option<u32>,
+    /// The texture that gives the ambient colour in place of `ambient`.
+    pub ambient_texture: Option<u32>,
 }
 
 /// What kind of light.

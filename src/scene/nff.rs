@@ -412,6 +412,7 @@ impl<'a> Reader<'a> {
             },
             camera,
             materials,
+            textures: Default::default(),
             spheres,
             triangles,
             cylinders,
@@ -432,13 +433,15 @@ fn nff_material(v: &[f64]) -> MaterialFile {
     let (kd, ks) = (v[3], v[4]);
     let ior = if v[6] == 0.0 { 1.0 } else { v[7] };
     MaterialFile {
-        ambient: Triple::default(),
+        ambient: None,
         diffuse: Triple([v[0] * kd, v[1] * kd, v[2] * kd]),
         specular: Triple([ks; 3]),
         shininess: v[5],
         reflectivity: ks,
         transmittance: v[6],
         ior,
+        texture: None,
+        ambient_texture: None,
     }
 }
 

@@ -27,6 +27,14 @@ impl Scene {
                 })
                 .collect(),
             materials: self.materials.clone(),
+            textures: self
+                .textures
+                .iter()
+                .map(|t| super::texture::Texture {
+                    origin: t.origin - origin,
+                    ..*t
+                })
+                .collect(),
             mesh_files: self.mesh_files.clone(),
             ..*self
         }

@@ -7,10 +7,12 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::file::{CameraFile, LightFile, MaterialFile, SceneFile};
+use super::texture::{Pattern, Texture, TextureFile};
 use super::{
     Camera, Light, LightKind, Material, Sampling, Scene, SceneError, MAX_DEPTH, MAX_SAMPLES,
     MAX_SIZE,
 };
+use crate::input::field::MAX_COORDINATE;
 use crate::input::field::{root, At, Check, Triple};
 use crate::input::locate::{KeyPath, Locate, Located};
 use crate::prim::Prims;
@@ -117,13 +119,21 @@ impl Check<'_> {
     /// most 1, and the reflection weights multiply to at most 1).
     fn brightness(&self, scene: &Scene) -> Result<()> {
         let max = |v: DVec3| v.max_element();
+        // A textured colour is at most its texture's brighter colour.
+        let brightest = |colour: DVec3, texture: Option<u32>| match texture {
+            Some(t) => {
+                let [a, b] = scene.textures[t as usize].colors;
+                max(a).max(max(b))
+            }
+            None => max(colour),
+        };
         let (ka, kd, ks) = scene
             .materials
             .iter()
             .fold((0.0f64, 0.0f64, 0.0f64), |m, mat| {
                 (
-                    m.0.max(max(mat.ambient)),
-                    m.1.max(max(mat.diffuse)),
+                    m.0.max(brightest(mat.ambient, mat.ambient_texture)),
+                    m.1.max(brightest(mat.diffuse, mat.texture)),
                     m.2.max(max(mat.specular)),
                 )
             });
@@ -192,10 +202,18 @@ impl Check<'_> {
 
         let prim_files = raw.take_prims();
         let names: Vec<&String> = raw.materials.keys().collect();
+        let texture_names: Vec<&String> = raw.textures.keys().collect();
+        let textures = raw
+            .textures
+            .iter()
+            .map(|(name, t)| self.texture(&root().key("textures").key(name), t))
+            .collect::<Result<Vec<_>>>()?;
         let materials = raw
             .materials
             .iter()
-            .map(|(name, m)| self.material(&root().key("materials").key(name), name, m))
+            .map(|(name, m)| {
+                self.material(&root().key("materials").key(name), name, m, &texture_names)
+            })
             .collect::<Result<Vec<_>>>()?;
         let mut prims = Prims::check(&prim_files, |key, i| At {
             check: self,
@@ -215,6 +233,8 @@ impl Check<'_> {
             // copied, would hold every triangle twice.
             crate::prim::mesh::load(mesh, dir, &at, &mut prims.triangles)?;
         }
+
+        self.textures_fit(&prims, &materials, &textures, &texture_names)?;
 
         let lights = raw
             .lights
@@ -240,13 +260,143 @@ impl Check<'_> {
             background,
             camera,
             materials,
+            textures,
             prims,
             lights,
             mesh_files,
         })
     }
 
-    fn material(&self, path: &KeyPath, name: &str, m: &MaterialFile) -> Result<Material> {
+    fn texture(&self, path: &KeyPath, t: &TextureFile) -> Result<Texture> {
+        let pattern = match t.pattern.as_str() {
+            "checker" => Pattern::Checker,
+            "solid_checker" => Pattern::SolidChecker,
+            other => {
+                return self.err(
+                    &path.key("pattern"),
+                    format!(
+                        "unknown pattern \"{}\" (known: checker, solid_checker)",
+                        crate::printable::text(other)
+                    ),
+                )
+            }
+        };
+        let size = self.finite(&path.key("size"), t.size)?;
+        if size <= 0.0 || size > MAX_COORDINATE {
+            return self.err(
+                &path.key("size"),
+                format!("must be > 0 and at most {MAX_COORDINATE:e}, got {size:e}"),
+            );
+        }
+        let colors = [
+            self.colour(&path.key("colors").index(0), t.colors[0])?,
+            self.colour(&path.key("colors").index(1), t.colors[1])?,
+        ];
+        let mut rotation = [1.0, 0.0];
+        if let Some(angle) = t.angle {
+            if pattern != Pattern::Checker {
+                return self.err(
+                    &path.key("angle"),
+                    "only a \"checker\" is turned by an angle",
+                );
+            }
+            let radians = self.finite(&path.key("angle"), angle)?.to_radians();
+            rotation = [radians.cos(), radians.sin()];
+        }
+        let mut origin = DVec3::ZERO;
+        if let Some(o) = t.origin {
+            if pattern != Pattern::SolidChecker {
+                return self.err(
+                    &path.key("origin"),
+                    "only a \"solid_checker\" has an origin (a \"checker\" starts at its surface's own)",
+                );
+            }
+            origin = self.position(&path.key("origin"), o)?;
+        }
+        Ok(Texture {
+            pattern,
+            size,
+            colors,
+            rotation,
+            origin,
+        })
+    }
+
+    /// The index of the texture `name` of the material at `path`.
+    fn texture_index(&self, path: &KeyPath, name: &str, names: &[&String]) -> Result<u32> {
+        match names.binary_search_by(|n| n.as_str().cmp(name)) {
+            Ok(i) => Ok(i as u32),
+            Err(_) => {
+                let defined: Vec<&str> = names.iter().map(|n| n.as_str()).collect();
+                self.err(
+                    path,
+                    format!(
+                        "unknown texture \"{}\" ({})",
+                        crate::printable::text(name),
+                        if defined.is_empty() {
+                            "the scene defines no [textures]".to_owned()
+                        } else {
+                            format!("defined: {}", defined.join(", "))
+                        }
+                    ),
+                )
+            }
+        }
+    }
+
+    /// Refuses a checker on a primitive without surface coordinates
+    /// (spheres, cylinders), naming the primitive's material.
+    fn textures_fit(
+        &self,
+        prims: &Prims,
+        materials: &[Material],
+        textures: &[Texture],
+        names: &[&String],
+    ) -> Result<()> {
+        let flat =
+            |t: Option<u32>| t.is_some_and(|t| textures[t as usize].pattern == Pattern::Checker);
+        let needs_frame = |m: u32| {
+            let m = &materials[m as usize];
+            flat(m.texture) || flat(m.ambient_texture)
+        };
+        let Some((key, i, m)) = prims.first_without_frame(needs_frame) else {
+            return Ok(());
+        };
+        let m = &materials[m as usize];
+        let t = [m.texture, m.ambient_texture]
+            .into_iter()
+            .flatten()
+            .find(|t| flat(Some(*t)))
+            .expect("a checker");
+        self.err(
+            &root().key(key).index(i).key("material"),
+            format!(
+                "material \"{}\" has the checker texture \"{}\", which needs a surface's own \
+                 coordinates (planes and triangles have them, {key} do not): use pattern = \
+                 \"solid_checker\"",
+                crate::printable::text(&m.name),
+                crate::printable::text(names[t as usize])
+            ),
+        )
+    }
+
+    fn material(
+        &self,
+        path: &KeyPath,
+        name: &str,
+        m: &MaterialFile,
+        textures: &[&String],
+    ) -> Result<Material> {
+        let texture = m
+            .texture
+            .as_deref()
+            .map(|t| self.texture_index(&path.key("texture"), t, textures))
+            .transpose()?;
+        let ambient_texture = match (&m.ambient_texture, m.ambient) {
+            (Some(t), _) => Some(self.texture_index(&path.key("ambient_texture"), t, textures)?),
+            (None, None) => texture,
+            (None, Some(_)) => None,
+        };
         let shininess = self.finite(&path.key("shininess"), m.shininess)?;
         if shininess < 0.0 {
             return self.err(
@@ -282,13 +432,15 @@ impl Check<'_> {
         }
         Ok(Material {
             name: name.to_owned(),
-            ambient: self.colour(&path.key("ambient"), m.ambient)?,
+            ambient: self.colour(&path.key("ambient"), m.ambient.unwrap_or_default())?,
             diffuse: self.colour(&path.key("diffuse"), m.diffuse)?,
             specular: self.colour(&path.key("specular"), m.specular)?,
             shininess,
             reflectivity,
             transmittance,
             ior,
+            texture,
+            ambient_texture,
         })
     }
 
