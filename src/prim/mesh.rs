@@ -2,8 +2,9 @@
 //! tobj crate) into triangles. Not a kind of its own: once loaded, a mesh's
 //! faces are triangles like any other (docs/scene-format.md, Meshes).
 
+use std::cell::RefCell;
 use std::io::BufReader;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -17,7 +18,10 @@ use crate::input::field::{unit_vector, At, Triple};
 pub struct MeshFile {
     /// The OBJ file, relative to the scene file.
     pub file: String,
-    pub material: String,
+    /// The scene's material for every face; None: each object's own, from
+    /// the OBJ's MTL file (`mtllib`, `usemtl`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
     /// Uniform scale, applied before `translate`: p·scale + translate.
     #[serde(default = "one")]
     pub scale: f64,
@@ -29,12 +33,53 @@ fn one() -> f64 {
     1.0
 }
 
+/// One material of an OBJ's MTL file, its values checked (finite, colours
+/// and Ns ≥ 0, Ni > 0, d in [0, 1]); the scene maps it onto its own
+/// (docs/scene-format.md, Meshes).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MtlMaterial {
+    /// The MTL file and the material's name in it, for messages.
+    pub name: String,
+    pub ka: DVec3,
+    pub kd: DVec3,
+    pub ks: DVec3,
+    /// The specular exponent; 1 where not given.
+    pub ns: f64,
+    /// The index of refraction; 1 where not given.
+    pub ni: f64,
+    /// The dissolve (opacity): `d`, or 1 − `Tr`; 1 where neither is given.
+    pub d: f64,
+    /// The illumination model, 0..=10; 2 where not given.
+    pub illum: u8,
+}
+
+/// What a mesh brought besides its triangles: the MTL materials its faces
+/// use (face materials count from the `first_material` given to `load`),
+/// and the MTL files read.
+#[derive(Debug, Default)]
+pub struct Loaded {
+    pub materials: Vec<MtlMaterial>,
+    pub files: Vec<PathBuf>,
+}
+
 /// Reads the mesh's OBJ file (relative to `dir`, the scene file's folder)
 /// and appends its faces to `out` as triangles: fan-triangulated polygons, with the
 /// file's vertex normals where every corner of a face has one, else flat.
-/// Faces without area are left out, as a mesh's slivers often are.
-pub fn load(f: &MeshFile, dir: &Path, at: &At, out: &mut Vec<Triangle>) -> Result<(), SceneError> {
-    let material = at.material("material", &f.material)?;
+/// Faces without area are left out, as a mesh's slivers often are. Without
+/// a `material`, each object takes its own from the MTL file, numbered from
+/// `first_material` in the scene's list.
+pub fn load(
+    f: &MeshFile,
+    dir: &Path,
+    at: &At,
+    first_material: u32,
+    out: &mut Vec<Triangle>,
+) -> Result<Loaded, SceneError> {
+    let material = f
+        .material
+        .as_deref()
+        .map(|m| at.material("material", m))
+        .transpose()?;
     let scale = at.length("scale", f.scale)?;
     let translate = match f.translate {
         Some(t) => at.position("translate", t)?,
@@ -50,11 +95,50 @@ pub fn load(f: &MeshFile, dir: &Path, at: &At, out: &mut Vec<Triangle>) -> Resul
         ignore_lines: true,
         ..Default::default()
     };
-    // Materials are the scene's: the OBJ's own (mtllib) are not read.
-    let (models, _) = tobj::load_obj_buf(&mut BufReader::new(file), &options, |_| {
-        Ok(Default::default())
-    })
-    .or_else(|e| at.invalid("file", format!("{shown}: not a valid OBJ file: {e}")))?;
+    // With a material of the scene's the OBJ's own (mtllib) are not read.
+    // Else each MTL file is read as every input is (crate::input), and its
+    // first problem kept for the message.
+    let obj_dir = path.parent().unwrap_or(Path::new(".")).to_owned();
+    let mtl_problem: RefCell<Option<String>> = RefCell::new(None);
+    let mtl_files: RefCell<Vec<PathBuf>> = RefCell::new(Vec::new());
+    let read_mtl = |p: &Path| {
+        if material.is_some() {
+            return Ok(Default::default());
+        }
+        let mtl = obj_dir.join(p);
+        let name = crate::printable::path(&mtl);
+        mtl_files.borrow_mut().push(mtl.clone());
+        let file = crate::input::open(&mtl, crate::input::Kind::Mesh).map_err(|e| {
+            mtl_problem
+                .borrow_mut()
+                .get_or_insert(format!("cannot read {name}: {e}"));
+            tobj::LoadError::OpenFileFailed
+        })?;
+        tobj::load_mtl_buf(&mut BufReader::new(file)).inspect_err(|e| {
+            mtl_problem
+                .borrow_mut()
+                .get_or_insert(format!("{name}: not a valid MTL file: {e}"));
+        })
+    };
+    let loaded = tobj::load_obj_buf(&mut BufReader::new(file), &options, read_mtl);
+    if let Some(problem) = mtl_problem.into_inner() {
+        return at.invalid("file", format!("{shown}: {problem}"));
+    }
+    let (models, mtl) =
+        loaded.or_else(|e| at.invalid("file", format!("{shown}: not a valid OBJ file: {e}")))?;
+    let mtl = match (material, mtl) {
+        (Some(_), _) => Vec::new(),
+        (None, Ok(m)) => m,
+        (None, Err(e)) => return at.invalid("file", format!("{shown}: its materials: {e}")),
+    };
+    let files = mtl_files.into_inner();
+    let mtl_name = files
+        .first()
+        .map_or_else(|| shown.clone(), |f| crate::printable::path(f));
+    let materials = mtl
+        .iter()
+        .map(|m| mtl_material(m, &mtl_name, at))
+        .collect::<Result<Vec<_>, _>>()?;
 
     // Exactly as many as there are faces (at most): a Vec grown by doubling
     // would hold up to twice the triangles' 208 bytes each.
@@ -68,6 +152,20 @@ pub fn load(f: &MeshFile, dir: &Path, at: &At, out: &mut Vec<Triangle>) -> Resul
     }
     for model in &models {
         let m = &model.mesh;
+        let material = match (material, m.material_id) {
+            (Some(index), _) => index,
+            (None, Some(id)) if id < materials.len() => first_material + id as u32,
+            (None, _) => {
+                return at.invalid(
+                    "material",
+                    format!(
+                        "{shown}: object \"{}\" has no material of its MTL file (usemtl), and the \
+                         mesh gives none: add material = \"NAME\"",
+                        crate::printable::text(&model.name)
+                    ),
+                )
+            }
+        };
         let point = |i: u32| {
             let i = 3 * i as usize;
             DVec3::new(m.positions[i], m.positions[i + 1], m.positions[i + 2]) * scale + translate
@@ -106,5 +204,60 @@ pub fn load(f: &MeshFile, dir: &Path, at: &At, out: &mut Vec<Triangle>) -> Resul
             out.extend(Triangle::new(vertices, normals, material));
         }
     }
-    Ok(())
+    Ok(Loaded { materials, files })
+}
+
+/// An MTL material's values, checked; `file`: the MTL file, for messages.
+fn mtl_material(m: &tobj::Material, file: &str, at: &At) -> Result<MtlMaterial, SceneError> {
+    let name = crate::printable::text(&m.name);
+    let bad = |what: &str, why: String| {
+        at.invalid::<MtlMaterial>("file", format!("{file}: material \"{name}\": {what} {why}"))
+    };
+    if m.diffuse_texture.is_some() || m.ambient_texture.is_some() {
+        return bad(
+            "map_Kd/map_Ka",
+            "is an image texture, which glint does not read yet: give the mesh a material of the \
+             scene's (material = \"NAME\")"
+                .to_owned(),
+        );
+    }
+    let colour = |what: &str, v: Option<[f64; 3]>| -> Result<DVec3, SceneError> {
+        let v = DVec3::from_array(v.unwrap_or_default());
+        if !v.is_finite() || v.min_element() < 0.0 {
+            bad(what, format!("must be finite and >= 0, got {v}"))?;
+        }
+        Ok(v)
+    };
+    let number = |what: &str, v: f64, ok: bool| -> Result<f64, SceneError> {
+        if !v.is_finite() || !ok {
+            bad(what, format!("is out of range: {v}"))?;
+        }
+        Ok(v)
+    };
+    let ns = m.shininess.unwrap_or(1.0);
+    let ns = number("Ns", ns, ns >= 0.0)?;
+    let ni = m.optical_density.unwrap_or(1.0);
+    let ni = number("Ni", ni, (1e-6..=1e6).contains(&ni))?;
+    let tr = m.unknown_param.get("Tr").map(|t| t.trim().parse::<f64>());
+    let d = match (m.dissolve, tr) {
+        (Some(d), _) => d,
+        (None, Some(Ok(tr))) => 1.0 - tr,
+        (None, Some(Err(_))) => return bad("Tr", "is not a number".to_owned()),
+        (None, None) => 1.0,
+    };
+    let d = number("d (or 1 - Tr)", d, (0.0..=1.0).contains(&d))?;
+    let illum = m.illumination_model.unwrap_or(2);
+    if illum > 10 {
+        return bad("illum", format!("must be in 0..=10, got {illum}"));
+    }
+    Ok(MtlMaterial {
+        name: format!("{file}: {name}"),
+        ka: colour("Ka", m.ambient)?,
+        kd: colour("Kd", m.diffuse)?,
+        ks: colour("Ks", m.specular)?,
+        ns,
+        ni,
+        d,
+        illum,
+    })
 }

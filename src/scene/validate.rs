@@ -59,6 +59,36 @@ pub(super) fn resolve(
     Ok(scene)
 }
 
+/// An OBJ's MTL material as glint's (docs/scene-format.md, Meshes), after
+/// the MTL format's illumination models: 0 colour alone (no ambient), 1
+/// with ambient, 2 with highlights (Ks, Ns); 3 and 5 add reflection by ray
+/// tracing, of weight Ks (its mean over the channels); 4, 6 and 7 add
+/// refraction too, of weight 1 − d with index Ni, and 9 refraction without
+/// the reflection; 8 and 10 (reflection maps, shadows on invisible
+/// surfaces) shade as 2.
+fn from_mtl(m: &crate::prim::mesh::MtlMaterial) -> Material {
+    let ambient = if m.illum >= 1 { m.ka } else { DVec3::ZERO };
+    let highlight = m.illum >= 2;
+    let reflects = matches!(m.illum, 3..=7);
+    let transmits = matches!(m.illum, 4 | 6 | 7 | 9);
+    Material {
+        name: m.name.clone(),
+        ambient,
+        diffuse: m.kd,
+        specular: if highlight { m.ks } else { DVec3::ZERO },
+        shininess: if highlight { m.ns } else { 1.0 },
+        reflectivity: if reflects {
+            ((m.ks.x + m.ks.y + m.ks.z) / 3.0).clamp(0.0, 1.0)
+        } else {
+            0.0
+        },
+        transmittance: if transmits { 1.0 - m.d } else { 0.0 },
+        ior: if transmits { m.ni } else { 1.0 },
+        texture: None,
+        ambient_texture: None,
+    }
+}
+
 /// The largest index of refraction: the square of the ratio of two iors,
 /// (1e6 / 1e-6)², is 1e24, inside f32's 3.4e38.
 const MAX_IOR: f64 = 1e6;
@@ -208,7 +238,7 @@ impl Check<'_> {
             .iter()
             .map(|(name, t)| self.texture(&root().key("textures").key(name), t))
             .collect::<Result<Vec<_>>>()?;
-        let materials = raw
+        let mut materials = raw
             .materials
             .iter()
             .map(|(name, m)| {
@@ -222,7 +252,7 @@ impl Check<'_> {
         })?;
         // A mesh's triangles follow the file's [[triangles]], mesh by mesh.
         let dir = self.file.parent().unwrap_or(Path::new("."));
-        let mesh_files = raw.meshes.iter().map(|m| dir.join(&m.file)).collect();
+        let mut mesh_files: Vec<_> = raw.meshes.iter().map(|m| dir.join(&m.file)).collect();
         for (i, mesh) in raw.meshes.iter().enumerate() {
             let at = At {
                 check: self,
@@ -231,7 +261,10 @@ impl Check<'_> {
             };
             // Straight into the scene's list: a list of the mesh's own, then
             // copied, would hold every triangle twice.
-            crate::prim::mesh::load(mesh, dir, &at, &mut prims.triangles)?;
+            let first = materials.len() as u32;
+            let loaded = crate::prim::mesh::load(mesh, dir, &at, first, &mut prims.triangles)?;
+            materials.extend(loaded.materials.iter().map(from_mtl));
+            mesh_files.extend(loaded.files);
         }
 
         self.textures_fit(&prims, &materials, &textures, &texture_names)?;

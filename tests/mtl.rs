@@ -1,0 +1,151 @@
+//! OBJ materials (docs/scene-format.md, Triangles and meshes): a mesh
+//! without a `material` takes each object's from its MTL file, mapped after
+//! the MTL format's illumination models; bad MTL files are named.
+
+mod common;
+
+use std::path::Path;
+
+use glam::DVec3;
+use glint::cpu;
+use glint::raster::diff::{figures, Tolerance};
+use glint::scene::{parse, Overrides, Scene};
+
+const OBJ: &str = "mtllib cubes.mtl\n\
+    v -2 -1 0\nv -0.2 -1 0\nv -0.2 1 0\nv -2 1 0\n\
+    v 0.2 -1 -0.5\nv 2 -1 -0.5\nv 2 1 -0.5\nv 0.2 1 -0.5\n\
+    v -3 -1.2 -2\nv 3 -1.2 -2\nv 3 -1.2 3\nv -3 -1.2 3\n\
+    o red\nusemtl red\nf 1 2 3 4\n\
+    o glass\nusemtl glass\nf 5 6 7 8\n\
+    o floor\nusemtl floor\nf 9 10 11 12\n";
+
+const MTL: &str = "newmtl red\nKa 0.1 0.02 0.02\nKd 0.8 0.1 0.1\nKs 0.3 0.3 0.3\nNs 40\nillum 2\n\
+    newmtl glass\nKd 0.05 0.05 0.05\nKs 0.6 0.3 0.3\nNs 200\nNi 1.33\nd 0.25\nillum 4\n\
+    newmtl floor\nKa 0.2 0.2 0.2\nKd 0.6 0.6 0.5\nKs 0.9 0.9 0.9\nTr 0.5\nillum 1\n";
+
+fn scene_text(material: &str) -> String {
+    format!(
+        "[image]\nwidth = 64\nheight = 48\n[render]\nmax_depth = 4\n\
+         [camera]\neye = [0.0, 0.5, 6.0]\nlook_at = [0.0, 0.0, 0.0]\nvfov = 45.0\n\
+         [materials.grey]\ndiffuse = [0.5, 0.5, 0.5]\n\
+         [[meshes]]\nfile = \"model.obj\"\n{material}\
+         [[lights]]\ntype = \"point\"\nposition = [2.0, 4.0, 5.0]\nambient = [0.2, 0.2, 0.2]\n\
+         diffuse = [0.9, 0.9, 0.9]\nspecular = [1.0, 1.0, 1.0]\n"
+    )
+}
+
+fn write(dir: &Path, obj: &str, mtl: Option<&str>) {
+    std::fs::write(dir.join("model.obj"), obj).unwrap();
+    if let Some(mtl) = mtl {
+        std::fs::write(dir.join("cubes.mtl"), mtl).unwrap();
+    }
+}
+
+fn load(dir: &Path, text: &str) -> Result<Scene, String> {
+    parse(text, &dir.join("scene.toml"), &Overrides::default()).map_err(|e| e.to_string())
+}
+
+#[test]
+fn a_mesh_without_a_material_takes_its_mtl_materials() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), OBJ, Some(MTL));
+    let scene = load(dir.path(), &scene_text("")).unwrap();
+    // The scene's own material, then the MTL's in the file's order.
+    let names: Vec<&str> = scene.materials.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names.len(), 4, "{names:?}");
+    assert!(names[1].ends_with("cubes.mtl: red"), "{names:?}");
+    let [red, glass, floor] = [
+        &scene.materials[1],
+        &scene.materials[2],
+        &scene.materials[3],
+    ];
+    // illum 2: highlights, no reflection.
+    assert_eq!(red.ambient, DVec3::new(0.1, 0.02, 0.02));
+    assert_eq!(red.diffuse, DVec3::new(0.8, 0.1, 0.1));
+    assert_eq!(
+        (red.shininess, red.reflectivity, red.transmittance),
+        (40.0, 0.0, 0.0)
+    );
+    // illum 4: reflection of weight mean(Ks), refraction of weight 1 - d.
+    assert!((glass.reflectivity - 0.4).abs() < 1e-12, "{glass:?}");
+    assert_eq!((glass.transmittance, glass.ior), (0.75, 1.33));
+    // illum 1: ambient and diffuse, no highlight, and Tr ignored (opaque model).
+    assert_eq!(floor.specular, DVec3::ZERO);
+    assert_eq!(floor.transmittance, 0.0);
+    // Each object's faces carry its material.
+    let used: Vec<u32> = scene.prims.triangles.iter().map(|t| t.material).collect();
+    assert_eq!(used, [1, 1, 2, 2, 3, 3]);
+    // The MTL file is one of the scene's inputs (an output may not replace it).
+    assert!(scene.mesh_files.iter().any(|f| f.ends_with("cubes.mtl")));
+
+    let reference = cpu::render::<f64>(&scene);
+    let tolerance = Tolerance::default();
+    let f32_figures = figures(&cpu::render::<f32>(&scene), &reference).unwrap();
+    assert!(
+        tolerance.violations(&f32_figures).is_empty(),
+        "{f32_figures:?}"
+    );
+    if let Some(gpu) = common::render_gpu_if_built(&scene) {
+        let f = figures(&gpu, &reference).unwrap();
+        assert!(tolerance.violations(&f).is_empty(), "{f:?}");
+    }
+    // Another Kd in the MTL file is another image.
+    write(
+        dir.path(),
+        OBJ,
+        Some(&MTL.replace("Kd 0.8 0.1 0.1", "Kd 0.1 0.8 0.1")),
+    );
+    let green = load(dir.path(), &scene_text("")).unwrap();
+    let f = figures(&cpu::render::<f64>(&green), &reference).unwrap();
+    assert!(!tolerance.violations(&f).is_empty(), "{f:?}");
+}
+
+#[test]
+fn a_mesh_with_a_material_reads_no_mtl_file() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), OBJ, None);
+    let scene = load(dir.path(), &scene_text("material = \"grey\"\n")).unwrap();
+    assert_eq!(scene.materials.len(), 1);
+    assert!(scene.prims.triangles.iter().all(|t| t.material == 0));
+}
+
+#[test]
+fn bad_mtl_files_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    for (obj, mtl, words) in [
+        (OBJ.to_owned(), None, "cannot read"),
+        (
+            OBJ.replace("usemtl red\n", ""),
+            Some(MTL.to_owned()),
+            "object \"red\" has no material",
+        ),
+        (
+            OBJ.to_owned(),
+            Some(MTL.replace("Kd 0.8 0.1 0.1", "Kd 0.8 -0.1 0.1")),
+            "material \"red\": Kd must be finite and >= 0",
+        ),
+        (
+            OBJ.to_owned(),
+            Some(MTL.replace("illum 4", "illum 11")),
+            "material \"glass\": illum must be in 0..=10",
+        ),
+        (
+            OBJ.to_owned(),
+            Some(MTL.replace("d 0.25", "d 1.5")),
+            "material \"glass\": d (or 1 - Tr) is out of range",
+        ),
+        (
+            OBJ.to_owned(),
+            Some(MTL.replace("Ns 40\n", "Ns 40\nmap_Kd red.png\n")),
+            "map_Kd/map_Ka is an image texture",
+        ),
+    ] {
+        let _ = std::fs::remove_file(dir.path().join("cubes.mtl"));
+        write(dir.path(), &obj, mtl.as_deref());
+        let msg = load(dir.path(), &scene_text("")).unwrap_err();
+        assert!(msg.contains("scene.toml:"), "{msg}");
+        assert!(msg.contains("meshes[0]"), "{msg}");
+        assert!(msg.contains(words), "expected {words:?}: {msg}");
+        assert_eq!(msg.lines().count(), 1, "{msg}");
+    }
+}
