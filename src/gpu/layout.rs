@@ -273,7 +273,7 @@ mod tests {
         assert_eq!(size_of::<globals::F64>(), 5 * 32 + 4 * 16);
         assert_eq!(size_of::<sphere::gpu::F64>(), 64);
         assert_eq!(size_of::<plane::gpu::F64>(), 96);
-        assert_eq!(size_of::<material::F64>(), 128);
+        assert_eq!(size_of::<material::F64>(), 160);
         assert_eq!(size_of::<light::F64>(), 256);
         assert_eq!(size_of::<sphere::gpu::F32>(), 32);
         assert_eq!(size_of::<light::F32>(), 128);
