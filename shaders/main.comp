@@ -12,6 +12,25 @@
 #include "trace.glsl"
 #include "budget.glsl"
 
+#ifdef ADAPTIVE_LEVELS
+// Adaptive sampling's second pass: one invocation per pixel of the list.
+#include "adaptive.glsl"
+
+void main() {
+    uvec2 local = gl_GlobalInvocationID.xy;
+    if (local.x >= tile.rect.z || local.y >= tile.rect.w) {
+        return;
+    }
+    uint index = (tile.rect.y + local.y) * REFINE_WIDTH + tile.rect.x + local.x;
+    begin_counts();
+    vec3r colour = vec3r(0.0);
+    if (index < uint(refine_list.length())) {
+        colour = refine_pixel(refine_list[index]);
+    }
+    pixels[local.y * tile.rect.z + local.x] = vec4(vec3(colour), loops_completed() ? 1.0 : 0.0);
+    end_counts();
+}
+#else
 void main() {
     uvec2 local = gl_GlobalInvocationID.xy;
     if (local.x >= tile.rect.z || local.y >= tile.rect.w) {
@@ -30,3 +49,4 @@ void main() {
     pixels[local.y * tile.rect.z + local.x] = vec4(vec3(sum * (1.0 / real(samples * samples))), loops_completed() ? 1.0 : 0.0);
     end_counts();
 }
+#endif

@@ -125,11 +125,11 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         println!("{out}");
     } else {
         println!(
-            "scene      {} ({}x{}, {} spp, depth {})",
+            "scene      {} ({}x{}, {}, depth {})",
             a.scene.scene.display(),
             scene.width,
             scene.height,
-            scene.samples * scene.samples,
+            scene.sampling_summary(),
             scene.max_depth
         );
         println!("device     {} ({}, {})", info.name, info.kind, info.driver);

@@ -166,10 +166,10 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
         .with_context(|| "cannot write the image")?;
     outputs.commit()?;
     eprintln!(
-        "rendered {}x{} ({} spp, depth {}) with {label} in {seconds:.3} s -> {}",
+        "rendered {}x{} ({}, depth {}) with {label} in {seconds:.3} s -> {}",
         scene.width,
         scene.height,
-        scene.samples * scene.samples,
+        scene.sampling_summary(),
         scene.max_depth,
         output.display()
     );

@@ -46,9 +46,13 @@ fn rays_at_depth(scene: &Scene, depth: u32) -> f64 {
     } else {
         f64::from(depth)
     };
+    let pixels = f64::from(scene.width) * f64::from(scene.height);
     let eye = (f64::from(scene.width) + 1.0)
         * (f64::from(scene.height) + 1.0)
-        * f64::from(scene.samples * scene.samples);
+        * f64::from(scene.samples * scene.samples)
+        + scene
+            .adaptive
+            .map_or(0.0, |a| pixels * a.most_rays_per_pixel());
     eye * per_eye_ray * (1.0 + scene.lights.len() as f64)
 }
 

@@ -2,6 +2,7 @@
 //! Shading) in f32 or f64, one function per stage of the shader (ray,
 //! intersect, shade, trace) so that a disagreement points at one stage.
 
+pub(crate) mod adaptive;
 pub mod bound;
 pub(crate) mod intersect;
 pub(crate) mod ray;
@@ -140,12 +141,14 @@ fn render_tallied<R: Real, T: Tally>(
         })
         .reduce(T::default, T::merge);
     let image = Image::new(width, height, pixels);
-    let image = if world.corners {
-        image.corner_mean()
-    } else {
-        image
-    };
-    (image, counts)
+    match world.adaptive {
+        Some((threshold, levels)) => {
+            let (image, more) = adaptive::resolve(world, &image, traced, threshold, levels);
+            (image, counts.merge(more))
+        }
+        None if world.corners => (image.corner_mean(), counts),
+        None => (image, counts),
+    }
 }
 
 #[cfg(test)]

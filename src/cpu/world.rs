@@ -31,6 +31,9 @@ pub struct World<R: Real> {
     pub height: u32,
     pub samples: u32,
     pub corners: bool,
+    /// Adaptive sampling's threshold (in steps of 1/255) and levels, where
+    /// the scene samples so.
+    pub adaptive: Option<(R, u32)>,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -65,6 +68,9 @@ impl<R: Real> World<R> {
     /// The scene in camera-relative coordinates (see `Scene::camera_relative`),
     /// rounded to `R`.
     pub fn new(scene: &Scene, accel: Accel) -> Self {
+        let adaptive = scene
+            .adaptive_sampling()
+            .map(|a| (R::of(a.threshold_steps()), a.levels));
         let grid = scene.corner_grid();
         let corners = grid.is_some();
         let scene = grid.as_ref().unwrap_or(scene);
@@ -133,6 +139,7 @@ impl<R: Real> World<R> {
             height: scene.height,
             samples: scene.samples,
             corners,
+            adaptive,
         }
     }
 }

@@ -30,6 +30,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("specular.glsl", include_str!("../../shaders/specular.glsl")),
     ("trace.glsl", include_str!("../../shaders/trace.glsl")),
     ("texture.glsl", include_str!("../../shaders/texture.glsl")),
+    ("adaptive.glsl", include_str!("../../shaders/adaptive.glsl")),
     ("bvh.glsl", include_str!("../../shaders/bvh.glsl")),
     ("budget.glsl", include_str!("../../shaders/budget.glsl")),
     ("ceiling.comp", include_str!("../../shaders/ceiling.comp")),

@@ -12,7 +12,7 @@
 
 use std::fmt::Write;
 
-use super::layout::{globals, light, material, texture, LIGHT_KINDS};
+use super::layout::{globals, light, material, refine, texture, LIGHT_KINDS};
 use super::variant::{Block, Variant};
 use crate::accel::bvh::node;
 use crate::base::interface::{declaration, GpuStruct};
@@ -59,6 +59,7 @@ impl Variant {
         s += &declaration::<material::Values>();
         s += &declaration::<light::Values>();
         s += &declaration::<texture::Values>();
+        s += &declaration::<refine::Values>();
         s += &declaration::<node::Values>();
         for kind in KINDS {
             let _ = writeln!(
@@ -148,6 +149,10 @@ impl Variant {
                 Block::Counts => writeln!(
                     s,
                     "layout(std430, set = 0, binding = {binding}) buffer Counts {{ uint count_words[]; }};"
+                ),
+                Block::Refine => writeln!(
+                    s,
+                    "layout(std430, set = 0, binding = {binding}) readonly buffer RefineList {{ Refine refine_list[]; }};"
                 ),
                 Block::Pixels => writeln!(
                     s,

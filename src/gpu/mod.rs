@@ -17,6 +17,7 @@ use ash::vk as raw;
 use glam::UVec4;
 
 use crate::accel::Accel;
+use crate::base::interface::Array;
 pub use crate::base::{Precision, WORKGROUP};
 use crate::raster::region::Region;
 use crate::raster::Image;
@@ -580,7 +581,10 @@ impl Renderer {
         if let Some(grid) = scene.corner_grid() {
             let (image, times, counts) =
                 self.render_maybe_counted(&grid, settings, region.corners(), count, progress)?;
-            return Ok((image.corner_mean(), times, counts));
+            return match scene.adaptive_sampling() {
+                None => Ok((image.corner_mean(), times, counts)),
+                Some(a) => self.refine(&grid, settings, a, region, &image, (times, counts), count),
+            };
         }
         // Laying the scene out counts as upload (where this call did it), but
         // not the compiles; the BVH build is reported apart.
@@ -596,18 +600,111 @@ impl Renderer {
         up.check_storage_range(self.device.info.max_storage_buffer_range)
             .map_err(GpuError::Unsupported)?;
         let tile = self.tile_size(scene);
-        self.make_resident(&key, &variant, &up, tile)?;
+        self.make_resident(&key, &variant, &up, tile, None)?;
         times.upload_s = layout_s + secs(t0.elapsed());
         times.bvh_s = up.bvh_s;
         times.setup.driver_compile_s = self.compile_on_driver(&key)?;
-        let (pixels, counts) =
-            self.dispatch_tiles(scene, &key, &variant, region, tile, &mut times, progress)?;
+        let (pixels, counts) = self.dispatch_tiles(
+            scene, &key, &variant, region, tile, 1.0, &mut times, progress,
+        )?;
         self.check_validation()?;
         Ok((
             Image::new(region.width, region.height, pixels),
             times,
             counts,
         ))
+    }
+
+    /// Adaptive sampling's second pass: the pixels of `region` whose
+    /// corners (`corners`, the image of its corners, traced from `grid`) differ by
+    /// more than the threshold, refined as one list in the image's order
+    /// (shaders/adaptive.glsl); the others are their corners' mean.
+    /// `first`: the first pass's times and counts, which this one's join.
+    fn refine(
+        &mut self,
+        grid: &Scene,
+        settings: &RenderSettings,
+        adaptive: crate::scene::Adaptive,
+        region: Region,
+        corners: &Image,
+        first: (RenderTimes, Option<Counts>),
+        count: bool,
+    ) -> Result<(Image, RenderTimes, Option<Counts>), GpuError> {
+        let (mut times, counts) = first;
+        let mut image = corners.corner_mean();
+        // The corner image's pixel (x, y) is the top-left corner of the
+        // region's pixel (x, y); the list holds the image's coordinates.
+        let (mut list, mut at) = (Vec::new(), Vec::new());
+        for y in 0..image.height {
+            for x in 0..image.width {
+                let c = corners.corners_of(x, y);
+                if adaptive.splits(&c) {
+                    list.push(layout::refine::Values {
+                        c00: c[0],
+                        x: region.x + x,
+                        c10: c[1],
+                        y: region.y + y,
+                        c01: c[2],
+                        pad0: 0,
+                        c11: c[3],
+                        pad1: 0,
+                    });
+                    at.push((y * image.width + x) as usize);
+                }
+            }
+        }
+        if list.is_empty() {
+            return Ok((image, times, counts));
+        }
+        let n = list.len() as u32;
+        let entries = crate::base::interface::array(list.into_iter(), Precision::F32);
+        let (up, _) = self.uploads(grid, settings);
+        let (mut variant, _) = self.variant_of(grid, settings, &up, count);
+        variant.refine = Some((adaptive.threshold_steps().to_bits(), adaptive.levels));
+        let mut defines = variant.defines();
+        defines.extend(self.defines.iter().cloned());
+        let (key, setup) = self.prepare(&variant, &defines)?;
+        times.setup.compile_s += setup.compile_s;
+        times.setup.pipeline_s += setup.pipeline_s;
+        let width = variant::REFINE_WIDTH.min(n);
+        let entries_region = Region::whole(width, n.div_ceil(width));
+        let per_entry = adaptive.most_rays_per_pixel();
+        let rows = (RAYS_PER_DISPATCH as f64 / (per_entry * f64::from(width))) as u32;
+        let tile = (width, rows.clamp(1, entries_region.height));
+        let t0 = Instant::now();
+        self.make_resident(&key, &variant, &up, tile, Some(&entries))?;
+        times.upload_s += secs(t0.elapsed());
+        times.setup.driver_compile_s += self.compile_on_driver(&key)?;
+        let mut second = RenderTimes {
+            device_dispatch_s: times.device_dispatch_s.map(|_| 0.0),
+            ..RenderTimes::default()
+        };
+        let (pixels, second_counts) = self.dispatch_tiles(
+            grid,
+            &key,
+            &variant,
+            entries_region,
+            tile,
+            per_entry,
+            &mut second,
+            &|_| {},
+        )?;
+        self.check_validation()?;
+        // These buffers hold this list alone: the next render binds anew.
+        self.resident = None;
+        times.dispatch_s += second.dispatch_s;
+        times.readback_s += second.readback_s;
+        if let (Some(t), Some(s)) = (&mut times.device_dispatch_s, second.device_dispatch_s) {
+            *t += s;
+        }
+        for (p, colour) in at.into_iter().zip(pixels) {
+            image.pixels[p] = colour;
+        }
+        let counts = match (counts, second_counts) {
+            (Some(a), Some(b)) => Some(crate::stats::Tally::merge(a, b)),
+            (a, _) => a,
+        };
+        Ok((image, times, counts))
     }
 
     /// Refuses a render this renderer cannot do: on a lost device, or in
@@ -633,16 +730,18 @@ impl Renderer {
         variant: &Variant,
         up: &std::rc::Rc<Uploads>,
         tile: (u32, u32),
+        refine: Option<&Array>,
     ) -> Result<(), GpuError> {
-        let reuse = self.resident.as_ref().is_some_and(|r| {
-            r.pipeline == *key && r.tile == tile && std::rc::Rc::ptr_eq(&r.uploads, up)
-        });
+        let reuse = refine.is_none()
+            && self.resident.as_ref().is_some_and(|r| {
+                r.pipeline == *key && r.tile == tile && std::rc::Rc::ptr_eq(&r.uploads, up)
+            });
         if reuse {
             return Ok(());
         }
         // The old buffers go first: the device is idle between renders.
         self.resident = None;
-        let buffers = self.scene_buffers(variant, up, tile)?;
+        let buffers = self.scene_buffers(variant, up, tile, refine)?;
         // SAFETY: the device is idle between renders; the buffers are
         // kept in `resident` until the set is bound again or the
         // pipeline is dropped, or leaked where a dispatch timed out.
@@ -696,8 +795,9 @@ impl Renderer {
     }
 
     /// Dispatches `region` in tiles of `tile` pixels, in the image's own
-    /// pixel coordinates, each under its watchdog; the region's pixels, and
-    /// the counts where `variant` counts.
+    /// pixel coordinates, each under its watchdog (for `work` times a
+    /// pixel's rays); the region's pixels, and the counts where `variant`
+    /// counts.
     #[allow(clippy::too_many_arguments)]
     fn dispatch_tiles(
         &mut self,
@@ -706,6 +806,7 @@ impl Renderer {
         variant: &Variant,
         region: Region,
         (tile_w, tile_h): (u32, u32),
+        work: f64,
         times: &mut RenderTimes,
         progress: &dyn Fn(u64),
     ) -> Result<(Vec<[f32; 3]>, Option<Counts>), GpuError> {
@@ -721,8 +822,11 @@ impl Renderer {
             for x0 in (region.x..x_end).step_by(tile_w as usize) {
                 let (w, h) = (tile_w.min(x_end - x0), tile_h.min(y_end - y0));
                 let t1 = Instant::now();
+                // `work`: a pixel's rays, in pixels of `scene`'s (the
+                // refinement's list entries trace up to many a pixel's).
                 let timeout = self.timeout.unwrap_or_else(|| {
-                    tile_timeout(scene, u64::from(w) * u64::from(h), variant.bvh_layouts > 0)
+                    let pixels = (work * f64::from(w) * f64::from(h)).ceil() as u64;
+                    tile_timeout(scene, pixels, variant.bvh_layouts > 0)
                 });
                 let job = Dispatch {
                     pipeline,
@@ -784,6 +888,7 @@ impl Renderer {
         variant: &Variant,
         up: &Uploads,
         tile: (u32, u32),
+        refine: Option<&Array>,
     ) -> Result<Vec<Buffer>, GpuError> {
         let d = &self.device;
         let commands = &mut self.commands;
@@ -820,6 +925,11 @@ impl Renderer {
                     (2 * Counter::SLOTS * std::mem::size_of::<u32>()) as u64,
                     raw::BufferUsageFlags::STORAGE_BUFFER | raw::BufferUsageFlags::TRANSFER_DST,
                     "the counters",
+                )?,
+                Block::Refine => scene(
+                    &refine.expect("a refining variant has its list").bytes,
+                    raw::BufferUsageFlags::STORAGE_BUFFER,
+                    "the pixels to refine",
                 )?,
                 Block::Pixels => Buffer::new(
                     d,

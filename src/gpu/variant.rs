@@ -37,6 +37,8 @@ pub enum Block {
     Nodes,
     /// The counters of `--stats` (src/stats.rs), where the variant counts.
     Counts,
+    /// The pixels adaptive sampling refines, with their corners.
+    Refine,
     /// The output tile the shader writes.
     Pixels,
 }
@@ -52,6 +54,7 @@ impl Block {
             Block::Textures => "textures",
             Block::Nodes => "BVH nodes",
             Block::Counts => "the counters",
+            Block::Refine => "the pixels to refine",
             Block::Pixels => "the output tile",
         }
     }
@@ -75,7 +78,15 @@ pub struct Variant {
     /// The robust forms' cheap filter (`power()` in shaders/exact.glsl),
     /// taken where the device skips a branch no invocation takes.
     pub power_filter: bool,
+    /// Adaptive sampling's second pass (shaders/adaptive.glsl): the bits of
+    /// the threshold in steps of 1/255, and the levels; None: a render of
+    /// pixels.
+    pub refine: Option<(u64, u32)>,
 }
+
+/// The width of the list of pixels adaptive sampling refines, as its
+/// second pass dispatches it: entry i at (i % width, i / width).
+pub const REFINE_WIDTH: u32 = 64;
 
 /// What one scene needs of the shader.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -283,6 +294,7 @@ impl Variant {
             power_filter: intersect == Intersect::Robust
                 && device.skips_untaken_branches
                 && !Experiment::from_env().no_filter,
+            refine: None,
         }
     }
 
@@ -296,6 +308,7 @@ impl Variant {
             features: None,
             count: false,
             power_filter: false,
+            refine: None,
         }
     }
 
@@ -317,6 +330,19 @@ impl Variant {
         }
         if self.count {
             d.push(("COUNT_RAYS".to_owned(), None));
+        }
+        if let Some((bits, levels)) = self.refine {
+            // Shortest digits that give the f64 back: f32 rounds them as the
+            // CPU's f32 does, and `lf` keeps all of them in f64.
+            let suffix = if self.precision == Precision::F64 {
+                "lf"
+            } else {
+                ""
+            };
+            let threshold = format!("{:e}{suffix}", f64::from_bits(bits));
+            d.push(("ADAPTIVE_LEVELS".to_owned(), Some(format!("{levels}u"))));
+            d.push(("ADAPTIVE_THRESHOLD".to_owned(), Some(threshold)));
+            d.push(("REFINE_WIDTH".to_owned(), Some(format!("{REFINE_WIDTH}u"))));
         }
         if let Some(f) = &self.features {
             f.defines(&mut d);
@@ -365,6 +391,11 @@ impl Variant {
             (
                 Block::Counts,
                 self.count,
+                vk::DescriptorType::STORAGE_BUFFER,
+            ),
+            (
+                Block::Refine,
+                self.refine.is_some(),
                 vk::DescriptorType::STORAGE_BUFFER,
             ),
             (Block::Pixels, true, vk::DescriptorType::STORAGE_BUFFER),
@@ -423,6 +454,9 @@ impl Variant {
         }
         if self.count {
             parts.push("counted".to_owned());
+        }
+        if let Some((_, levels)) = self.refine {
+            parts.push(format!("refine{levels}"));
         }
         if self.power_filter {
             parts.push("filtered".to_owned());

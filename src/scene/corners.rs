@@ -12,7 +12,7 @@ impl Scene {
     /// The image of `self`'s pixel corners, sampled at its pixel centres;
     /// None where `self` samples centres itself.
     pub fn corner_grid(&self) -> Option<Scene> {
-        if self.sampling != Sampling::Corners {
+        if !matches!(self.sampling, Sampling::Corners | Sampling::Adaptive) {
             return None;
         }
         let mut grid = self.clone();
@@ -26,6 +26,17 @@ impl Scene {
 }
 
 impl Image {
+    /// The corners of pixel (x, y) in the image of the corners: top-left,
+    /// top-right, bottom-left, bottom-right.
+    pub fn corners_of(&self, x: u32, y: u32) -> [[f32; 3]; 4] {
+        [
+            self.get(x, y),
+            self.get(x + 1, y),
+            self.get(x, y + 1),
+            self.get(x + 1, y + 1),
+        ]
+    }
+
     /// The mean of each pixel's four corners, from the image of the corners
     /// ([`Scene::corner_grid`]): one pixel narrower and lower.
     pub fn corner_mean(&self) -> Image {

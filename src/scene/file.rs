@@ -90,6 +90,12 @@ pub struct ImageFile {
     pub srgb: bool,
     #[serde(default)]
     pub sampling: Sampling,
+    /// `"adaptive"`: the corners' contrast past which a square is split.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub threshold: Option<f64>,
+    /// `"adaptive"`: how many times a pixel may be split.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_level: Option<i64>,
 }
 
 /// Where a pixel's eye rays go (docs/scene-format.md, Rays).
@@ -102,6 +108,10 @@ pub enum Sampling {
     /// One ray through each pixel corner, (w+1)×(h+1), four averaged per
     /// pixel: the SPD's procedure.
     Corners,
+    /// Whitted's adaptive antialiasing: the corners, and a pixel whose
+    /// corners differ by more than a threshold split into four, again
+    /// and again up to a level (`crate::scene::Adaptive`).
+    Adaptive,
 }
 
 #[derive(Debug, Deserialize, Serialize)]

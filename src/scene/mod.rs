@@ -53,6 +53,8 @@ pub struct Scene {
     pub samples: u32,
     /// Where in a pixel its samples lie.
     pub sampling: Sampling,
+    /// Where `sampling` is adaptive: its threshold and levels.
+    pub adaptive: Option<Adaptive>,
     /// Whether a PNG is written sRGB-encoded.
     pub srgb: bool,
     /// The ray tree's depth: 1 is eye rays alone.
@@ -124,6 +126,54 @@ pub struct Material {
     pub ambient_texture: Option<u32>,
 }
 
+/// Whitted's adaptive antialiasing (docs/scene-format.md, Rays): a square
+/// of a pixel whose corners' contrast passes `threshold` is split into
+/// four, at most `levels` times from the pixel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Adaptive {
+    /// The largest difference between two corners in one channel that a
+    /// square keeps unsplit.
+    pub threshold: f64,
+    /// How many times a pixel may be split: 1..=`MAX_LEVELS`.
+    pub levels: u32,
+}
+
+impl Adaptive {
+    /// The deepest split allowed: 4⁴ = 256 squares to a pixel.
+    pub const MAX_LEVELS: u32 = 4;
+
+    /// Colours are compared in steps of 1/255: the contrast of a square
+    /// is counted in these, so that f32 and f64, whose colours differ by
+    /// rounding, split the same squares but where a corner sits on a step.
+    pub const STEPS: f64 = 255.0;
+
+    /// The threshold in steps, as both renderers compare contrasts with it.
+    pub fn threshold_steps(&self) -> f64 {
+        self.threshold * Self::STEPS
+    }
+
+    /// Whether a pixel whose corners (top-left, top-right, bottom-left,
+    /// bottom-right, as the corner grid gives them) are `c` is split: the
+    /// choice of the pixels the second pass refines, made once, from the
+    /// f32 corner image, for either renderer. Mirrors `contrast` in
+    /// src/cpu/adaptive.rs and shaders/adaptive.glsl.
+    pub fn splits(&self, c: &[[f32; 3]; 4]) -> bool {
+        let step = |v: f32| (f64::from(v) * Self::STEPS + 0.5).floor();
+        (0..3).any(|k| {
+            let values = c.map(|p| step(p[k]));
+            let hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
+            hi - lo > self.threshold_steps()
+        })
+    }
+
+    /// The most eye rays one pixel can add to its corners: 5 a split, and
+    /// (4^levels − 1)/3 splits.
+    pub fn most_rays_per_pixel(&self) -> f64 {
+        5.0 * (4f64.powi(self.levels as i32) - 1.0) / 3.0
+    }
+}
+
 /// What kind of light.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum LightKind {
@@ -163,6 +213,30 @@ impl Light {
     /// towards a light without one could change nothing.
     pub fn has_direct_term(&self) -> bool {
         self.diffuse != DVec3::ZERO || self.specular != DVec3::ZERO
+    }
+}
+
+impl Scene {
+    /// The adaptive sampling the renderers follow: where `sampling` is
+    /// adaptive, `adaptive` (or the defaults, 0.1 and 2 levels, where a
+    /// scene made in code left it out); else none.
+    pub fn adaptive_sampling(&self) -> Option<Adaptive> {
+        (self.sampling == Sampling::Adaptive).then(|| {
+            self.adaptive.unwrap_or(Adaptive {
+                threshold: 0.1,
+                levels: 2,
+            })
+        })
+    }
+
+    /// How a pixel is sampled, in a few words: `4 spp`, `corners`,
+    /// `adaptive to 2 levels`.
+    pub fn sampling_summary(&self) -> String {
+        match (self.sampling, self.adaptive_sampling()) {
+            (_, Some(a)) => format!("adaptive to {} levels", a.levels),
+            (Sampling::Corners, _) => "corners".to_owned(),
+            _ => format!("{} spp", self.samples * self.samples),
+        }
     }
 }
 

@@ -403,6 +403,8 @@ impl<'a> Reader<'a> {
                 samples: 1,
                 srgb: false,
                 sampling: Sampling::Corners,
+                threshold: None,
+                max_level: None,
             },
             render: RenderFile {
                 max_depth: SPD_DEPTH,

@@ -6,11 +6,11 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::file::{CameraFile, LightFile, MaterialFile, SceneFile};
+use super::file::{CameraFile, ImageFile, LightFile, MaterialFile, SceneFile};
 use super::texture::{Pattern, Texture, TextureFile};
 use super::{
-    Camera, Light, LightKind, Material, Sampling, Scene, SceneError, MAX_DEPTH, MAX_SAMPLES,
-    MAX_SIZE,
+    Adaptive, Camera, Light, LightKind, Material, Sampling, Scene, SceneError, MAX_DEPTH,
+    MAX_SAMPLES, MAX_SIZE,
 };
 use crate::input::field::MAX_COORDINATE;
 use crate::input::field::{root, At, Check, Triple};
@@ -226,6 +226,7 @@ impl Check<'_> {
                 format!("\"corners\" traces one ray per pixel corner: it takes samples = 1, got {samples}"),
             );
         }
+        let adaptive = self.adaptive(&image, &raw.image, samples)?;
         let max_depth =
             self.int_in(&render.key("max_depth"), raw.render.max_depth, 1, MAX_DEPTH)?;
         let background = self.colour(&render.key("background"), raw.render.background)?;
@@ -286,6 +287,7 @@ impl Check<'_> {
             height,
             samples,
             sampling,
+            adaptive,
             srgb: raw.image.srgb,
             max_depth,
             shadows: raw.render.shadows,
@@ -298,6 +300,43 @@ impl Check<'_> {
             lights,
             mesh_files,
         })
+    }
+
+    /// `[image]`'s adaptive sampling: its threshold (default 0.1, ≥ 0) and
+    /// its levels (default 2, 1..=4); those keys are refused for another
+    /// sampling.
+    fn adaptive(&self, path: &KeyPath, f: &ImageFile, samples: u32) -> Result<Option<Adaptive>> {
+        if f.sampling != Sampling::Adaptive {
+            for (key, given) in [
+                ("threshold", f.threshold.is_some()),
+                ("max_level", f.max_level.is_some()),
+            ] {
+                if given {
+                    return self.err(&path.key(key), "only sampling = \"adaptive\" takes it");
+                }
+            }
+            return Ok(None);
+        }
+        if samples != 1 {
+            return self.err(
+                &path.key("sampling"),
+                format!("\"adaptive\" starts from one ray per pixel corner: it takes samples = 1, got {samples}"),
+            );
+        }
+        let threshold = self.finite(&path.key("threshold"), f.threshold.unwrap_or(0.1))?;
+        if threshold < 0.0 {
+            return self.err(
+                &path.key("threshold"),
+                format!("must be >= 0, got {threshold}"),
+            );
+        }
+        let levels = self.int_in(
+            &path.key("max_level"),
+            f.max_level.unwrap_or(2),
+            1,
+            Adaptive::MAX_LEVELS,
+        )?;
+        Ok(Some(Adaptive { threshold, levels }))
     }
 
     fn texture(&self, path: &KeyPath, t: &TextureFile) -> Result<Texture> {
@@ -686,6 +725,7 @@ fn apply_overrides(scene: &mut Scene, o: &Overrides) -> Result<()> {
         scene.samples = s;
         // A grid of samples is the centres sampling's (docs/scene-format.md, Rays).
         scene.sampling = Sampling::Centers;
+        scene.adaptive = None;
     }
     if let Some(d) = check("--max-depth", o.max_depth, 1, MAX_DEPTH)? {
         scene.max_depth = d;
