@@ -41,14 +41,6 @@ fn passes(image: &Image, reference: &Image) -> bool {
     Tolerance::default().violations(&f).is_empty()
 }
 
-fn same_bits(a: &Image, b: &Image) -> bool {
-    a.pixels.len() == b.pixels.len()
-        && a.pixels
-            .iter()
-            .zip(&b.pixels)
-            .all(|(p, q)| (0..3).all(|c| p[c].to_bits() == q[c].to_bits()))
-}
-
 /// The GPU and CPU f32 agree with the f64 reference, on the Whitted scene
 /// and the showcase. (Not seed-fig5 at this size: its beads are a pixel
 /// across, and even its corner sampling puts 0.8 % of the pixels of f32
@@ -107,7 +99,7 @@ fn refining_brings_the_image_nearer_a_converged_one() {
     );
     // A threshold no corner passes refines nothing: the corners' image.
     let none = cpu::render::<f64>(&adaptive(path, 96, 72, 1e9, 3));
-    assert!(same_bits(&none, &corners));
+    assert!(common::same_bits(&none, &corners));
 }
 
 /// Tiles and regions of an adaptive render are the whole render, bit for

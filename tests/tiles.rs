@@ -40,15 +40,6 @@ fn put_together(scene: &Scene, parts: &[(Region, Image)]) -> Image {
     Image::new(scene.width, scene.height, pixels)
 }
 
-/// Bit for bit: the same bits in every channel (NaN would differ from itself).
-fn same_bits(a: &Image, b: &Image) -> bool {
-    a.pixels.len() == b.pixels.len()
-        && a.pixels
-            .iter()
-            .zip(&b.pixels)
-            .all(|(p, q)| (0..3).all(|c| p[c].to_bits() == q[c].to_bits()))
-}
-
 const SCENES: [&str; 2] = ["scenes/seed-fig5.toml", "scenes/spd/mount.nff"];
 
 #[test]
@@ -66,7 +57,7 @@ fn gpu_tiles_are_the_whole_render_bit_for_bit() {
                 })
                 .collect();
             assert!(
-                same_bits(&put_together(&scene, &parts), &whole),
+                common::same_bits(&put_together(&scene, &parts), &whole),
                 "{path} {n}"
             );
         }
@@ -104,14 +95,14 @@ fn cpu_tiles_are_the_whole_render_bit_for_bit() {
             };
             let t64 = tiles(&|r| cpu::render_region::<f64>(&scene, Accel::Auto, r, &|_| {}));
             let t32 = tiles(&|r| cpu::render_region::<f32>(&scene, Accel::Auto, r, &|_| {}));
-            assert!(same_bits(&t64, &whole64), "{path} {n} f64");
-            assert!(same_bits(&t32, &whole32), "{path} {n} f32");
+            assert!(common::same_bits(&t64, &whole64), "{path} {n} f64");
+            assert!(common::same_bits(&t32, &whole32), "{path} {n} f32");
         }
     }
     // The check can fail: tiles of another scene are not these bits.
     let a = load(SCENES[0]);
     let b = cpu::render::<f64>(&load(SCENES[1]));
-    assert!(!same_bits(&cpu::render::<f64>(&a), &b));
+    assert!(!common::same_bits(&cpu::render::<f64>(&a), &b));
 }
 
 #[cfg(feature = "gpu")]
@@ -159,7 +150,7 @@ fn render_tile_and_assemble_through_the_binary() {
     ));
     ok(&glint_in(d, &["assemble", "tiles", "-o", "out.pfm"], &[]));
     let read = |p: &str| io::read(&d.join(p)).unwrap();
-    assert!(same_bits(&read("out.pfm"), &read("whole.pfm")));
+    assert!(common::same_bits(&read("out.pfm"), &read("whole.pfm")));
 
     let assemble = |tiles: &[&str], out: &str| {
         let mut args = vec!["assemble"];

@@ -579,11 +579,11 @@ impl Renderer {
     ) -> Result<(Image, RenderTimes, Option<Counts>), GpuError> {
         self.check_can_render(settings)?;
         if let Some(grid) = scene.corner_grid() {
-            let (image, times, counts) =
+            let first =
                 self.render_maybe_counted(&grid, settings, region.corners(), count, progress)?;
             return match scene.adaptive_sampling() {
-                None => Ok((image.corner_mean(), times, counts)),
-                Some(a) => self.refine(&grid, settings, a, region, &image, (times, counts), count),
+                None => Ok((first.0.corner_mean(), first.1, first.2)),
+                Some(a) => self.refine(&grid, settings, a, region, first, count),
             };
         }
         // Laying the scene out counts as upload (where this call did it), but
@@ -616,21 +616,20 @@ impl Renderer {
     }
 
     /// Adaptive sampling's second pass: the pixels of `region` whose
-    /// corners (`corners`, the image of its corners, traced from `grid`) differ by
+    /// corners (`first`'s image of its corners, traced from `grid`) differ by
     /// more than the threshold, refined as one list in the image's order
-    /// (shaders/adaptive.glsl); the others are their corners' mean.
-    /// `first`: the first pass's times and counts, which this one's join.
+    /// (shaders/adaptive.glsl); the others are their corners' mean. The
+    /// first pass's times and counts join this one's.
     fn refine(
         &mut self,
         grid: &Scene,
         settings: &RenderSettings,
         adaptive: crate::scene::Adaptive,
         region: Region,
-        corners: &Image,
-        first: (RenderTimes, Option<Counts>),
+        first: (Image, RenderTimes, Option<Counts>),
         count: bool,
     ) -> Result<(Image, RenderTimes, Option<Counts>), GpuError> {
-        let (mut times, counts) = first;
+        let (corners, mut times, counts) = first;
         let mut image = corners.corner_mean();
         // The corner image's pixel (x, y) is the top-left corner of the
         // region's pixel (x, y); the list holds the image's coordinates.

@@ -215,3 +215,12 @@ pub fn runaway_include(dir: &Path) -> PathBuf {
     .unwrap();
     inc
 }
+
+/// Bit for bit: the same bits in every channel (NaN would differ from itself).
+pub fn same_bits(a: &Image, b: &Image) -> bool {
+    a.pixels.len() == b.pixels.len()
+        && a.pixels
+            .iter()
+            .zip(&b.pixels)
+            .all(|(p, q)| (0..3).all(|c| p[c].to_bits() == q[c].to_bits()))
+}
