@@ -51,7 +51,7 @@ fn rays_at_depth(scene: &Scene, depth: u32) -> f64 {
         * (f64::from(scene.height) + 1.0)
         * f64::from(scene.samples * scene.samples)
         + scene
-            .adaptive
+            .adaptive_sampling()
             .map_or(0.0, |a| pixels * a.most_rays_per_pixel());
     eye * per_eye_ray * (1.0 + scene.lights.len() as f64)
 }
