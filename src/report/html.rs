@@ -106,11 +106,11 @@ figcaption{font-size:13px;color:#444}.pareto{font-weight:bold}</style></head><bo
         let slug = slug(&s.name);
         let _ = writeln!(
             h,
-            "<h2>{} <small>({}x{}, {} spp, depth {})</small></h2>",
+            "<h2>{} <small>({}x{}, {}, depth {})</small></h2>",
             escape(&s.name),
             s.width,
             s.height,
-            s.samples * s.samples,
+            escape(&s.sampling),
             s.max_depth
         );
         if s.images.gpu.is_some() {

@@ -200,6 +200,8 @@ pub struct SceneReport {
     pub height: u32,
     /// The scene's samples a side.
     pub samples: u32,
+    /// How the scene samples a pixel, in a few words (`Scene::sampling_summary`).
+    pub sampling: String,
     /// The scene's ray-tree depth.
     pub max_depth: u32,
     /// One a variant.
@@ -412,6 +414,7 @@ pub fn measure(
         width: scene.width,
         height: scene.height,
         samples: scene.samples,
+        sampling: scene.sampling_summary(),
         max_depth: scene.max_depth,
         measurements,
         images,

@@ -78,11 +78,11 @@ pub fn markdown(r: &Report) -> String {
     for s in &r.scenes {
         let _ = writeln!(
             out,
-            "## {} ({}x{}, {} spp, depth {})\n",
+            "## {} ({}x{}, {}, depth {})\n",
             s.name,
             s.width,
             s.height,
-            s.samples * s.samples,
+            s.sampling,
             s.max_depth
         );
         let _ = writeln!(out, "| {} |", ROW_HEADERS.join(" | "));
