@@ -79,11 +79,7 @@ pub fn markdown(r: &Report) -> String {
         let _ = writeln!(
             out,
             "## {} ({}x{}, {}, depth {})\n",
-            s.name,
-            s.width,
-            s.height,
-            s.sampling,
-            s.max_depth
+            s.name, s.width, s.height, s.sampling, s.max_depth
         );
         let _ = writeln!(out, "| {} |", ROW_HEADERS.join(" | "));
         let _ = writeln!(out, "|{}", "---|".repeat(ROW_HEADERS.len()));
