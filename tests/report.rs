@@ -156,3 +156,63 @@ fn names_with_commas_and_quotes_survive_the_csv_and_the_page() {
     let html = std::fs::read_to_string(out.join("index.html")).unwrap();
     assert!(html.contains("fig,3 &quot;q&quot;") && !html.contains(name));
 }
+
+/// `--sampling`: uniform 1x1 to 8x8 and the adaptive settings, each against
+/// a converged render; the uniform grids' error falls as they grow (it
+/// would not against a wrong reference), and the axis has its own table,
+/// plot and CSV rows.
+#[test]
+fn the_sampling_axis_is_measured_against_a_converged_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = common::repo().join("scenes/seed-fig3.toml");
+    common::cmd()
+        .arg("report")
+        .arg(&scene)
+        .args(["--quick", "--sampling", "--runs", "1", "-o"])
+        .arg(dir.path())
+        .assert()
+        .success();
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("report.json")).unwrap())
+            .unwrap();
+    let scene = &json["scenes"][0];
+    let axis = scene["sampling"].as_array().unwrap();
+    let names: Vec<&str> = axis
+        .iter()
+        .map(|m| m["variant"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "gpu f32 uniform 1x1",
+            "gpu f32 uniform 2x2",
+            "gpu f32 uniform 4x4",
+            "gpu f32 uniform 8x8",
+            "gpu f32 adaptive 0.2/2",
+            "gpu f32 adaptive 0.1/2",
+            "gpu f32 adaptive 0.05/2",
+            "gpu f32 adaptive 0.02/3"
+        ]
+    );
+    let rmse: Vec<f64> = axis
+        .iter()
+        .map(|m| m["error"]["rmse"].as_f64().unwrap())
+        .collect();
+    assert!(rmse[..4].windows(2).all(|w| w[1] < w[0]), "{rmse:?}");
+    assert!(axis
+        .iter()
+        .all(|m| m["time"]["median_s"].as_f64().unwrap() > 0.0));
+    let md = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
+    assert!(
+        md.contains("### seed-fig3: the sampling axis, against CPU f64 at 16x16 uniform samples")
+    );
+    let svg = std::fs::read_to_string(dir.path().join("sampling_vs_time.svg")).unwrap();
+    assert!(svg.contains("adaptive sampling") && svg.contains("at 16x16 samples"));
+    let csv = std::fs::read_to_string(dir.path().join("report.csv")).unwrap();
+    let ms = scene["measurements"].as_array().unwrap().len();
+    assert_eq!(csv.lines().count(), 1 + ms + axis.len());
+    assert_eq!(
+        csv.lines().filter(|l| l.ends_with(",converged")).count(),
+        axis.len()
+    );
+}

@@ -22,15 +22,18 @@ fn scene_name(path: &std::path::Path) -> String {
 pub struct ReportArgs {
     /// Scene files [default: every scene in scenes/]
     scenes: Vec<PathBuf>,
-    /// The directory to write report.md, report.csv, report.json, error_vs_time.svg and index.html into.
+    /// The directory to write report.md, report.csv, report.json, error_vs_time.svg, sampling_vs_time.svg and index.html into.
     #[arg(short, long, value_name = "DIR")]
     output: PathBuf,
     /// Warm runs per variant (the median is reported).
     #[arg(long, default_value_t = 5)]
     runs: usize,
-    /// Small images (160x120), 2 runs, no depth or sample sweeps: for tests and CI.
+    /// Small images (160x120), 2 runs, no depth or sample sweeps and no sampling axis: for tests and CI.
     #[arg(long)]
     quick: bool,
+    /// Measure the sampling axis (uniform 1x1 to 8x8 and adaptive sampling, against a converged render) also with --quick.
+    #[arg(long)]
+    sampling: bool,
     #[command(flatten)]
     device: DeviceArgs,
 }
@@ -62,6 +65,7 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
     let settings = Settings {
         runs: if a.quick { 2 } else { a.runs },
         sweeps: !a.quick,
+        sampling: !a.quick || a.sampling,
     };
     let names: Vec<String> = paths.iter().map(|p| scene_name(p)).collect();
     let mut inputs = a.device.inputs();
@@ -86,6 +90,10 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
                 u64::from(s.max_depth - 1 + s.samples - 1)
             } else {
                 0
+            } + if settings.sampling {
+                (1 + report::SAMPLING_UNIFORM.len() + report::SAMPLING_ADAPTIVE.len()) as u64
+            } else {
+                0
             }
         })
         .sum();
@@ -108,7 +116,7 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
     };
     report::html::write_all(&report, &a.output, outputs)?;
     eprintln!(
-        "wrote {}/index.html, report.md, report.csv, report.json, error_vs_time.svg",
+        "wrote {}/index.html, report.md, report.csv, report.json, error_vs_time.svg, sampling_vs_time.svg",
         a.output.display()
     );
     Ok(ExitCode::SUCCESS)

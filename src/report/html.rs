@@ -31,11 +31,12 @@ pub fn files(names: &[String], dir: &Path) -> Vec<PathBuf> {
     v
 }
 
-const TEXTS: [&str; 4] = [
+const TEXTS: [&str; 5] = [
     "report.md",
     "report.csv",
     "report.json",
     "error_vs_time.svg",
+    "sampling_vs_time.svg",
 ];
 const PAGE: &str = "index.html";
 
@@ -58,6 +59,7 @@ pub fn write_all(r: &Report, dir: &Path, mut outputs: Outputs) -> anyhow::Result
         tables::csv(r),
         tables::json(r),
         super::svg::plot(r),
+        super::svg::plot_sampling(r),
     ];
     for (name, text) in TEXTS.iter().zip(&texts) {
         stage_text(&mut outputs, &dir.join(name), text)?;
@@ -101,6 +103,9 @@ figcaption{font-size:13px;color:#444}.pareto{font-weight:bold}</style></head><bo
         r.device_s
     );
     h.push_str("<p><img src=\"error_vs_time.svg\" alt=\"error against run time, log-log\"></p>\n");
+    if r.scenes.iter().any(|s| !s.sampling.is_empty()) {
+        h.push_str("<p><img src=\"sampling_vs_time.svg\" alt=\"the sampling axis: error against run time, log-log\"></p>\n");
+    }
     h.push_str("<p>Errors are against the CPU f64 reference at the scene's own settings. Bold rows are on the scene's Pareto front: no other variant is both faster and more accurate. The heat-map is black where the images agree, blue to red to white from 1e-7 through 1/255 to 1, magenta where a value is not finite.</p>\n");
     for s in &r.scenes {
         let slug = slug(&s.name);
@@ -110,7 +115,7 @@ figcaption{font-size:13px;color:#444}.pareto{font-weight:bold}</style></head><bo
             escape(&s.name),
             s.width,
             s.height,
-            escape(&s.sampling),
+            escape(&s.sampling_summary),
             s.max_depth
         );
         if s.images.gpu.is_some() {

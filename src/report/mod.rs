@@ -23,7 +23,18 @@ pub struct Settings {
     pub runs: usize,
     /// Also sweep max_depth and samples from 1 to the scene's own.
     pub sweeps: bool,
+    /// Also the sampling axis: uniform and adaptive sampling against a
+    /// converged render (`SAMPLING_UNIFORM`, `SAMPLING_ADAPTIVE`).
+    pub sampling: bool,
 }
+
+/// The sampling axis's uniform grids, samples a side.
+pub const SAMPLING_UNIFORM: [u32; 4] = [1, 2, 4, 8];
+/// Its adaptive settings: threshold in thousandths, and levels.
+pub const SAMPLING_ADAPTIVE: [(u32, u32); 4] = [(200, 2), (100, 2), (50, 2), (20, 3)];
+/// The converged render the sampling axis is measured against: CPU f64
+/// with this many uniform samples a side.
+pub const CONVERGED_SAMPLES: u32 = 16;
 
 /// Medians over the warm runs, in seconds.
 #[derive(Debug, Clone, Copy, Default, Serialize)]
@@ -55,6 +66,11 @@ pub enum Variant {
     GpuDepth(u32),
     /// The scene's own variant (f32, robust) with fewer samples a side.
     GpuSamples(u32),
+    /// The sampling axis: GPU f32 robust with this uniform grid a side.
+    GpuUniform(u32),
+    /// The sampling axis: GPU f32 robust, adaptive sampling with this
+    /// threshold (in thousandths) and levels.
+    GpuAdaptive(u32, u32),
     /// The CPU reference in f32.
     Cpu32,
     /// The CPU reference in f64: the reference itself.
@@ -71,6 +87,10 @@ impl Variant {
             Variant::GpuGeneric => "gpu f32 generic".to_owned(),
             Variant::GpuDepth(d) => format!("gpu f32 depth {d}"),
             Variant::GpuSamples(s) => format!("gpu f32 samples {s}"),
+            Variant::GpuUniform(n) => format!("gpu f32 uniform {n}x{n}"),
+            Variant::GpuAdaptive(t, l) => {
+                format!("gpu f32 adaptive {}/{l}", f64::from(t) / 1000.0)
+            }
             Variant::Cpu32 => "cpu f32".to_owned(),
             Variant::Cpu64 => "cpu f64".to_owned(),
         }
@@ -201,11 +221,15 @@ pub struct SceneReport {
     /// The scene's samples a side.
     pub samples: u32,
     /// How the scene samples a pixel, in a few words (`Scene::sampling_summary`).
-    pub sampling: String,
+    pub sampling_summary: String,
     /// The scene's ray-tree depth.
     pub max_depth: u32,
     /// One a variant.
     pub measurements: Vec<Measurement>,
+    /// The sampling axis, where measured: each against the converged
+    /// render (CPU f64, `CONVERGED_SAMPLES`² uniform samples), not the
+    /// scene's own reference.
+    pub sampling: Vec<Measurement>,
     /// Not serialized: the images for the page.
     #[serde(skip)]
     pub images: SceneImages,
@@ -327,98 +351,161 @@ pub fn measure(
         variants.extend((1..scene.samples).map(Variant::GpuSamples));
     }
     let mut measurements = Vec::new();
-    let mut images = SceneImages {
-        reference: Some(reference.clone()),
-        srgb: scene.srgb,
-        ..SceneImages::default()
-    };
+    let mut gpu_image = None;
     for variant in variants {
-        progress(&variant.name());
-        let mut s = scene.clone();
-        match variant {
-            Variant::GpuDepth(d) => s.max_depth = d,
-            Variant::GpuSamples(n) => s.samples = n,
-            _ => {}
-        }
-        let rays = s.ray_count() as f64;
-        let (image, time, setup) = match variant.intersect() {
-            Some(intersect) => {
-                let how = RenderSettings {
-                    intersect,
-                    precision: variant.precision(),
-                    generic: variant == Variant::GpuGeneric,
-                    ..renderer.settings()
-                };
-                let setup = renderer.prepare_with(&s, &how)?;
-                let (image, _) = renderer.render_with(&s, &how, &|_| {})?; // warm-up, untimed
-                let mut runs: Vec<(f64, crate::gpu::RenderTimes)> = Vec::new();
-                for _ in 0..settings.runs {
-                    let t = renderer.render_with(&s, &how, &|_| {})?.1;
-                    runs.push((t.total_s(), t));
-                }
-                runs.sort_by(|a, b| a.0.total_cmp(&b.0));
-                let (m, parts) = runs[runs.len() / 2];
-                let time = Timing {
-                    median_s: m,
-                    upload_s: Some(parts.upload_s),
-                    dispatch_s: Some(parts.dispatch_s),
-                    readback_s: Some(parts.readback_s),
-                    rays_per_s: rays / m,
-                };
-                (image, time, Some(setup))
-            }
-            None => {
-                let render = |s: &Scene| match variant.precision() {
-                    Precision::F32 => cpu::render::<f32>(s),
-                    Precision::F64 => cpu::render::<f64>(s),
-                };
-                let image = render(&s);
-                let mut times: Vec<f64> = (0..settings.runs)
-                    .map(|_| {
-                        let t = Instant::now();
-                        let _ = render(&s);
-                        t.elapsed().as_secs_f64()
-                    })
-                    .collect();
-                let m = median(&mut times);
-                (
-                    image,
-                    Timing {
-                        median_s: m,
-                        rays_per_s: rays / m,
-                        ..Timing::default()
-                    },
-                    None,
-                )
-            }
-        };
-        let error = figures(&image, &reference).expect("same size");
-        let flip = flip_mean(&image, &reference);
-        if variant == Variant::Gpu(Intersect::Robust) {
-            images.gpu = Some(image);
-        }
-        measurements.push(Measurement {
+        let (m, image) = measure_one(
+            renderer,
+            scene,
             variant,
-            max_depth: s.max_depth,
-            samples: s.samples,
-            error,
-            flip_mean: flip,
-            time,
-            setup,
-            pareto: false,
-        });
+            &reference,
+            settings.runs,
+            progress,
+        )?;
+        if variant == Variant::Gpu(Intersect::Robust) {
+            gpu_image = Some(image);
+        }
+        measurements.push(m);
     }
     mark_pareto(&mut measurements);
+    let mut sampling = Vec::new();
+    if settings.sampling {
+        progress("converged reference");
+        let converged = cpu::render::<f64>(&sampled(scene, Variant::GpuUniform(CONVERGED_SAMPLES)));
+        let axis = SAMPLING_UNIFORM
+            .map(Variant::GpuUniform)
+            .into_iter()
+            .chain(SAMPLING_ADAPTIVE.map(|(t, l)| Variant::GpuAdaptive(t, l)));
+        for variant in axis {
+            let (m, _) = measure_one(
+                renderer,
+                scene,
+                variant,
+                &converged,
+                settings.runs,
+                progress,
+            )?;
+            sampling.push(m);
+        }
+        mark_pareto(&mut sampling);
+    }
     Ok(SceneReport {
         name: name.to_owned(),
         width: scene.width,
         height: scene.height,
         samples: scene.samples,
-        sampling: scene.sampling_summary(),
+        sampling_summary: scene.sampling_summary(),
         max_depth: scene.max_depth,
         measurements,
-        images,
+        sampling,
+        images: SceneImages {
+            reference: Some(reference),
+            gpu: gpu_image,
+            srgb: scene.srgb,
+        },
     })
+}
+
+/// `scene` as `variant` renders it: its depth, samples or sampling.
+fn sampled(scene: &Scene, variant: Variant) -> Scene {
+    let mut s = scene.clone();
+    match variant {
+        Variant::GpuDepth(d) => s.max_depth = d,
+        Variant::GpuSamples(n) => s.samples = n,
+        Variant::GpuUniform(n) => {
+            s.samples = n;
+            s.sampling = crate::scene::Sampling::Centers;
+            s.adaptive = None;
+        }
+        Variant::GpuAdaptive(t, l) => {
+            s.samples = 1;
+            s.sampling = crate::scene::Sampling::Adaptive;
+            s.adaptive = Some(crate::scene::Adaptive {
+                threshold: f64::from(t) / 1000.0,
+                levels: l,
+            });
+        }
+        _ => {}
+    }
+    s
+}
+
+/// One variant of `scene`: its error against `reference`, and the median
+/// of `runs` warm runs; with its image.
+fn measure_one(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    variant: Variant,
+    reference: &Image,
+    runs: usize,
+    progress: &dyn Fn(&str),
+) -> Result<(Measurement, Image), GpuError> {
+    progress(&variant.name());
+    let s = sampled(scene, variant);
+    let rays = s.ray_count() as f64;
+    let (image, time, setup) = match variant.intersect() {
+        Some(intersect) => {
+            let how = RenderSettings {
+                intersect,
+                precision: variant.precision(),
+                generic: variant == Variant::GpuGeneric,
+                ..renderer.settings()
+            };
+            let setup = renderer.prepare_with(&s, &how)?;
+            let (image, _) = renderer.render_with(&s, &how, &|_| {})?; // warm-up, untimed
+            let mut timed: Vec<(f64, crate::gpu::RenderTimes)> = Vec::new();
+            for _ in 0..runs {
+                let t = renderer.render_with(&s, &how, &|_| {})?.1;
+                timed.push((t.total_s(), t));
+            }
+            timed.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let (m, parts) = timed[timed.len() / 2];
+            let time = Timing {
+                median_s: m,
+                upload_s: Some(parts.upload_s),
+                dispatch_s: Some(parts.dispatch_s),
+                readback_s: Some(parts.readback_s),
+                rays_per_s: rays / m,
+            };
+            (image, time, Some(setup))
+        }
+        None => {
+            let render = |s: &Scene| match variant.precision() {
+                Precision::F32 => cpu::render::<f32>(s),
+                Precision::F64 => cpu::render::<f64>(s),
+            };
+            let image = render(&s);
+            let mut times: Vec<f64> = (0..runs)
+                .map(|_| {
+                    let t = Instant::now();
+                    let _ = render(&s);
+                    t.elapsed().as_secs_f64()
+                })
+                .collect();
+            let m = median(&mut times);
+            (
+                image,
+                Timing {
+                    median_s: m,
+                    rays_per_s: rays / m,
+                    ..Timing::default()
+                },
+                None,
+            )
+        }
+    };
+    let error = figures(&image, reference).expect("same size");
+    let flip = flip_mean(&image, reference);
+    let m = Measurement {
+        variant,
+        max_depth: s.max_depth,
+        samples: s.samples,
+        error,
+        flip_mean: flip,
+        time,
+        setup,
+        pareto: false,
+    };
+    Ok((m, image))
 }
 
 /// Marks the measurements that no other beats on both time and rmse.

@@ -26,11 +26,13 @@ fn colour(v: Variant) -> &'static str {
         Variant::Cpu64 => "#111111",
         Variant::GpuDepth(_) => "#7fb8e6",
         Variant::GpuSamples(_) => "#ff9f3f",
+        Variant::GpuUniform(_) => "#17becf",
+        Variant::GpuAdaptive(..) => "#e377c2",
     }
 }
 
 /// The legend: one variant of each family, and its label.
-const FAMILIES: [(Variant, &str); 8] = [
+const FAMILIES: [(Variant, &str); 10] = [
     (Variant::Gpu(Intersect::Robust), "gpu f32 robust"),
     (Variant::Gpu(Intersect::Naive), "gpu f32 naive"),
     (Variant::GpuGeneric, "gpu f32 generic shader"),
@@ -39,6 +41,8 @@ const FAMILIES: [(Variant, &str); 8] = [
     (Variant::Cpu64, "cpu f64 (reference)"),
     (Variant::GpuDepth(1), "gpu f32, lower depth"),
     (Variant::GpuSamples(1), "gpu f32, fewer samples"),
+    (Variant::GpuUniform(1), "gpu f32, uniform sampling"),
+    (Variant::GpuAdaptive(0, 1), "gpu f32, adaptive sampling"),
 ];
 
 fn marker(shape: usize, x: f64, y: f64, fill: &str, title: &str) -> String {
@@ -78,11 +82,25 @@ fn marker(shape: usize, x: f64, y: f64, fill: &str, title: &str) -> String {
 /// The plot of every measurement's error (rmse) against its time, on log
 /// axes: a colour a variant's family, a marker shape a scene.
 pub fn plot(r: &Report) -> String {
+    plot_of(r, |s| &s.measurements, "RMSE against CPU f64")
+}
+
+/// The sampling axis's plot (sampling_vs_time.svg): each scene's uniform
+/// and adaptive sampling against its converged render.
+pub fn plot_sampling(r: &Report) -> String {
+    plot_of(r, |s| &s.sampling, "RMSE against CPU f64 at 16x16 samples")
+}
+
+fn plot_of(
+    r: &Report,
+    pick: impl Fn(&super::SceneReport) -> &[Measurement],
+    against: &str,
+) -> String {
     let points: Vec<(usize, &Measurement)> = r
         .scenes
         .iter()
         .enumerate()
-        .flat_map(|(i, s)| s.measurements.iter().map(move |m| (i, m)))
+        .flat_map(|(i, s)| pick(s).iter().map(move |m| (i, m)))
         .collect();
     let err = |m: &Measurement| m.error.rmse.max(ZERO_ERROR);
     let (mut tmin, mut tmax, mut emin, mut emax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
@@ -129,7 +147,7 @@ pub fn plot(r: &Report) -> String {
         let _ = writeln!(s, "<line x1=\"{LEFT}\" y1=\"{py:.1}\" x2=\"{:.1}\" y2=\"{py:.1}\" stroke=\"#ddd\"/><text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{label}</text>", W - RIGHT, LEFT - 6.0, py + 4.0);
     }
     let _ = writeln!(s, "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">median render time (s), log scale</text>", (LEFT + W - RIGHT) / 2.0, H - 18.0);
-    let _ = writeln!(s, "<text transform=\"translate(22 {:.1}) rotate(-90)\" text-anchor=\"middle\">RMSE against CPU f64, log scale (bottom row: exactly 0)</text>", (TOP + H - BOTTOM) / 2.0);
+    let _ = writeln!(s, "<text transform=\"translate(22 {:.1}) rotate(-90)\" text-anchor=\"middle\">{against}, log scale (bottom row: exactly 0)</text>", (TOP + H - BOTTOM) / 2.0);
     // Pareto fronts first, under the points.
     for (i, scene) in r.scenes.iter().enumerate() {
         let mut front: Vec<&Measurement> = scene.measurements.iter().filter(|m| m.pareto).collect();
@@ -167,7 +185,11 @@ pub fn plot(r: &Report) -> String {
     // Legend: colours for variants, shapes for scenes.
     let lx = W - RIGHT + 20.0;
     let mut ly = TOP + 10.0;
-    for (variant, name) in FAMILIES {
+    // The families the plot shows.
+    let shown = FAMILIES
+        .into_iter()
+        .filter(|(v, _)| points.iter().any(|(_, m)| colour(m.variant) == colour(*v)));
+    for (variant, name) in shown {
         let c = colour(variant);
         let _ = writeln!(s, "<rect x=\"{lx}\" y=\"{:.1}\" width=\"12\" height=\"12\" fill=\"{c}\"/><text x=\"{:.1}\" y=\"{:.1}\">{name}</text>", ly - 10.0, lx + 18.0, ly);
         ly += 20.0;

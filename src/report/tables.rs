@@ -9,14 +9,21 @@ fn opt(v: Option<f64>) -> String {
 }
 
 /// One row a measurement, quoted where a field needs it (a scene's name
-/// may hold a comma or a quote).
+/// may hold a comma or a quote); `reference` says what its error is
+/// against: the scene's own CPU f64 render, or (the sampling axis) the
+/// converged one.
 pub fn csv(r: &Report) -> String {
     let mut w = csv::Writer::from_writer(Vec::new());
-    let header = "scene,variant,backend,precision,intersect,max_depth,samples,width,height,median_s,upload_s,dispatch_s,readback_s,rays_per_s,compile_s,pipeline_s,max_abs,rmse,psnr_db,frac_over_1_255,nonfinite,flip_mean,pareto";
+    let header = "scene,variant,backend,precision,intersect,max_depth,samples,width,height,median_s,upload_s,dispatch_s,readback_s,rays_per_s,compile_s,pipeline_s,max_abs,rmse,psnr_db,frac_over_1_255,nonfinite,flip_mean,pareto,reference";
     w.write_record(header.split(','))
         .expect("writing to memory");
     for s in &r.scenes {
-        for m in &s.measurements {
+        let tagged = s
+            .measurements
+            .iter()
+            .map(|m| (m, "scene"))
+            .chain(s.sampling.iter().map(|m| (m, "converged")));
+        for (m, reference) in tagged {
             let e = &m.error;
             let record = [
                 s.name.clone(),
@@ -48,6 +55,7 @@ pub fn csv(r: &Report) -> String {
                 e.nonfinite.to_string(),
                 format!("{:e}", m.flip_mean),
                 m.pareto.to_string(),
+                reference.to_owned(),
             ];
             w.write_record(&record).expect("writing to memory");
         }
@@ -79,18 +87,34 @@ pub fn markdown(r: &Report) -> String {
         let _ = writeln!(
             out,
             "## {} ({}x{}, {}, depth {})\n",
-            s.name, s.width, s.height, s.sampling, s.max_depth
+            s.name, s.width, s.height, s.sampling_summary, s.max_depth
         );
         let _ = writeln!(out, "| {} |", ROW_HEADERS.join(" | "));
         let _ = writeln!(out, "|{}", "---|".repeat(ROW_HEADERS.len()));
-        for m in &s.measurements {
-            let mut cells = m.row();
-            if m.pareto {
-                cells[0].push_str(" *");
-            }
-            let _ = writeln!(out, "| {} |", cells.join(" | "));
+        rows(&mut out, &s.measurements);
+        if !s.sampling.is_empty() {
+            let _ = writeln!(
+                out,
+                "\n### {}: the sampling axis, against CPU f64 at {n}x{n} uniform samples\n",
+                s.name,
+                n = super::CONVERGED_SAMPLES
+            );
+            let _ = writeln!(out, "| {} |", ROW_HEADERS.join(" | "));
+            let _ = writeln!(out, "|{}", "---|".repeat(ROW_HEADERS.len()));
+            rows(&mut out, &s.sampling);
         }
         out.push('\n');
     }
     out
+}
+
+/// One table row a measurement, the Pareto front starred.
+fn rows(out: &mut String, ms: &[super::Measurement]) {
+    for m in ms {
+        let mut cells = m.row();
+        if m.pareto {
+            cells[0].push_str(" *");
+        }
+        let _ = writeln!(out, "| {} |", cells.join(" | "));
+    }
 }
