@@ -18,8 +18,9 @@ struct Square {
 };
 
 // The largest minus the smallest of the corners, in the channel where that
-// is largest, in steps of 1/255 (glint's Adaptive::STEPS): colours that
-// differ by rounding count the same but where one sits on a step.
+// is largest, in steps of 1/255 (Adaptive::STEPS; its twin is Adaptive::contrast):
+// colours that differ by rounding count the same but where one sits on a
+// step.
 real contrast(vec3r c[4]) {
     vec3r s0 = floor(c[0] * 255.0 + 0.5);
     vec3r s1 = floor(c[1] * 255.0 + 0.5);

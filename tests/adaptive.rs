@@ -7,7 +7,7 @@ mod common;
 
 use glint::accel::Accel;
 use glint::cpu;
-use glint::raster::diff::{figures, Tolerance};
+use glint::raster::diff::figures;
 use glint::raster::region::Region;
 use glint::raster::Image;
 use glint::scene::{Overrides, Sampling, Scene};
@@ -36,11 +36,6 @@ fn adaptive(path: &str, width: u32, height: u32, threshold: f64, levels: u32) ->
     scene
 }
 
-fn passes(image: &Image, reference: &Image) -> bool {
-    let f = figures(image, reference).unwrap();
-    Tolerance::default().violations(&f).is_empty()
-}
-
 /// The GPU and CPU f32 agree with the f64 reference, on the Whitted scene
 /// and the showcase. (Not seed-fig5 at this size: its beads are a pixel
 /// across, and even its corner sampling puts 0.8 % of the pixels of f32
@@ -54,10 +49,10 @@ fn both_renderers_refine_alike() {
         let scene = adaptive(path, w, h, 0.05, 2);
         let reference = cpu::render::<f64>(&scene);
         let f32_image = cpu::render::<f32>(&scene);
-        assert!(passes(&f32_image, &reference), "{path}: CPU f32");
+        assert!(common::passes(&f32_image, &reference), "{path}: CPU f32");
         if let Some(gpu) = common::render_gpu_if_built(&scene) {
             let f = figures(&gpu, &reference).unwrap();
-            assert!(passes(&gpu, &reference), "{path}: GPU f32 {f:?}");
+            assert!(common::passes(&gpu, &reference), "{path}: GPU f32 {f:?}");
         }
     }
 }
@@ -84,7 +79,7 @@ fn refining_brings_the_image_nearer_a_converged_one() {
     let rmse = |i: &Image| figures(i, &converged).unwrap().rmse;
     let one = cpu::render::<f64>(&adaptive(path, 96, 72, 0.05, 1));
     let three = cpu::render::<f64>(&adaptive(path, 96, 72, 0.05, 3));
-    assert!(!passes(&one, &corners), "refining changed nothing");
+    assert!(!common::passes(&one, &corners), "refining changed nothing");
     assert!(
         rmse(&one) < rmse(&corners),
         "{} against {}",

@@ -6,7 +6,7 @@
 mod common;
 
 use glint::cpu;
-use glint::raster::diff::{figures, Tolerance};
+use glint::raster::diff::figures;
 use glint::raster::Image;
 use glint::scene::Scene;
 
@@ -14,11 +14,6 @@ fn whitted(width: u32, height: u32) -> (String, Scene) {
     let text = std::fs::read_to_string(common::repo().join("scenes/whitted-1980.toml")).unwrap();
     let scene = common::scene_sized(&text, width, height);
     (text, scene)
-}
-
-fn passes(image: &Image, reference: &Image) -> bool {
-    let f = figures(image, reference).unwrap();
-    Tolerance::default().violations(&f).is_empty()
 }
 
 /// The two colours of the checker, as the image shows them lit: both occur.
@@ -38,10 +33,13 @@ fn distinct_colours(image: &Image) -> usize {
 fn the_whitted_scene_agrees_on_both_renderers() {
     let (_, scene) = whitted(160, 120);
     let reference = cpu::render::<f64>(&scene);
-    assert!(passes(&cpu::render::<f32>(&scene), &reference), "CPU f32");
+    assert!(
+        common::passes(&cpu::render::<f32>(&scene), &reference),
+        "CPU f32"
+    );
     if let Some(gpu) = common::render_gpu_if_built(&scene) {
         let f = figures(&gpu, &reference).unwrap();
-        assert!(passes(&gpu, &reference), "GPU f32: {f:?}");
+        assert!(common::passes(&gpu, &reference), "GPU f32: {f:?}");
     }
 }
 
@@ -59,7 +57,7 @@ fn a_moved_or_turned_checker_fails() {
         assert_ne!(t, text);
         let moved = common::scene_sized(&t, 160, 120);
         assert!(
-            !passes(&cpu::render::<f64>(&moved), &reference),
+            !common::passes(&cpu::render::<f64>(&moved), &reference),
             "a perturbed checker passed"
         );
     }
@@ -127,14 +125,17 @@ fn solid_and_turned_checkers_agree_and_can_fail() {
     let scene = common::scene(SOLID);
     let reference = cpu::render::<f64>(&scene);
     assert!(distinct_colours(&reference) > 6, "the textures show");
-    assert!(passes(&cpu::render::<f32>(&scene), &reference), "CPU f32");
+    assert!(
+        common::passes(&cpu::render::<f32>(&scene), &reference),
+        "CPU f32"
+    );
     if let Some(gpu) = common::render_gpu_if_built(&scene) {
         let f = figures(&gpu, &reference).unwrap();
-        assert!(passes(&gpu, &reference), "GPU f32: {f:?}");
+        assert!(common::passes(&gpu, &reference), "GPU f32: {f:?}");
     }
     let moved =
         common::scene(&SOLID.replace("origin = [0.1, 0.05, 0.0]", "origin = [0.135, 0.05, 0.0]"));
-    assert!(!passes(&cpu::render::<f64>(&moved), &reference));
+    assert!(!common::passes(&cpu::render::<f64>(&moved), &reference));
     // Without the textures the image is another.
     let plain = SOLID
         .replace(
@@ -143,7 +144,7 @@ fn solid_and_turned_checkers_agree_and_can_fail() {
         )
         .replace("texture = \"cubes\"\n", "diffuse = [0.5, 0.5, 0.5]\n");
     assert!(!plain.contains("texture ="));
-    assert!(!passes(
+    assert!(!common::passes(
         &cpu::render::<f64>(&common::scene(&plain)),
         &reference
     ));
@@ -173,7 +174,7 @@ fn the_f64_and_generic_shaders_texture_alike() {
         let (image, _) = r.render(&scene, &|_| {}).unwrap();
         let f = figures(&image, &reference).unwrap();
         assert!(
-            passes(&image, &reference),
+            common::passes(&image, &reference),
             "generic {generic}, {precision:?}: {f:?}"
         );
     }

@@ -74,20 +74,6 @@ struct Square<R> {
     corners: [Vec3<R>; 4],
 }
 
-/// The largest minus the smallest of the corners, in the channel where
-/// that is largest, in steps of 1/255 (`Adaptive::STEPS`).
-pub fn contrast<R: Real>(c: &[Vec3<R>; 4]) -> R {
-    let steps = R::of(Adaptive::STEPS);
-    let half = R::of(0.5);
-    let channel = |f: fn(&Vec3<R>) -> R| {
-        let values = c.map(|v| (f(&v) * steps + half).floor());
-        let hi = values.iter().fold(values[0], |m, v| m.max(*v));
-        let lo = values.iter().fold(values[0], |m, v| m.min(*v));
-        hi - lo
-    };
-    channel(|v| v.x).max(channel(|v| v.y)).max(channel(|v| v.z))
-}
-
 /// The colour of pixel (x, y), which the first pass chose to split, from
 /// its corners `corners`; its squares split where their contrast passes
 /// `threshold` steps, down to `levels` splits from the pixel.
@@ -113,7 +99,7 @@ pub fn refine<R: Real, T: Tally>(
     let mut sum = Vec3::zero();
     while let Some(s) = stack.pop() {
         // The pixel itself is split: the first pass chose it.
-        if s.level == 0 || s.level < levels && contrast(&s.corners) > threshold {
+        if s.level == 0 || s.level < levels && Adaptive::contrast(&s.corners) > threshold {
             let h = s.size * half;
             let [tl, tr, bl, br] = s.corners;
             // The five new points, in this order on both renderers.

@@ -398,7 +398,13 @@ impl Renderer {
         scene: &Scene,
         settings: &RenderSettings,
     ) -> (Variant, Vec<(String, Option<String>)>) {
-        self.variant_of(scene, settings, &self.uploads(scene, settings).0, false)
+        self.variant_of(
+            scene,
+            settings,
+            &self.uploads(scene, settings).0,
+            false,
+            None,
+        )
     }
 
     /// `scene`'s uploads under `settings`, built or reused from the last
@@ -423,15 +429,17 @@ impl Renderer {
         (uploads, layout_s)
     }
 
-    /// As `variant_with`, with the scene's uploads already built.
+    /// As `variant_with`, with the scene's uploads already built; `refine`:
+    /// adaptive sampling's second pass (`Variant::refine`).
     fn variant_of(
         &self,
         scene: &Scene,
         settings: &RenderSettings,
         uploads: &Uploads,
         count: bool,
+        refine: Option<(u64, u32)>,
     ) -> (Variant, Vec<(String, Option<String>)>) {
-        let variant = Variant::for_scene(
+        let mut variant = Variant::for_scene(
             scene,
             uploads,
             settings.intersect,
@@ -440,6 +448,7 @@ impl Renderer {
             settings.generic,
             count,
         );
+        variant.refine = refine;
         let mut defines = variant.defines();
         defines.extend(self.defines.iter().cloned());
         (variant, defines)
@@ -589,7 +598,7 @@ impl Renderer {
         // Laying the scene out counts as upload (where this call did it), but
         // not the compiles; the BVH build is reported apart.
         let (up, layout_s) = self.uploads(scene, settings);
-        let (variant, defines) = self.variant_of(scene, settings, &up, count);
+        let (variant, defines) = self.variant_of(scene, settings, &up, count, None);
         let (key, setup) = self.prepare(&variant, &defines)?;
         let mut times = RenderTimes {
             setup,
@@ -658,10 +667,8 @@ impl Renderer {
         let n = list.len() as u32;
         let entries = crate::base::interface::array(list.into_iter(), Precision::F32);
         let (up, _) = self.uploads(grid, settings);
-        let (mut variant, _) = self.variant_of(grid, settings, &up, count);
-        variant.refine = Some((adaptive.threshold_steps().to_bits(), adaptive.levels));
-        let mut defines = variant.defines();
-        defines.extend(self.defines.iter().cloned());
+        let refine = Some((adaptive.threshold_steps().to_bits(), adaptive.levels));
+        let (variant, defines) = self.variant_of(grid, settings, &up, count, refine);
         let (key, setup) = self.prepare(&variant, &defines)?;
         times.setup.compile_s += setup.compile_s;
         times.setup.pipeline_s += setup.pipeline_s;

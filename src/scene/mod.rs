@@ -14,6 +14,8 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
+use crate::base::real::{Real, Vec3};
+
 pub use crate::input::error::SceneError;
 pub use crate::input::field::{Triple, MAX_COORDINATE};
 pub use file::Sampling;
@@ -155,16 +157,25 @@ impl Adaptive {
     /// Whether a pixel whose corners (top-left, top-right, bottom-left,
     /// bottom-right, as the corner grid gives them) are `c` is split: the
     /// choice of the pixels the second pass refines, made once, from the
-    /// f32 corner image, for either renderer. Mirrors `contrast` in
-    /// src/cpu/adaptive.rs and shaders/adaptive.glsl.
+    /// f32 corner image, for either renderer, by [`Adaptive::contrast`].
     pub fn splits(&self, c: &[[f32; 3]; 4]) -> bool {
-        let step = |v: f32| (f64::from(v) * Self::STEPS + 0.5).floor();
-        (0..3).any(|k| {
-            let values = c.map(|p| step(p[k]));
-            let hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
-            hi - lo > self.threshold_steps()
-        })
+        let corners = c.map(|p| Vec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])));
+        Self::contrast(&corners) > self.threshold_steps()
+    }
+
+    /// The largest minus the smallest of the corners `c`, in the channel
+    /// where that is largest, in steps (`STEPS`): what both renderers
+    /// compare with the threshold, as contrast() in shaders/adaptive.glsl.
+    pub fn contrast<R: Real>(c: &[Vec3<R>; 4]) -> R {
+        let steps = R::of(Self::STEPS);
+        let half = R::of(0.5);
+        let channel = |f: fn(&Vec3<R>) -> R| {
+            let values = c.map(|v| (f(&v) * steps + half).floor());
+            let hi = values.iter().fold(values[0], |m, v| m.max(*v));
+            let lo = values.iter().fold(values[0], |m, v| m.min(*v));
+            hi - lo
+        };
+        channel(|v| v.x).max(channel(|v| v.y)).max(channel(|v| v.z))
     }
 
     /// The most eye rays one pixel can add to its corners: 5 a split, and

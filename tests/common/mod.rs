@@ -224,3 +224,11 @@ pub fn same_bits(a: &Image, b: &Image) -> bool {
             .zip(&b.pixels)
             .all(|(p, q)| (0..3).all(|c| p[c].to_bits() == q[c].to_bits()))
 }
+
+/// Whether `image` is within the default tolerance of `reference`.
+pub fn passes(image: &Image, reference: &Image) -> bool {
+    let f = glint::raster::diff::figures(image, reference).unwrap();
+    glint::raster::diff::Tolerance::default()
+        .violations(&f)
+        .is_empty()
+}
