@@ -3,12 +3,13 @@
 build of another commit, on the same scenes, runs interleaved so that both
 see the same machine load.
 
-    python3 benches/against.py 9cf6b52 [SCENE ...] [--runs 5]
+    python3 benches/against.py 9cf6b52 [SCENE ...] [--runs 5] [--old-binary PATH]
 
 Builds REV in a git worktree (the cargo target directory is shared, so only
 glint itself is compiled again), then for each scene alternates
 `glint compare --json` of the old and the new binary RUNS times. Each
-compare times a warm GPU f32 render, CPU f32 and CPU f64. The new binary
+compare times a warm GPU f32 render, CPU f32 and CPU f64. --old-binary
+takes a glint already built from REV instead of building it. The new binary
 also runs with --intersect naive, for the robust/naive ratio. Prints the
 medians and the ratios as a Markdown table.
 """
@@ -43,6 +44,24 @@ def build(src, out, target):
     shutil.copy(os.path.join(target, "release", "glint"), out)
 
 
+def build_rev(rev, work, out):
+    """Builds glint at `rev` in a worktree under `work`, copies it to `out`."""
+    tree = os.path.join(work, "tree")
+    subprocess.run(["git", "worktree", "add", "--detach", "-q", tree, rev], cwd=REPO, check=True)
+    try:
+        # Its own target directory, seeded with a copy of this checkout's so
+        # that glslang's C++ is not compiled again: two checkouts of one
+        # package in one target directory confuse cargo's freshness checks.
+        old_target = os.path.join(work, "target")
+        if os.path.isdir(target_dir()):
+            subprocess.run(["cp", "-a", target_dir(), old_target], check=True)
+        print(f"building {rev} ...", file=sys.stderr)
+        build(tree, out, old_target)
+    finally:
+        subprocess.run(["git", "worktree", "remove", "--force", tree], cwd=REPO, check=False)
+        shutil.rmtree(os.path.join(work, "target"), ignore_errors=True)
+
+
 def compare(binary, scene, extra):
     out = subprocess.run(
         [binary, "compare", scene, "--json", *extra],
@@ -61,24 +80,15 @@ def main():
     ap.add_argument("rev")
     ap.add_argument("scenes", nargs="*")
     ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--old-binary", help="a glint built from REV, used instead of building it")
     a = ap.parse_args()
     scenes = a.scenes or DEFAULT_SCENES
     work = tempfile.mkdtemp(prefix="glint-against-")
     old_bin, new_bin = os.path.join(work, "glint-old"), os.path.join(work, "glint-new")
-    tree = os.path.join(work, "tree")
-    subprocess.run(["git", "worktree", "add", "--detach", "-q", tree, a.rev], cwd=REPO, check=True)
-    try:
-        # Its own target directory, seeded with a copy of this checkout's so
-        # that glslang's C++ is not compiled again: two checkouts of one
-        # package in one target directory confuse cargo's freshness checks.
-        old_target = os.path.join(work, "target")
-        if os.path.isdir(target_dir()):
-            subprocess.run(["cp", "-a", target_dir(), old_target], check=True)
-        print(f"building {a.rev} ...", file=sys.stderr)
-        build(tree, old_bin, old_target)
-    finally:
-        subprocess.run(["git", "worktree", "remove", "--force", tree], cwd=REPO, check=False)
-        shutil.rmtree(os.path.join(work, "target"), ignore_errors=True)
+    if a.old_binary:
+        shutil.copy(a.old_binary, old_bin)
+    else:
+        build_rev(a.rev, work, old_bin)
     print("building this checkout ...", file=sys.stderr)
     build(REPO, new_bin, target_dir())
 

@@ -7,10 +7,12 @@
 // where the host defines GLINT_F64 (then the scene is uploaded in doubles).
 #ifdef GLINT_F64
 #define real double
+#define vec2r dvec2
 #define vec3r dvec3
 #define vec4r dvec4
 #else
 #define real float
+#define vec2r vec2
 #define vec3r vec3
 #define vec4r vec4
 #endif
@@ -58,6 +60,12 @@
 #endif
 #ifndef HAS_TEXTURES
 #define HAS_TEXTURES 1
+#endif
+#ifndef HAS_IMAGES
+#define HAS_IMAGES 1
+#endif
+#ifndef HAS_UVS
+#define HAS_UVS 1
 #endif
 #ifndef SPD_RAYS
 #define SPD_RAYS (g.lights.z != 0u)

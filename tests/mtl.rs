@@ -76,7 +76,7 @@ fn a_mesh_without_a_material_takes_its_mtl_materials() {
     let used: Vec<u32> = scene.prims.triangles.iter().map(|t| t.material).collect();
     assert_eq!(used, [1, 1, 2, 2, 3, 3]);
     // The MTL file is one of the scene's inputs (an output may not replace it).
-    assert!(scene.mesh_files.iter().any(|f| f.ends_with("cubes.mtl")));
+    assert!(scene.input_files.iter().any(|f| f.ends_with("cubes.mtl")));
 
     let reference = cpu::render::<f64>(&scene);
     let tolerance = Tolerance::default();
@@ -137,7 +137,12 @@ fn bad_mtl_files_are_named() {
         (
             OBJ.to_owned(),
             Some(MTL.replace("Ns 40\n", "Ns 40\nmap_Kd red.png\n")),
-            "map_Kd/map_Ka is an image texture",
+            "map_Kd: cannot read the image",
+        ),
+        (
+            OBJ.to_owned(),
+            Some(MTL.replace("Ns 40\n", "Ns 40\nmap_Kd -s 2 2 1 red.png\n")),
+            "a map's file name alone, without options",
         ),
     ] {
         let _ = std::fs::remove_file(dir.path().join("cubes.mtl"));

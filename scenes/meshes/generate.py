@@ -3,11 +3,17 @@
 subdivided twice (320 faces), with vertex normals (icosphere-smooth.obj) and
 without (icosphere-flat.obj), and a unit octahedron (octahedron.obj), a
 closed mesh whose shared edges and vertices the watertightness test aims at.
+And the textured mesh that scenes/textures.toml reads: a unit globe of
+latitude and longitude (globe.obj, 24 x 12 quads with vt and vn), its MTL
+file (globe.mtl: map_Kd globe.png) and its texture (globe.png, 128 x 64,
+8-bit sRGB), a map of bands and meridians that shows which way uv runs.
 
 Run from anywhere: python3 scenes/meshes/generate.py
 """
 import math
 import os
+import struct
+import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -70,3 +76,77 @@ octa_faces = [(0, 2, 4), (2, 1, 4), (1, 3, 4), (3, 0, 4),
               (2, 0, 5), (1, 2, 5), (3, 1, 5), (0, 3, 5)]
 write("octahedron.obj", octa, octa_faces, False,
       "A unit octahedron: closed, every edge shared by two faces.")
+
+
+def globe(lon, lat):
+    """A UV sphere: (lon + 1) x (lat + 1) vertices (the seam and the poles
+    repeated, each with its own vt), and two triangles a quad."""
+    verts, uvs, faces = [], [], []
+    for j in range(lat + 1):
+        theta = math.pi * j / lat  # from the +y pole down
+        for i in range(lon + 1):
+            phi = 2 * math.pi * i / lon
+            verts.append((-math.sin(theta) * math.sin(phi), math.cos(theta),
+                          -math.sin(theta) * math.cos(phi)))
+            uvs.append((i / lon, 1 - j / lat))
+    for j in range(lat):
+        for i in range(lon):
+            a = j * (lon + 1) + i
+            b, c, d = a + 1, a + lon + 1, a + lon + 2
+            # Counter-clockwise seen from outside; the poles' quads lose a
+            # corner and become one triangle.
+            if j > 0:
+                faces.append((a, c, b))
+            if j < lat - 1:
+                faces.append((b, c, d))
+    return verts, uvs, faces
+
+
+def png(name, width, height, pixel):
+    """An 8-bit RGB PNG of pixel(x, y) (rows from the top)."""
+    rows = b"".join(
+        b"\0" + bytes(c for x in range(width) for c in pixel(x, y))
+        for y in range(height))
+
+    def chunk(kind, data):
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
+
+    header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    with open(os.path.join(HERE, name), "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header)
+                + chunk(b"IDAT", zlib.compress(rows, 9)) + chunk(b"IEND", b""))
+
+
+def globe_texel(x, y):
+    # Bands of latitude in four colours, darker meridians every 16 texels,
+    # and a white mark left of the middle (u < 1/2, v > 1/2), so that a
+    # mirrored or upside-down mapping shows.
+    bands = [(40, 90, 200), (60, 170, 90), (220, 190, 80), (200, 70, 60)]
+    r, g, b = bands[(y * 8 // 64) % 4]
+    if x % 16 == 0:
+        r, g, b = r // 3, g // 3, b // 3
+    if 40 <= x < 56 and 16 <= y < 24:
+        r, g, b = 250, 250, 250
+    return (r, g, b)
+
+
+gverts, guvs, gfaces = globe(24, 12)
+with open(os.path.join(HERE, "globe.obj"), "w") as f:
+    f.write("# A unit globe of latitude and longitude, 24 x 12, with texture\n"
+            "# coordinates and vertex normals.\n# Written by scenes/meshes/generate.py.\n"
+            "mtllib globe.mtl\nusemtl globe\n")
+    for v in gverts:
+        f.write("v %.9f %.9f %.9f\n" % v)
+    for t in guvs:
+        f.write("vt %.9f %.9f\n" % t)
+    for v in gverts:
+        f.write("vn %.9f %.9f %.9f\n" % v)
+    for face in gfaces:
+        f.write("f " + " ".join(f"{i+1}/{i+1}/{i+1}" for i in face) + "\n")
+with open(os.path.join(HERE, "globe.mtl"), "w") as f:
+    f.write("# The globe's material: its map, untinted.\n"
+            "# Written by scenes/meshes/generate.py.\n"
+            "newmtl globe\nKa 0.1 0.1 0.1\nKd 1 1 1\nKs 0.3 0.3 0.3\nNs 40\nillum 2\n"
+            "map_Kd globe.png\nmap_Ka globe.png\n")
+png("globe.png", 128, 64, globe_texel)

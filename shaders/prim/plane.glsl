@@ -25,7 +25,9 @@ vec3r plane_normal(uint i, vec4r shape, vec3r p) {
     return shape.xyz;
 }
 
-// Its own coordinates (the 2D textures), as PlaneR::frame: from its point,
+// Its own coordinates (the 2D textures), as PlaneR::frame: from its origin
+// (the file's point, moved with the plane, where `point` is the one nearest
+// the eye),
 // u = normalize(a x n) with a the coordinate axis least along n (x, then y,
 // on a tie), and v = n x u.
 void plane_frame(uint i, out vec3r origin, out vec3r u, out vec3r v) {
@@ -34,7 +36,15 @@ void plane_frame(uint i, out vec3r origin, out vec3r u, out vec3r v) {
     vec3r m = abs(n);
     vec3r a = m.x <= m.y && m.x <= m.z ? vec3r(1.0, 0.0, 0.0)
             : (m.y <= m.z ? vec3r(0.0, 1.0, 0.0) : vec3r(0.0, 0.0, 1.0));
-    origin = pl.point.xyz;
+    origin = pl.origin.xyz;
     u = normalize(cross(a, n));
     v = cross(n, u);
+}
+
+// Its own coordinates as uv, as PlaneR::uv.
+vec2r plane_uv(uint i, vec4r shape, vec3r p) {
+    vec3r origin, u, v;
+    plane_frame(i, origin, u, v);
+    vec3r q = p - origin;
+    return vec2r(dot(q, u), dot(q, v));
 }

@@ -62,3 +62,21 @@ vec4r sphere_shape(Sphere s) {
 vec3r sphere_normal(uint i, vec4r shape, vec3r p) {
     return (p - shape.xyz) / shape.w;
 }
+
+// Latitude and longitude, as SphereR::uv: u about the y axis from 0 at -z
+// through -x, +z (1/2) and +x; v from 0 at the -y pole to 1 at the +y pole.
+// GLSL has no double atan or asin: the f64 shader takes them in f32, an
+// error of about 1e-7 in uv.
+vec2r sphere_uv(uint i, vec4r shape, vec3r p) {
+    vec3r n = sphere_normal(i, shape, p);
+    real y = clamp(n.y, -1.0, 1.0);
+#ifdef GLINT_F64
+    real lon = real(atan(float(n.x), float(n.z)));
+    real lat = real(asin(float(y)));
+#else
+    real lon = atan(n.x, n.z);
+    real lat = asin(y);
+#endif
+    const real PI = 3.14159265358979323846;
+    return vec2r(0.5 + lon / (PI + PI), 0.5 + lat / PI);
+}

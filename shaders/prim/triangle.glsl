@@ -80,14 +80,9 @@ vec3r triangle_normal(uint i, vec4r shape, vec3r p) {
     return shape.xyz;
 }
 
-// The vertex normals interpolated at p by its barycentric coordinates; the
-// geometric normal where the triangle is flat. Reads the triangle again,
-// once per shaded hit, rather than carry its normals through every test.
-vec3r triangle_shading(uint i, vec3r p, vec3r geometric) {
-    Triangle tri = triangles[i];
-    if (tri.meta.z == 0u) {
-        return geometric;
-    }
+// The barycentric coordinates of p, a point in its plane, as
+// TriangleR::barycentric.
+vec3r triangle_barycentric(Triangle tri, vec3r p) {
     vec3r v0 = tri.v0.xyz;
     vec3r e1 = tri.v1.xyz - v0;
     vec3r e2 = tri.v2.xyz - v0;
@@ -96,8 +91,33 @@ vec3r triangle_shading(uint i, vec3r p, vec3r geometric) {
     real inv = 1.0 / dot(c, c);
     real b1 = dot(cross(q, e2), c) * inv;
     real b2 = dot(cross(e1, q), c) * inv;
-    real b0 = 1.0 - b1 - b2;
-    return normalize(tri.n0.xyz * b0 + tri.n1.xyz * b1 + tri.n2.xyz * b2);
+    return vec3r(1.0 - b1 - b2, b1, b2);
+}
+
+// The vertex normals interpolated at p by its barycentric coordinates; the
+// geometric normal where the triangle is flat. Reads the triangle again,
+// once per shaded hit, rather than carry its normals through every test.
+vec3r triangle_shading(uint i, vec3r p, vec3r geometric) {
+    Triangle tri = triangles[i];
+    if (tri.meta.z == 0u) {
+        return geometric;
+    }
+    vec3r b = triangle_barycentric(tri, p);
+    return normalize(tri.n0.xyz * b.x + tri.n1.xyz * b.y + tri.n2.xyz * b.z);
+}
+
+// The vertices' uvs interpolated at p, as TriangleR::uv; kept by the
+// triangle's index in the file. The scene's checks give an image texture
+// only to triangles with uvs.
+vec2r triangle_uv(uint i, vec4r shape, vec3r p) {
+#if HAS_UVS
+    Triangle tri = triangles[i];
+    vec3r b = triangle_barycentric(tri, p);
+    TriangleUv t = triangle_uvs[tri.meta.y];
+    return t.uv01.xy * b.x + t.uv01.zw * b.y + t.uv2.xy * b.z;
+#else
+    return vec2r(0.0);
+#endif
 }
 
 // Its own coordinates (the 2D textures), as TriangleR::frame: from its

@@ -219,7 +219,7 @@ pub fn parent_dir(file: &Path) -> PathBuf {
 /// none of them may be one of its outputs.
 pub fn inputs(path: &Path, scene: &Scene, device: &DeviceArgs) -> Vec<PathBuf> {
     let mut v = vec![path.to_owned()];
-    v.extend(scene.mesh_files.iter().cloned());
+    v.extend(scene.input_files.iter().cloned());
     v.extend(device.inputs());
     v
 }

@@ -71,7 +71,7 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
     let mut inputs = a.device.inputs();
     for (path, scene) in paths.iter().zip(&scenes) {
         inputs.push(path.clone());
-        inputs.extend(scene.mesh_files.iter().cloned());
+        inputs.extend(scene.input_files.iter().cloned());
     }
     // Every output can be written, and none is an input, before minutes of measuring.
     let outputs = Outputs::new(inputs, false);

@@ -19,6 +19,8 @@ pub struct World<R: Real> {
     pub bvh: Option<Bvh>,
     pub materials: Vec<MaterialR<R>>,
     pub textures: Vec<TextureR<R>>,
+    /// The images' texels (`Scene::texels`), shared with the scene.
+    pub texels: std::sync::Arc<Vec<[f32; 3]>>,
     pub lights: Vec<LightR<R>>,
     pub background: Vec3<R>,
     pub shadows: bool,
@@ -113,8 +115,10 @@ impl<R: Real> World<R> {
                     colors: t.colors.map(Vec3::of),
                     rotation: t.rotation.map(R::of),
                     origin: Vec3::of(t.origin - origin),
+                    texels: t.texels,
                 })
                 .collect(),
+            texels: scene.texels.clone(),
             lights: scene
                 .lights
                 .iter()

@@ -59,6 +59,7 @@ impl Variant {
         s += &declaration::<material::Values>();
         s += &declaration::<light::Values>();
         s += &declaration::<texture::Values>();
+        s += &declaration::<crate::prim::triangle::uvs::Values>();
         s += &declaration::<refine::Values>();
         s += &declaration::<node::Values>();
         for kind in KINDS {
@@ -136,6 +137,14 @@ impl Variant {
                 Block::Textures => writeln!(
                     s,
                     "SCENE_BLOCK({binding}) Textures {{ Texture textures[SLOTS(TEXTURES_SLOTS)]; }};"
+                ),
+                Block::Texels => writeln!(
+                    s,
+                    "layout(std430, set = 0, binding = {binding}) readonly buffer Texels {{ float texels[]; }};"
+                ),
+                Block::Uvs => writeln!(
+                    s,
+                    "layout(std430, set = 0, binding = {binding}) readonly buffer TriangleUvs {{ TriangleUv triangle_uvs[]; }};"
                 ),
                 // Two vec4s a Node (bvh.glsl's load_node): llvmpipe loads a
                 // vec4 at once, the struct's vec3 and uint apart, which made
@@ -273,6 +282,17 @@ impl Variant {
             );
         }
         s += "    return false;\n}\n#endif\n";
+        let mapped: Vec<&KindInfo> = declared.iter().copied().filter(|k| k.uv).collect();
+        s += "\n#if HAS_IMAGES\n\
+              // The uv coordinates at p of the primitive hit, for the image textures\n\
+              // (the scene's checks give those only to primitives with them).\n\
+              vec2r surface_uv(Hit hit, vec3r p) {\n";
+        s += &return_by_kind(
+            &mapped,
+            |k| format!("{}_uv({index}, hit.shape, p)", k.name),
+            "vec2r(0.0)",
+        );
+        s += "}\n#endif\n";
         s
     }
 }

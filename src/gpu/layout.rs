@@ -76,7 +76,8 @@ crate::base::interface::gpu_struct!(
         color1: real4,
         /// x cos, y sin of the checker's angle
         rotation: real4,
-        /// x the pattern (1 checker, 2 solid checker)
+        /// x the pattern (1 checker, 2 solid checker, 3 image); an image's
+        /// y first texel, z width, w height (its colour0 is its tint)
         meta: uvec4,
     }
 );
@@ -158,6 +159,10 @@ pub struct Uploads {
     pub materials: Array,
     pub lights: Array,
     pub textures: Array,
+    /// The images' texels, three f32 each (at least one value).
+    pub texels: Array,
+    /// The triangles' uvs by their index in the file, where any has them.
+    pub uvs: Array,
     /// The BVH's nodes, where the scene is traced through one: one layout
     /// per ray octant (or one), `layout_len` nodes each.
     pub nodes: Option<Array>,
@@ -212,8 +217,41 @@ impl Uploads {
             color0: xyz(t.colors[0]),
             color1: xyz(t.colors[1]),
             rotation: [t.rotation[0], t.rotation[1], 0.0, 0.0],
-            meta: [t.pattern.code(), 0, 0, 0],
+            meta: match t.texels {
+                Some(i) => [t.pattern.code(), i.first, i.width, i.height],
+                None => [t.pattern.code(), 0, 0, 0],
+            },
         });
+        // Texels in f32 whatever the precision, as the files hold them at
+        // most (and the CPU reference reads them).
+        let texels = match scene.texels.len() {
+            0 => Array {
+                bytes: vec![0; 12],
+                len: 1,
+            },
+            n => Array {
+                bytes: bytemuck::cast_slice(&scene.texels[..]).to_vec(),
+                len: n,
+            },
+        };
+        // By each triangle's index in the file, where any has uvs.
+        let uvs = if scene.prims.triangles.iter().any(|t| t.uvs.is_some()) {
+            scene
+                .prims
+                .triangles
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.uvs.as_deref().copied().unwrap_or_default();
+                    crate::prim::triangle::uvs::Values {
+                        uv01: [a[0], a[1], b[0], b[1]],
+                        uv2: [c[0], c[1], 0.0, 0.0],
+                    }
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let uvs = interface::array(uvs.into_iter(), precision);
         let lights = scene.lights.iter().map(|l| light::Values {
             position: xyz(l.position),
             direction: xyz(l.direction),
@@ -230,6 +268,8 @@ impl Uploads {
             materials: interface::array(materials, precision),
             lights: interface::array(lights, precision),
             textures: interface::array(textures, precision),
+            texels,
+            uvs,
             layout_len: bvh.as_ref().map_or(0, |b| b.layout_len),
             layouts: bvh.as_ref().map_or(0, |b| b.layouts),
             nodes: bvh.map(|b| interface::array(b.nodes.into_iter(), Precision::F32)),
@@ -259,15 +299,19 @@ impl Uploads {
     /// a storage buffer of this device can be (lavapipe: 128 MiB, about four
     /// million spheres in f32 and two million in f64).
     pub fn check_storage_range(&self, limit: u32) -> Result<(), String> {
-        let names =
-            KINDS
-                .iter()
-                .map(|k| k.key)
-                .chain(["materials", "lights", "textures", "BVH nodes"]);
-        let sizes = self
-            .arrays()
-            .map(|a| a.bytes.len())
-            .chain(self.nodes.as_ref().map(|n| n.bytes.len()));
+        let names = KINDS.iter().map(|k| k.key).chain([
+            "materials",
+            "lights",
+            "textures",
+            "BVH nodes",
+            "texels",
+            "uvs",
+        ]);
+        let sizes = self.arrays().map(|a| a.bytes.len()).chain([
+            self.nodes.as_ref().map_or(0, |n| n.bytes.len()),
+            self.texels.bytes.len(),
+            self.uvs.bytes.len(),
+        ]);
         for (name, bytes) in names.zip(sizes) {
             if bytes as u64 > u64::from(limit) {
                 return Err(format!(
@@ -291,7 +335,7 @@ mod tests {
         use std::mem::size_of;
         assert_eq!(size_of::<globals::F64>(), 5 * 32 + 4 * 16);
         assert_eq!(size_of::<sphere::gpu::F64>(), 64);
-        assert_eq!(size_of::<plane::gpu::F64>(), 96);
+        assert_eq!(size_of::<plane::gpu::F64>(), 128);
         assert_eq!(size_of::<material::F64>(), 160);
         assert_eq!(size_of::<light::F64>(), 256);
         assert_eq!(size_of::<sphere::gpu::F32>(), 32);

@@ -921,6 +921,12 @@ impl Renderer {
                 Block::Materials => scene(&up.materials.bytes, usage, "materials")?,
                 Block::Lights => scene(&up.lights.bytes, usage, "lights")?,
                 Block::Textures => scene(&up.textures.bytes, usage, "textures")?,
+                Block::Texels => scene(
+                    &up.texels.bytes,
+                    raw::BufferUsageFlags::STORAGE_BUFFER,
+                    "texels",
+                )?,
+                Block::Uvs => scene(&up.uvs.bytes, raw::BufferUsageFlags::STORAGE_BUFFER, "uvs")?,
                 Block::Nodes => scene(
                     &up.nodes.as_ref().expect("a BVH variant has nodes").bytes,
                     usage,

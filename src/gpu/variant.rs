@@ -33,6 +33,10 @@ pub enum Block {
     Lights,
     /// The textures, where a material has one.
     Textures,
+    /// The images' texels, where a material has an image texture.
+    Texels,
+    /// The triangles' uvs, where an image texture may need them.
+    Uvs,
     /// The BVH's nodes.
     Nodes,
     /// The counters of `--stats` (src/stats.rs), where the variant counts.
@@ -52,6 +56,8 @@ impl Block {
             Block::Materials => "materials",
             Block::Lights => "lights",
             Block::Textures => "textures",
+            Block::Texels => "texels",
+            Block::Uvs => "uvs",
             Block::Nodes => "BVH nodes",
             Block::Counts => "the counters",
             Block::Refine => "the pixels to refine",
@@ -111,6 +117,10 @@ pub struct Features {
     pub spd_rays: bool,
     /// A material of the scene has a texture.
     pub textures: bool,
+    /// One of them is an image.
+    pub images: bool,
+    /// And a triangle has uvs.
+    pub uvs: bool,
     /// Ray segments traced: 1 where no material reflects or transmits.
     pub max_depth: u32,
     /// Samples a side of each pixel.
@@ -213,6 +223,10 @@ impl Features {
                     .materials
                     .iter()
                     .any(|m| m.texture.is_some() || m.ambient_texture.is_some()),
+            images: objects && scene.has_image_textures(),
+            uvs: objects
+                && scene.has_image_textures()
+                && scene.prims.triangles.iter().any(|t| t.uvs.is_some()),
             max_depth: if reflects || transmits {
                 scene.max_depth
             } else {
@@ -241,6 +255,8 @@ impl Features {
         def("SHADOWS_ON", "true".to_owned());
         def("SPD_RAYS", self.spd_rays.to_string());
         def("HAS_TEXTURES", flag(self.textures));
+        def("HAS_IMAGES", flag(self.images));
+        def("HAS_UVS", flag(self.uvs));
         def("MAX_DEPTH", format!("{}u", self.max_depth));
         def("SAMPLES", format!("{}u", self.samples));
         def("LIGHT_COUNT", format!("{}u", self.lights));
@@ -367,13 +383,15 @@ impl Variant {
         } else {
             vk::DescriptorType::STORAGE_BUFFER
         };
-        let (kinds, lights, textures) = match &self.features {
+        let (kinds, lights, textures, images, uvs) = match &self.features {
             Some(f) => (
                 f.kinds.iter().map(|n| *n > 0).collect(),
                 f.lights > 0,
                 f.textures,
+                f.images,
+                f.uvs,
             ),
-            None => (vec![true; KINDS.len()], true, true),
+            None => (vec![true; KINDS.len()], true, true, true, true),
         };
         let objects = kinds.iter().any(|k| *k);
         let mut blocks = vec![(Block::Globals, true, vk::DescriptorType::UNIFORM_BUFFER)];
@@ -386,6 +404,10 @@ impl Variant {
         blocks.extend([
             (Block::Materials, objects, scene_type),
             (Block::Textures, textures, scene_type),
+            // Storage buffers whatever the variant: an image is larger than
+            // any uniform buffer.
+            (Block::Texels, images, vk::DescriptorType::STORAGE_BUFFER),
+            (Block::Uvs, uvs, vk::DescriptorType::STORAGE_BUFFER),
             (Block::Lights, lights, scene_type),
             (Block::Nodes, self.bvh_layouts > 0, scene_type),
             (

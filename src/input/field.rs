@@ -80,6 +80,11 @@ impl At<'_> {
         self.check.direction(&self.path, t)
     }
 
+    /// An error at this element itself (see [`At::element`]).
+    pub fn invalid_here<T>(&self, message: impl Into<String>) -> Result<T> {
+        self.check.err(&self.path, message)
+    }
+
     /// An error at `key` of this table.
     pub fn invalid<T>(&self, key: &str, message: impl Into<String>) -> Result<T> {
         self.check.err(&self.path.key(key), message)

@@ -7,8 +7,10 @@
 //!   `p.meta.x` and `p.meta.y`);
 //! - its include defines `<name>_intersect`, `<name>_shape` (a hit keeps
 //!   one `vec4r` of shape), `<name>_normal` and, where `Kind::SHADING`,
-//!   `<name>_shading`, where `Kind::FRAME` `<name>_frame`, with the
-//!   signatures the scans call;
+//!   `<name>_shading`, where `Kind::FRAME` `<name>_frame`, where `Kind::UV`
+//!   `<name>_uv`, with the signatures the scans call;
+//! - its CPU form has uv coordinates exactly where `Kind::has_uv` says, and
+//!   they move with it;
 //! - where `Kind::FRAME`, its frame's axes are unit and at right angles to
 //!   each other and to its normal;
 //! - a bounded kind has a box, which holds it and moves with it; an
@@ -58,6 +60,9 @@ fn problems<K: Kind>() -> Vec<String> {
             "void {name}_frame(uint i, out vec3r origin, out vec3r u, out vec3r v)"
         ));
     }
+    if K::UV {
+        wanted.push(format!("vec2r {name}_uv(uint i, vec4r shape, vec3r p)"));
+    }
     for w in wanted {
         if !K::GLSL.lines().any(|l| l.starts_with(&w)) {
             out.push(format!(
@@ -67,6 +72,7 @@ fn problems<K: Kind>() -> Vec<String> {
     }
 
     let cpu = p.cpu::<f64>();
+    let by = DVec3::new(3.0, -2.0, 0.5);
     match (K::FRAME, cpu.frame()) {
         (false, None) => {}
         (true, Some(f)) => {
@@ -89,6 +95,38 @@ fn problems<K: Kind>() -> Vec<String> {
             "{name}: FRAME is {frame} but its CPU form's frame is {f:?}"
         )),
     }
+    // uv at a point of the surface: where a ray through the box's centre
+    // meets it, or the frame's origin for an unbounded kind.
+    let on_surface = match (p.bounds(), cpu.frame()) {
+        (Some(b), _) => {
+            let origin = b.center() - DVec3::new(0.0, 0.0, 10.0 + (b.hi.z - b.lo.z));
+            let ray = Ray {
+                origin: Vec3::of(origin),
+                dir: Vec3::of(DVec3::Z),
+            };
+            cpu.intersect(&ray, false).map(|t| origin + DVec3::Z * t)
+        }
+        (None, Some(f)) => {
+            Some(DVec3::new(f.origin.x, f.origin.y, f.origin.z) + DVec3::new(0.3, 0.2, 0.1))
+        }
+        (None, None) => None,
+    };
+    if let Some(q) = on_surface {
+        let uv = cpu.uv(Vec3::of(q));
+        if uv.is_some() != p.has_uv() || p.has_uv() && !K::UV {
+            out.push(format!(
+                "{name}: has_uv is {} (UV {}) but its CPU form's uv is {uv:?}",
+                p.has_uv(),
+                K::UV
+            ));
+        }
+        let moved = p.relative_to(by).cpu::<f64>().uv(Vec3::of(q - by));
+        if let (Some(a), Some(b)) = (uv, moved) {
+            if (a[0] - b[0]).abs() + (a[1] - b[1]).abs() > 1e-9 {
+                out.push(format!("{name}: its uv {a:?} does not move with it: {b:?}"));
+            }
+        }
+    }
     if cpu.material() != material as usize || p.material() != material {
         out.push(format!(
             "{name}: the CPU form's material is {}, not {material}",
@@ -96,7 +134,6 @@ fn problems<K: Kind>() -> Vec<String> {
         ));
     }
 
-    let by = DVec3::new(3.0, -2.0, 0.5);
     match (K::BOUNDED, p.bounds(), p.relative_to(by).bounds()) {
         (true, Some(b), Some(moved)) => {
             let shifted = (moved.lo - (b.lo - by)).abs().max_element()
@@ -193,7 +230,7 @@ impl Kind for SwappedMeta {
 #[test]
 fn a_kind_that_breaks_the_contract_is_named() {
     let problems = problems::<SwappedMeta>();
-    assert_eq!(problems.len(), 3, "{problems:#?}");
+    assert_eq!(problems.len(), 4, "{problems:#?}");
     assert!(
         problems[0].starts_with("swapped: meta is [7, 5, 0, 0]"),
         "{}",
@@ -201,4 +238,6 @@ fn a_kind_that_breaks_the_contract_is_named() {
     );
     assert!(problems[1].contains("swapped_shape"), "{}", problems[1]);
     assert!(problems[2].contains("swapped_normal"), "{}", problems[2]);
+    // A sphere's uv under a kind that says it has none.
+    assert!(problems[3].contains("has_uv is false"), "{}", problems[3]);
 }

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use super::triangle::Triangle;
+use super::triangle::{Triangle, MAX_UV};
 use crate::input::error::SceneError;
 use crate::input::field::{unit_vector, At, Triple};
 
@@ -51,6 +51,10 @@ pub struct MtlMaterial {
     pub d: f64,
     /// The illumination model, 0..=10; 2 where not given.
     pub illum: u8,
+    /// `map_Kd`, `map_Ka`: image files (relative to the MTL file's folder
+    /// as written) whose texels, times Kd and Ka, give those colours.
+    pub map_kd: Option<PathBuf>,
+    pub map_ka: Option<PathBuf>,
 }
 
 /// What a mesh brought besides its triangles: the MTL materials its faces
@@ -64,7 +68,8 @@ pub struct Loaded {
 
 /// Reads the mesh's OBJ file (relative to `dir`, the scene file's folder)
 /// and appends its faces to `out` as triangles: fan-triangulated polygons, with the
-/// file's vertex normals where every corner of a face has one, else flat.
+/// file's vertex normals where every corner of a face has one, else flat,
+/// and its texture coordinates (vt) where every corner has one.
 /// Faces without area are left out, as a mesh's slivers often are. Without
 /// a `material`, each object takes its own from the MTL file, numbered from
 /// `first_material` in the scene's list.
@@ -135,9 +140,14 @@ pub fn load(
     let mtl_name = files
         .first()
         .map_or_else(|| shown.clone(), |f| crate::printable::path(f));
+    let mtl_dir = files
+        .first()
+        .and_then(|f| f.parent())
+        .unwrap_or(&obj_dir)
+        .to_owned();
     let materials = mtl
         .iter()
-        .map(|m| mtl_material(m, &mtl_name, at))
+        .map(|m| mtl_material(m, &mtl_name, &mtl_dir, at))
         .collect::<Result<Vec<_>, _>>()?;
 
     // Exactly as many as there are faces (at most): a Vec grown by doubling
@@ -175,6 +185,14 @@ pub fn load(
             DVec3::new(m.normals[i], m.normals[i + 1], m.normals[i + 2])
         };
         let smooth = m.normal_indices.len() == m.indices.len();
+        // Texture coordinates where every corner has one (vt); tobj refuses
+        // an index past the file's vt lines.
+        let textured =
+            !m.texcoord_indices.is_empty() && m.texcoord_indices.len() == m.indices.len();
+        let texcoord = |i: u32| {
+            let i = 2 * i as usize;
+            [m.texcoords[i], m.texcoords[i + 1]]
+        };
         for (face, corners) in m.indices.chunks_exact(3).enumerate() {
             let vertices = [point(corners[0]), point(corners[1]), point(corners[2])];
             if let Some(bad) = vertices.iter().find(|v| {
@@ -201,26 +219,61 @@ pub fn load(
             } else {
                 None
             };
-            out.extend(Triangle::new(vertices, normals, material));
+            let uvs = if textured {
+                let t = &m.texcoord_indices[3 * face..3 * face + 3];
+                let uvs = [texcoord(t[0]), texcoord(t[1]), texcoord(t[2])];
+                if let Some(bad) = uvs
+                    .iter()
+                    .flatten()
+                    .find(|c| !c.is_finite() || c.abs() > MAX_UV)
+                {
+                    return at.invalid(
+                        "file",
+                        format!(
+                            "{shown}: object \"{}\", face {face}: texture coordinate {bad} is not \
+                             finite or beyond ±{MAX_UV:e}",
+                            crate::printable::text(&model.name)
+                        ),
+                    );
+                }
+                Some(std::sync::Arc::new(uvs))
+            } else {
+                None
+            };
+            out.extend(Triangle::new(vertices, normals, material).map(|t| Triangle { uvs, ..t }));
         }
     }
     Ok(Loaded { materials, files })
 }
 
-/// An MTL material's values, checked; `file`: the MTL file, for messages.
-fn mtl_material(m: &tobj::Material, file: &str, at: &At) -> Result<MtlMaterial, SceneError> {
+/// An MTL material's values, checked; `file`: the MTL file, for messages;
+/// `dir`: its folder, which its maps' files are relative to.
+fn mtl_material(
+    m: &tobj::Material,
+    file: &str,
+    dir: &Path,
+    at: &At,
+) -> Result<MtlMaterial, SceneError> {
     let name = crate::printable::text(&m.name);
     let bad = |what: &str, why: String| {
         at.invalid::<MtlMaterial>("file", format!("{file}: material \"{name}\": {what} {why}"))
     };
-    if m.diffuse_texture.is_some() || m.ambient_texture.is_some() {
-        return bad(
-            "map_Kd/map_Ka",
-            "is an image texture, which glint does not read yet: give the mesh a material of the \
-             scene's (material = \"NAME\")"
-                .to_owned(),
-        );
-    }
+    let map = |what: &str, v: &Option<String>| -> Result<Option<PathBuf>, SceneError> {
+        match v.as_deref().map(str::trim) {
+            None => Ok(None),
+            Some(f) if f.is_empty() || f.starts_with('-') => at.invalid(
+                "file",
+                format!(
+                    "{file}: material \"{name}\": {what} \"{}\": glint reads a map's file name \
+                     alone, without options",
+                    crate::printable::text(f)
+                ),
+            ),
+            Some(f) => Ok(Some(dir.join(f))),
+        }
+    };
+    let map_kd = map("map_Kd", &m.diffuse_texture)?;
+    let map_ka = map("map_Ka", &m.ambient_texture)?;
     let colour = |what: &str, v: Option<[f64; 3]>| -> Result<DVec3, SceneError> {
         let v = DVec3::from_array(v.unwrap_or_default());
         if !v.is_finite() || v.min_element() < 0.0 {
@@ -259,5 +312,7 @@ fn mtl_material(m: &tobj::Material, file: &str, at: &At) -> Result<MtlMaterial, 
         ni,
         d,
         illum,
+        map_kd,
+        map_ka,
     })
 }

@@ -63,6 +63,9 @@ pub trait Kind: Clone + PartialEq + std::fmt::Debug + Send + Sync + 'static {
     /// Whether it has its own surface coordinates, for the 2D textures
     /// (`Shape::frame`): its include then gives `<name>_frame` too.
     const FRAME: bool = false;
+    /// Whether its primitives can have uv coordinates, for the image
+    /// textures (`Shape::uv`): its include then gives `<name>_uv` too.
+    const UV: bool = false;
     /// Whether rays leaving it start lifted off its surface: a triangle's
     /// neighbours share its edges, and the rounding of a hit point near an
     /// edge can put it behind a neighbour's plane (`crate::cpu::intersect::lift`).
@@ -72,6 +75,11 @@ pub trait Kind: Clone + PartialEq + std::fmt::Debug + Send + Sync + 'static {
     fn check(file: &Self::File, at: &At) -> Result<Self, SceneError>;
     /// The index of its material in the scene's list.
     fn material(&self) -> u32;
+    /// Whether this primitive has uv coordinates (`Shape::uv`): every one
+    /// of a kind with them, unless the kind says otherwise.
+    fn has_uv(&self) -> bool {
+        Self::UV
+    }
     /// The same primitive with `origin` moved to 0 (camera-relative
     /// coordinates, `Scene::camera_relative`).
     fn relative_to(&self, origin: DVec3) -> Self;
@@ -108,6 +116,11 @@ pub trait Shape<R: Real>: Send + Sync {
     fn frame(&self) -> Option<Frame<R>> {
         None
     }
+    /// Its uv coordinates at `p` on the surface, where it has them
+    /// (`Kind::UV`, `Kind::has_uv`), as an image texture reads them.
+    fn uv(&self, _p: Vec3<R>) -> Option<[R; 2]> {
+        None
+    }
     fn material(&self) -> usize;
 }
 
@@ -136,6 +149,7 @@ pub struct KindInfo {
     pub shading: bool,
     pub lift: bool,
     pub frame: bool,
+    pub uv: bool,
 }
 
 impl KindInfo {
@@ -150,6 +164,7 @@ impl KindInfo {
             shading: K::SHADING,
             lift: K::LIFT,
             frame: K::FRAME,
+            uv: K::UV,
         }
     }
 
@@ -270,17 +285,19 @@ macro_rules! generate {
                     $(.chain(self.$key.iter().map(|p| p.material())))*
             }
 
-            /// The first primitive, of a kind without its own surface
-            /// coordinates (`Kind::FRAME`), whose material `needs_frame`
-            /// picks: its array's key, its index and its material.
-            pub(crate) fn first_without_frame(
+            /// The first primitive that lacks what its material needs:
+            /// `needs(material)` says whether it needs its own coordinates
+            /// (`Kind::FRAME`) and uv coordinates (`Kind::has_uv`). Its
+            /// array's key, its index and its material.
+            pub(crate) fn first_lacking(
                 &self,
-                needs_frame: impl Fn(u32) -> bool,
+                needs: impl Fn(u32) -> [bool; 2],
             ) -> Option<(&'static str, usize, u32)> {
                 $(
-                    if !<$kind as Kind>::FRAME {
-                        if let Some(i) = self.$key.iter().position(|p| needs_frame(p.material())) {
-                            return Some((stringify!($key), i, self.$key[i].material()));
+                    for (i, p) in self.$key.iter().enumerate() {
+                        let [frame, uv] = needs(p.material());
+                        if frame && !<$kind as Kind>::FRAME || uv && !p.has_uv() {
+                            return Some((stringify!($key), i, p.material()));
                         }
                     }
                 )*

@@ -27,6 +27,10 @@ pub struct Plane {
     pub point: DVec3,
     /// Unit length.
     pub normal: DVec3,
+    /// Where its own coordinates (`Shape::frame`) start: the file's point,
+    /// moved with the plane. `point` is not: a camera-relative plane takes
+    /// its point nearest the eye, and a texture must not move with the eye.
+    pub origin: DVec3,
     /// The index of its material in `Scene::materials`.
     pub material: u32,
 }
@@ -38,6 +42,8 @@ crate::base::interface::gpu_struct!(
         point: real4,
         /// xyz, unit length
         normal: real4,
+        /// xyz where its own coordinates start (`Plane::origin`)
+        origin: real4,
         /// x material, y index in the scene file
         meta: uvec4,
     }
@@ -46,6 +52,7 @@ crate::base::interface::gpu_struct!(
 pub struct PlaneR<R> {
     pub point: Vec3<R>,
     pub normal: Vec3<R>,
+    pub origin: Vec3<R>,
     pub material: usize,
 }
 
@@ -57,11 +64,14 @@ impl Kind for Plane {
     const GLSL: &'static str = include_str!("../../shaders/prim/plane.glsl");
     const BOUNDED: bool = false;
     const FRAME: bool = true;
+    const UV: bool = true;
 
     fn check(f: &PlaneFile, at: &At) -> Result<Self, SceneError> {
+        let point = at.position("point", f.point)?;
         Ok(Plane {
-            point: at.position("point", f.point)?,
+            point,
             normal: at.direction("normal", f.normal)?,
+            origin: point,
             material: at.material("material", &f.material)?,
         })
     }
@@ -75,6 +85,7 @@ impl Kind for Plane {
         // the plane can be, whatever point the file gave.
         Plane {
             point: self.normal * (self.point - origin).dot(self.normal),
+            origin: self.origin - origin,
             ..*self
         }
     }
@@ -84,10 +95,11 @@ impl Kind for Plane {
     }
 
     fn gpu(&self, file_index: u32) -> gpu::Values {
-        let (p, n) = (self.point, self.normal);
+        let (p, n, o) = (self.point, self.normal, self.origin);
         gpu::Values {
             point: [p.x, p.y, p.z, 0.0],
             normal: [n.x, n.y, n.z, 0.0],
+            origin: [o.x, o.y, o.z, 0.0],
             meta: [self.material, file_index, 0, 0],
         }
     }
@@ -97,6 +109,7 @@ impl Kind for Plane {
         Plane {
             point: DVec3::new(0.0, -1.0, 0.0),
             normal: DVec3::Y,
+            origin: DVec3::new(0.5, -1.0, 0.25),
             material,
         }
     }
@@ -105,6 +118,7 @@ impl Kind for Plane {
         PlaneR {
             point: Vec3::of(self.point),
             normal: Vec3::of(self.normal),
+            origin: Vec3::of(self.origin),
             material: self.material as usize,
         }
     }
@@ -127,7 +141,7 @@ impl<R: Real> Shape<R> for PlaneR<R> {
         self.normal
     }
 
-    /// From its point: u = normalize(a × n), with a the coordinate axis
+    /// From its origin (the file's point): u = normalize(a × n), with a the coordinate axis
     /// least along n (x, then y, on a tie), and v = n × u.
     fn frame(&self) -> Option<Frame<R>> {
         let n = self.normal;
@@ -142,10 +156,17 @@ impl<R: Real> Shape<R> for PlaneR<R> {
         };
         let u = a.cross(n).normalize();
         Some(Frame {
-            origin: self.point,
+            origin: self.origin,
             u,
             v: n.cross(u),
         })
+    }
+
+    /// Its own coordinates (`frame`) as uv.
+    fn uv(&self, p: Vec3<R>) -> Option<[R; 2]> {
+        let f = self.frame()?;
+        let q = p - f.origin;
+        Some([q.dot(f.u), q.dot(f.v)])
     }
 
     fn material(&self) -> usize {

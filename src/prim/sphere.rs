@@ -58,6 +58,7 @@ impl Kind for Sphere {
     const NAME: &'static str = "sphere";
     const GLSL: &'static str = include_str!("../../shaders/prim/sphere.glsl");
     const BOUNDED: bool = true;
+    const UV: bool = true;
 
     fn check(f: &SphereFile, at: &At) -> Result<Self, SceneError> {
         Ok(Sphere {
@@ -145,6 +146,18 @@ impl<R: Real> Shape<R> for SphereR<R> {
 
     fn normal(&self, p: Vec3<R>) -> Vec3<R> {
         (p - self.center) / self.radius
+    }
+
+    /// Latitude and longitude (docs/scene-format.md, Textures): u runs
+    /// about the y axis from 0 at −z through −x (¼), +z (½) and +x (¾),
+    /// so that an image faces +z unmirrored; v from 0 at the −y pole to 1
+    /// at the +y pole.
+    fn uv(&self, p: Vec3<R>) -> Option<[R; 2]> {
+        let n = self.normal(p);
+        let half = R::of(0.5);
+        let pi = R::of(std::f64::consts::PI);
+        let y = n.y.max(-R::one()).min(R::one());
+        Some([half + n.x.atan2(n.z) / (pi + pi), half + y.asin() / pi])
     }
 
     fn material(&self) -> usize {

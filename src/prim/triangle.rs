@@ -11,6 +11,8 @@
 //! exactly through a shared edge or vertex meets each triangle there at the
 //! same t, and the nearest hit is the earlier one (the tie rule).
 
+use std::sync::Arc;
+
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
@@ -28,12 +30,24 @@ pub struct TriangleFile {
     /// Vertex normals for smooth shading; the geometric normal without.
     #[serde(default)]
     pub normals: Option<[Triple; 3]>,
+    /// Texture coordinates at the vertices, for image textures.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uvs: Option<[[f64; 2]; 3]>,
     pub material: String,
 }
 
+/// A triangle's texture coordinates, a (u, v) pair at each vertex.
+pub type Uvs = [[f64; 2]; 3];
+
+/// The largest uv coordinate, in magnitude: a larger one repeats an image
+/// more often than f32 can place a texel of it.
+pub const MAX_UV: f64 = 1e6;
+
 /// A triangle, flat or with vertex normals (smooth); a mesh is its
-/// triangles placed.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// triangles placed. Not `Copy`: its uvs are shared, not held inline, so
+/// that a triangle without them is 8 bytes larger for them, not 56 (a
+/// million-face mesh is held more than once).
+#[derive(Debug, Clone, PartialEq)]
 pub struct Triangle {
     /// Its corners, counter-clockwise seen from the side its normal faces.
     pub vertices: [DVec3; 3],
@@ -42,6 +56,8 @@ pub struct Triangle {
     pub normal: DVec3,
     /// Unit vertex normals, where the triangle is smooth.
     pub normals: Option<[DVec3; 3]>,
+    /// Texture coordinates at the vertices, where it has them.
+    pub uvs: Option<Arc<Uvs>>,
     /// The index of its material in `Scene::materials`.
     pub material: u32,
 }
@@ -54,6 +70,7 @@ impl Triangle {
             vertices,
             normal,
             normals,
+            uvs: None,
             material,
         })
     }
@@ -72,8 +89,20 @@ crate::base::interface::gpu_struct!(
         n0: real4,
         n1: real4,
         n2: real4,
-        /// x material, y index in the scene file, z 1 where smooth
+        /// x material, y index in the scene file, z 1 where smooth, w 1
+        /// where it has uvs (the TriangleUvs block's entry y)
         meta: uvec4,
+    }
+);
+
+crate::base::interface::gpu_struct!(
+    /// A triangle's texture coordinates, in the shader's TriangleUvs block,
+    /// by the triangle's index in the scene file (its `meta.y`).
+    pub mod uvs: "TriangleUv" {
+        /// xy the first vertex's uv, zw the second's
+        uv01: real4,
+        /// xy the third vertex's uv
+        uv2: real4,
     }
 );
 
@@ -81,6 +110,9 @@ pub struct TriangleR<R> {
     pub vertices: [Vec3<R>; 3],
     pub normal: Vec3<R>,
     pub normals: Option<[Vec3<R>; 3]>,
+    /// Boxed: the reference holds a million triangles without uvs at 8
+    /// bytes more each, not 56.
+    pub uvs: Option<Box<[[R; 2]; 3]>>,
     pub material: usize,
 }
 
@@ -94,6 +126,7 @@ impl Kind for Triangle {
     const SHADING: bool = true;
     const LIFT: bool = true;
     const FRAME: bool = true;
+    const UV: bool = true;
 
     fn check(f: &TriangleFile, at: &At) -> Result<Self, SceneError> {
         let mut vertices = [DVec3::ZERO; 3];
@@ -110,9 +143,26 @@ impl Kind for Triangle {
             }
             None => None,
         };
+        let uvs = match f.uvs {
+            Some(uvs) => {
+                for (i, uv) in uvs.iter().enumerate() {
+                    if uv.iter().any(|c| !c.is_finite() || c.abs() > MAX_UV) {
+                        return at.element("uvs", i).invalid_here(format!(
+                            "[{}, {}] is not finite or beyond ±{MAX_UV:e}",
+                            uv[0], uv[1]
+                        ));
+                    }
+                }
+                Some(uvs)
+            }
+            None => None,
+        };
         let material = at.material("material", &f.material)?;
         match Triangle::new(vertices, normals, material) {
-            Some(t) => Ok(t),
+            Some(t) => Ok(Triangle {
+                uvs: uvs.map(Arc::new),
+                ..t
+            }),
             None => at.invalid(
                 "vertices",
                 "the three vertices lie on one line: the triangle has no area",
@@ -124,10 +174,14 @@ impl Kind for Triangle {
         self.material
     }
 
+    fn has_uv(&self) -> bool {
+        self.uvs.is_some()
+    }
+
     fn relative_to(&self, origin: DVec3) -> Self {
         Triangle {
             vertices: self.vertices.map(|v| v - origin),
-            ..*self
+            ..self.clone()
         }
     }
 
@@ -155,7 +209,7 @@ impl Kind for Triangle {
                 self.material,
                 file_index,
                 u32::from(self.normals.is_some()),
-                0,
+                u32::from(self.uvs.is_some()),
             ],
         }
     }
@@ -175,8 +229,26 @@ impl Kind for Triangle {
             vertices: self.vertices.map(Vec3::of),
             normal: Vec3::of(self.normal),
             normals: self.normals.map(|ns| ns.map(Vec3::of)),
+            uvs: self
+                .uvs
+                .as_ref()
+                .map(|uvs| Box::new(uvs.map(|uv| uv.map(R::of)))),
             material: self.material as usize,
         }
+    }
+}
+
+impl<R: Real> TriangleR<R> {
+    /// The barycentric coordinates of `p`, a point in its plane: the
+    /// weights of its three vertices.
+    pub fn barycentric(&self, p: Vec3<R>) -> [R; 3] {
+        let [v0, v1, v2] = self.vertices;
+        let (e1, e2, q) = (v1 - v0, v2 - v0, p - v0);
+        let c = e1.cross(e2);
+        let inv = R::one() / c.dot(c);
+        let b1 = q.cross(e2).dot(c) * inv;
+        let b2 = e1.cross(q).dot(c) * inv;
+        [R::one() - b1 - b2, b1, b2]
     }
 }
 
@@ -261,14 +333,15 @@ impl<R: Real> Shape<R> for TriangleR<R> {
         let Some([n0, n1, n2]) = self.normals else {
             return geometric;
         };
-        let [v0, v1, v2] = self.vertices;
-        let (e1, e2, q) = (v1 - v0, v2 - v0, p - v0);
-        let c = e1.cross(e2);
-        let inv = R::one() / c.dot(c);
-        let b1 = q.cross(e2).dot(c) * inv;
-        let b2 = e1.cross(q).dot(c) * inv;
-        let b0 = R::one() - b1 - b2;
+        let [b0, b1, b2] = self.barycentric(p);
         (n0 * b0 + n1 * b1 + n2 * b2).normalize()
+    }
+
+    /// The vertices' uvs interpolated at `p` by its barycentric coordinates.
+    fn uv(&self, p: Vec3<R>) -> Option<[R; 2]> {
+        let [t0, t1, t2] = *self.uvs.as_deref()?;
+        let [b0, b1, b2] = self.barycentric(p);
+        Some([0, 1].map(|i| t0[i] * b0 + t1[i] * b1 + t2[i] * b2))
     }
 
     fn material(&self) -> usize {

@@ -72,6 +72,16 @@ pub fn srgb_encode(c: f32) -> f32 {
     }
 }
 
+/// The sRGB curve undone: the linear value of an encoded one in [0, 1]
+/// (IEC 61966-2-1), as an 8- or 16-bit PNG texture is read.
+pub fn srgb_decode(c: f64) -> f64 {
+    if c <= 0.040_45 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
 /// docs/scene-format.md, Outputs: round(255 * clamp(c, 0, 1)), after the sRGB curve if asked.
 /// NaN maps to 0, as `clamp` would leave it undefined.
 pub fn quantize(c: f32, srgb: bool) -> u8 {
@@ -83,6 +93,19 @@ pub fn quantize(c: f32, srgb: bool) -> u8 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn srgb_decode_undoes_the_encoding_and_keeps_the_ends() {
+        assert_eq!(srgb_decode(0.0), 0.0);
+        assert!((srgb_decode(1.0) - 1.0).abs() < 1e-15);
+        for i in 0..=255 {
+            let c = f64::from(i) / 255.0;
+            let back = f64::from(srgb_encode(srgb_decode(c) as f32));
+            assert!((back - c).abs() < 1e-6, "{i}: {back}");
+        }
+        // Mid-grey is darker in linear terms.
+        assert!((srgb_decode(0.5) - 0.214).abs() < 1e-3);
+    }
 
     #[test]
     fn quantize_clamps_rounds_and_maps_nan_to_zero() {

@@ -4,6 +4,7 @@
 
 mod corners;
 mod file;
+pub mod images;
 pub mod nff;
 mod rebase;
 mod split;
@@ -11,6 +12,7 @@ pub mod texture;
 mod validate;
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use glam::DVec3;
 
@@ -82,9 +84,13 @@ pub struct Scene {
     pub prims: Prims,
     /// The lights.
     pub lights: Vec<Light>,
-    /// The OBJ files the `[[meshes]]` were read from, in the file's order:
-    /// inputs of the run, which no output may replace.
-    pub mesh_files: Vec<PathBuf>,
+    /// The files read besides the scene file: the OBJ and MTL files of the
+    /// `[[meshes]]` and the textures' images. Inputs of the run, which no
+    /// output may replace.
+    pub input_files: Vec<PathBuf>,
+    /// The image textures' texels, rows top to bottom, image after image
+    /// (`texture::Texels` says where each lies); linear RGB.
+    pub texels: Arc<Vec<[f32; 3]>>,
 }
 
 /// The camera of form (a) in docs/scene-format.md: an eye and a virtual
@@ -228,6 +234,16 @@ impl Light {
 }
 
 impl Scene {
+    /// Whether a material has an image texture.
+    pub fn has_image_textures(&self) -> bool {
+        let image = |t: Option<u32>| {
+            t.is_some_and(|t| self.textures[t as usize].pattern == texture::Pattern::Image)
+        };
+        self.materials
+            .iter()
+            .any(|m| image(m.texture) || image(m.ambient_texture))
+    }
+
     /// The adaptive sampling the renderers follow: where `sampling` is
     /// adaptive, `adaptive` (or the defaults, 0.1 and 2 levels, where a
     /// scene made in code left it out); else none.

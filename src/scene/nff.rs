@@ -343,6 +343,7 @@ impl<'a> Reader<'a> {
                         triangles.push(TriangleFile {
                             vertices: tri.map(|(p, _)| Triple(p.to_array())),
                             normals: smooth.then(|| tri.map(|(_, n)| Triple(n.to_array()))),
+                            uvs: None,
                             material: m.clone(),
                         });
                     }

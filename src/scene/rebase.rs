@@ -35,7 +35,8 @@ impl Scene {
                     ..*t
                 })
                 .collect(),
-            mesh_files: self.mesh_files.clone(),
+            input_files: self.input_files.clone(),
+            texels: self.texels.clone(),
             ..*self
         }
     }

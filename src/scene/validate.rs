@@ -2,11 +2,12 @@
 //! [`Scene`]. Every error carries the key path, which [`Located`] turns into
 //! a line and column of the file.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
 use super::file::{CameraFile, ImageFile, LightFile, MaterialFile, SceneFile};
+use super::images::Images;
 use super::texture::{Pattern, Texture, TextureFile};
 use super::{
     Adaptive, Camera, Light, LightKind, Material, Sampling, Scene, SceneError, MAX_DEPTH,
@@ -149,12 +150,9 @@ impl Check<'_> {
     /// most 1, and the reflection weights multiply to at most 1).
     fn brightness(&self, scene: &Scene) -> Result<()> {
         let max = |v: DVec3| v.max_element();
-        // A textured colour is at most its texture's brighter colour.
+        // A textured colour is at most its texture's brightest.
         let brightest = |colour: DVec3, texture: Option<u32>| match texture {
-            Some(t) => {
-                let [a, b] = scene.textures[t as usize].colors;
-                max(a).max(max(b))
-            }
+            Some(t) => max(scene.textures[t as usize].brightest()),
             None => max(colour),
         };
         let (ka, kd, ks) = scene
@@ -232,13 +230,16 @@ impl Check<'_> {
         let background = self.colour(&render.key("background"), raw.render.background)?;
 
         let prim_files = raw.take_prims();
+        let dir = self.file.parent().unwrap_or(Path::new("."));
+        let mut images = Images::default();
         let names: Vec<&String> = raw.materials.keys().collect();
         let texture_names: Vec<&String> = raw.textures.keys().collect();
-        let textures = raw
+        let mut textures = raw
             .textures
             .iter()
-            .map(|(name, t)| self.texture(&root().key("textures").key(name), t))
+            .map(|(name, t)| self.texture(&root().key("textures").key(name), t, dir, &mut images))
             .collect::<Result<Vec<_>>>()?;
+        let mut texture_names: Vec<String> = texture_names.into_iter().cloned().collect();
         let mut materials = raw
             .materials
             .iter()
@@ -252,23 +253,45 @@ impl Check<'_> {
             path: root().key(key).index(i),
         })?;
         // A mesh's triangles follow the file's [[triangles]], mesh by mesh.
-        let dir = self.file.parent().unwrap_or(Path::new("."));
-        let mut mesh_files: Vec<_> = raw.meshes.iter().map(|m| dir.join(&m.file)).collect();
+        let mut input_files: Vec<_> = raw.meshes.iter().map(|m| dir.join(&m.file)).collect();
+        let mut mesh_starts = Vec::new();
         for (i, mesh) in raw.meshes.iter().enumerate() {
             let at = At {
                 check: self,
                 names: &names,
                 path: root().key("meshes").index(i),
             };
+            mesh_starts.push(prims.triangles.len());
             // Straight into the scene's list: a list of the mesh's own, then
             // copied, would hold every triangle twice.
             let first = materials.len() as u32;
             let loaded = crate::prim::mesh::load(mesh, dir, &at, first, &mut prims.triangles)?;
-            materials.extend(loaded.materials.iter().map(from_mtl));
-            mesh_files.extend(loaded.files);
+            for m in &loaded.materials {
+                let mut material = from_mtl(m);
+                // An MTL map's texels are multiplied by its colour (Kd, Ka).
+                let mut map = |file: &Option<PathBuf>, tint: DVec3, what: &str| {
+                    let Some(file) = file else {
+                        return Ok(None);
+                    };
+                    let texels = images
+                        .texels(file)
+                        .or_else(|e| at.invalid("file", format!("{}: {what}: {e}", m.name)))?;
+                    textures.push(Texture {
+                        colors: [tint; 2],
+                        ..Texture::image(texels)
+                    });
+                    texture_names.push(format!("{what} of {}", m.name));
+                    Ok::<_, SceneError>(Some(textures.len() as u32 - 1))
+                };
+                material.texture = map(&m.map_kd, material.diffuse, "map_Kd")?;
+                material.ambient_texture = map(&m.map_ka, material.ambient, "map_Ka")?;
+                materials.push(material);
+            }
+            input_files.extend(loaded.files);
         }
+        input_files.extend(images.files);
 
-        self.textures_fit(&prims, &materials, &textures, &texture_names)?;
+        self.textures_fit(&prims, &materials, &textures, &texture_names, &mesh_starts)?;
 
         let lights = raw
             .lights
@@ -298,7 +321,8 @@ impl Check<'_> {
             textures,
             prims,
             lights,
-            mesh_files,
+            input_files,
+            texels: std::sync::Arc::new(images.texels),
         })
     }
 
@@ -339,11 +363,32 @@ impl Check<'_> {
         Ok(Some(Adaptive { threshold, levels }))
     }
 
-    fn texture(&self, path: &KeyPath, t: &TextureFile) -> Result<Texture> {
-        let pattern = match t.pattern.as_str() {
-            "checker" => Pattern::Checker,
-            "solid_checker" => Pattern::SolidChecker,
-            other => {
+    /// A texture's table: a pattern, or an image read into `images`
+    /// (relative to `dir`, the scene file's folder).
+    fn texture(
+        &self,
+        path: &KeyPath,
+        t: &TextureFile,
+        dir: &Path,
+        images: &mut Images,
+    ) -> Result<Texture> {
+        let pattern = match (t.pattern.as_deref(), &t.image) {
+            (Some(_), Some(_)) => {
+                return self.err(
+                    &path.key("image"),
+                    "a texture is a pattern or an image, not both",
+                )
+            }
+            (None, None) => {
+                return self.err(
+                    path,
+                    "a texture needs a pattern (checker, solid_checker) or an image",
+                )
+            }
+            (None, Some(_)) => Pattern::Image,
+            (Some("checker"), None) => Pattern::Checker,
+            (Some("solid_checker"), None) => Pattern::SolidChecker,
+            (Some(other), None) => {
                 return self.err(
                     &path.key("pattern"),
                     format!(
@@ -353,23 +398,34 @@ impl Check<'_> {
                 )
             }
         };
-        let size = self.finite(&path.key("size"), t.size)?;
+        let size = match (t.size, pattern) {
+            (Some(size), _) => self.finite(&path.key("size"), size)?,
+            (None, Pattern::Image) => 1.0,
+            (None, _) => return self.err(path, "a pattern needs its size (size = ...)"),
+        };
         if size <= 0.0 || size > MAX_COORDINATE {
             return self.err(
                 &path.key("size"),
                 format!("must be > 0 and at most {MAX_COORDINATE:e}, got {size:e}"),
             );
         }
-        let colors = [
-            self.colour(&path.key("colors").index(0), t.colors[0])?,
-            self.colour(&path.key("colors").index(1), t.colors[1])?,
-        ];
+        let colors = match (t.colors, pattern) {
+            (Some(_), Pattern::Image) => {
+                return self.err(&path.key("colors"), "an image has no colors of its own")
+            }
+            (Some(c), _) => [
+                self.colour(&path.key("colors").index(0), c[0])?,
+                self.colour(&path.key("colors").index(1), c[1])?,
+            ],
+            (None, Pattern::Image) => [DVec3::ONE; 2],
+            (None, _) => return self.err(path, "a pattern needs its two colors (colors = ...)"),
+        };
         let mut rotation = [1.0, 0.0];
         if let Some(angle) = t.angle {
-            if pattern != Pattern::Checker {
+            if pattern == Pattern::SolidChecker {
                 return self.err(
                     &path.key("angle"),
-                    "only a \"checker\" is turned by an angle",
+                    "only a \"checker\" or an image is turned by an angle",
                 );
             }
             let radians = self.finite(&path.key("angle"), angle)?.to_radians();
@@ -380,22 +436,32 @@ impl Check<'_> {
             if pattern != Pattern::SolidChecker {
                 return self.err(
                     &path.key("origin"),
-                    "only a \"solid_checker\" has an origin (a \"checker\" starts at its surface's own)",
+                    "only a \"solid_checker\" has an origin (a \"checker\" or an image starts at \
+                     its surface's own)",
                 );
             }
             origin = self.position(&path.key("origin"), o)?;
         }
+        let texels = match &t.image {
+            Some(file) => Some(
+                images
+                    .texels(&dir.join(file))
+                    .or_else(|e| self.err(&path.key("image"), e))?,
+            ),
+            None => None,
+        };
         Ok(Texture {
             pattern,
             size,
             colors,
             rotation,
             origin,
+            texels,
         })
     }
 
     /// The index of the texture `name` of the material at `path`.
-    fn texture_index(&self, path: &KeyPath, name: &str, names: &[&String]) -> Result<u32> {
+    fn texture_index(&self, path: &KeyPath, name: &str, names: &[String]) -> Result<u32> {
         match names.binary_search_by(|n| n.as_str().cmp(name)) {
             Ok(i) => Ok(i as u32),
             Err(_) => {
@@ -416,40 +482,91 @@ impl Check<'_> {
         }
     }
 
-    /// Refuses a checker on a primitive without surface coordinates
-    /// (spheres, cylinders), naming the primitive's material.
+    /// Refuses a checker on a primitive without its own coordinates
+    /// (spheres, cylinders) and an image on one without uv coordinates
+    /// (cylinders, triangles without uvs, meshes without vt), naming the
+    /// primitive, or the mesh (`mesh_starts`: where each mesh's triangles
+    /// start), and its material.
     fn textures_fit(
         &self,
         prims: &Prims,
         materials: &[Material],
         textures: &[Texture],
-        names: &[&String],
+        names: &[String],
+        mesh_starts: &[usize],
     ) -> Result<()> {
-        let flat =
-            |t: Option<u32>| t.is_some_and(|t| textures[t as usize].pattern == Pattern::Checker);
-        let needs_frame = |m: u32| {
-            let m = &materials[m as usize];
-            flat(m.texture) || flat(m.ambient_texture)
+        let needs = |t: Option<u32>| {
+            let p = t.map(|t| textures[t as usize].pattern);
+            [p == Some(Pattern::Checker), p == Some(Pattern::Image)]
         };
-        let Some((key, i, m)) = prims.first_without_frame(needs_frame) else {
+        let needs_of = |m: &Material| {
+            let [a, b] = [needs(m.texture), needs(m.ambient_texture)];
+            [a[0] || b[0], a[1] || b[1]]
+        };
+        let Some((key, i, m)) = prims.first_lacking(|m| needs_of(&materials[m as usize])) else {
             return Ok(());
         };
         let m = &materials[m as usize];
+        let [frame, _] = needs_of(m);
+        let wanted = if frame {
+            Pattern::Checker
+        } else {
+            Pattern::Image
+        };
         let t = [m.texture, m.ambient_texture]
             .into_iter()
             .flatten()
-            .find(|t| flat(Some(*t)))
-            .expect("a checker");
-        self.err(
-            &root().key(key).index(i).key("material"),
-            format!(
-                "material \"{}\" has the checker texture \"{}\", which needs a surface's own \
-                 coordinates (planes and triangles have them, {key} do not): use pattern = \
-                 \"solid_checker\"",
-                crate::printable::text(&m.name),
-                crate::printable::text(names[t as usize])
+            .find(|t| textures[*t as usize].pattern == wanted)
+            .expect("the texture that needs it");
+        let (material, texture) = (
+            crate::printable::text(&m.name),
+            crate::printable::text(&names[t as usize]),
+        );
+        let kind = crate::prim::KINDS
+            .iter()
+            .find(|k| k.key == key)
+            .expect("a kind of the table");
+        if frame && !kind.frame || !frame && !kind.uv {
+            let (kind, needs, fix) = if frame {
+                (
+                    "checker",
+                    "a surface's own coordinates (planes and triangles have them",
+                    "use pattern = \"solid_checker\"",
+                )
+            } else {
+                (
+                    "image",
+                    "uv coordinates (spheres, planes, and triangles with uvs have them",
+                    "use a pattern = \"solid_checker\" texture",
+                )
+            };
+            return self.err(
+                &root().key(key).index(i).key("material"),
+                format!(
+                    "material \"{material}\" has the {kind} texture \"{texture}\", which needs \
+                     {needs}, {key} do not): {fix}"
+                ),
+            );
+        }
+        // A triangle without uvs: of the file's [[triangles]] or of a mesh.
+        match mesh_starts.iter().rposition(|start| *start <= i) {
+            Some(mesh) => self.err(
+                &root().key("meshes").index(mesh).key("file"),
+                format!(
+                    "material \"{material}\" has the image texture \"{texture}\", which needs uv \
+                     coordinates, and face {} of this OBJ has none: give every corner of its faces \
+                     a texture coordinate (vt)",
+                    i - mesh_starts[mesh]
+                ),
             ),
-        )
+            None => self.err(
+                &root().key(key).index(i).key("material"),
+                format!(
+                    "material \"{material}\" has the image texture \"{texture}\", which needs uv \
+                     coordinates: give this triangle uvs = [[u, v], [u, v], [u, v]]"
+                ),
+            ),
+        }
     }
 
     fn material(
@@ -457,7 +574,7 @@ impl Check<'_> {
         path: &KeyPath,
         name: &str,
         m: &MaterialFile,
-        textures: &[&String],
+        textures: &[String],
     ) -> Result<Material> {
         let texture = m
             .texture
