@@ -38,6 +38,10 @@ vec3r trace_at(real px, real py) {
     return trace(ray_through(px + 0.5, py + 0.5));
 }
 
+// Where a split square's five new points lie, in halves of its side.
+const uint FIVE_X[5] = uint[5](1u, 0u, 1u, 2u, 1u);
+const uint FIVE_Y[5] = uint[5](0u, 1u, 1u, 1u, 2u);
+
 vec3r refine_pixel(Refine e) {
     // Depth first: at most three squares wait at each level, and the one
     // being split.
@@ -52,12 +56,20 @@ vec3r refine_pixel(Refine e) {
         // The pixel itself is split: the host chose it.
         if (s.level == 0u || s.level < ADAPTIVE_LEVELS && contrast(s.c) > real(ADAPTIVE_THRESHOLD)) {
             real h = s.size * 0.5;
-            // The five new points, in this order on both renderers.
-            vec3r t = trace_at(s.x + h, s.y);
-            vec3r l = trace_at(s.x, s.y + h);
-            vec3r m = trace_at(s.x + h, s.y + h);
-            vec3r r = trace_at(s.x + s.size, s.y + h);
-            vec3r b = trace_at(s.x + h, s.y + s.size);
+            // The five new points, in this order on both renderers: top,
+            // left, middle, right, bottom (h·2 is the side exactly). One
+            // call site for trace(): five inlined the whole ray tree five
+            // times, and lavapipe took over 300 s to compile the f64
+            // generic shader.
+            vec3r q[5];
+            [[dont_unroll]] for (uint i = 0u; i < 5u; i++) {
+                q[i] = trace_at(s.x + h * real(FIVE_X[i]), s.y + h * real(FIVE_Y[i]));
+            }
+            vec3r t = q[0];
+            vec3r l = q[1];
+            vec3r m = q[2];
+            vec3r r = q[3];
+            vec3r b = q[4];
             uint k = s.level + 1u;
             // Pushed last to first: the top-left quarter is resolved first.
             stack[top] = Square(s.x + h, s.y + h, h, k, vec3r[4](m, r, b, s.c[3]));

@@ -83,15 +83,26 @@ vec3r texture_colour(uint t, Hit hit, vec3r p) {
     return odd ? tx.color1.rgb : tx.color0.rgb;
 }
 
-// m at the hit point p: its textured colours in place of its own.
+// m at the hit point p: its textured colours in place of its own. One call
+// site for texture_colour, looped over the two colours: two inlined copies
+// of an image lookup made the generic f64 shader slow to compile.
 void apply_textures(inout Material m, Hit hit, vec3r p) {
     uint diffuse = m.textures.x;
     uint ambient = m.textures.y;
-    if (diffuse != 0u) {
-        m.diffuse.rgb = texture_colour(diffuse - 1u, hit, p);
+    uint own_ambient = ambient == diffuse ? 0u : ambient;
+    [[dont_unroll]] for (uint k = 0u; k < 2u; k++) {
+        uint t = k == 0u ? diffuse : own_ambient;
+        if (t != 0u) {
+            vec3r c = texture_colour(t - 1u, hit, p);
+            if (k == 0u) {
+                m.diffuse.rgb = c;
+            } else {
+                m.ambient.rgb = c;
+            }
+        }
     }
-    if (ambient != 0u) {
-        m.ambient.rgb = ambient == diffuse ? m.diffuse.rgb : texture_colour(ambient - 1u, hit, p);
+    if (ambient != 0u && ambient == diffuse) {
+        m.ambient.rgb = m.diffuse.rgb;
     }
 }
 #endif
