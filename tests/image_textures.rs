@@ -11,7 +11,6 @@ use std::path::Path;
 use std::sync::Arc;
 
 use glint::cpu;
-use glint::raster::diff::figures;
 use glint::scene::{parse, Overrides, Scene};
 
 fn textures_scene(text: &str) -> Scene {
@@ -43,14 +42,7 @@ fn the_textures_scene_agrees_on_both_renderers() {
     );
     assert!(scene.input_files.iter().any(|f| f.ends_with("globe.png")));
     let reference = cpu::render::<f64>(&scene);
-    assert!(
-        common::passes(&cpu::render::<f32>(&scene), &reference),
-        "CPU f32"
-    );
-    if let Some(gpu) = common::render_gpu_if_built(&scene) {
-        let f = figures(&gpu, &reference).unwrap();
-        assert!(common::passes(&gpu, &reference), "GPU f32: {f:?}");
-    }
+    common::assert_renderers_agree(&scene, &reference);
 }
 
 /// A perturbed mapping fails: the floor's uvs shifted by a fiftieth, the

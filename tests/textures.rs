@@ -6,7 +6,6 @@
 mod common;
 
 use glint::cpu;
-use glint::raster::diff::figures;
 use glint::raster::Image;
 use glint::scene::Scene;
 
@@ -33,14 +32,7 @@ fn distinct_colours(image: &Image) -> usize {
 fn the_whitted_scene_agrees_on_both_renderers() {
     let (_, scene) = whitted(160, 120);
     let reference = cpu::render::<f64>(&scene);
-    assert!(
-        common::passes(&cpu::render::<f32>(&scene), &reference),
-        "CPU f32"
-    );
-    if let Some(gpu) = common::render_gpu_if_built(&scene) {
-        let f = figures(&gpu, &reference).unwrap();
-        assert!(common::passes(&gpu, &reference), "GPU f32: {f:?}");
-    }
+    common::assert_renderers_agree(&scene, &reference);
 }
 
 /// A perturbed checker fails the comparison: squares 2 % larger, or the
@@ -125,14 +117,7 @@ fn solid_and_turned_checkers_agree_and_can_fail() {
     let scene = common::scene(SOLID);
     let reference = cpu::render::<f64>(&scene);
     assert!(distinct_colours(&reference) > 6, "the textures show");
-    assert!(
-        common::passes(&cpu::render::<f32>(&scene), &reference),
-        "CPU f32"
-    );
-    if let Some(gpu) = common::render_gpu_if_built(&scene) {
-        let f = figures(&gpu, &reference).unwrap();
-        assert!(common::passes(&gpu, &reference), "GPU f32: {f:?}");
-    }
+    common::assert_renderers_agree(&scene, &reference);
     let moved =
         common::scene(&SOLID.replace("origin = [0.1, 0.05, 0.0]", "origin = [0.135, 0.05, 0.0]"));
     assert!(!common::passes(&cpu::render::<f64>(&moved), &reference));
@@ -172,7 +157,7 @@ fn the_f64_and_generic_shaders_texture_alike() {
             continue;
         }
         let (image, _) = r.render(&scene, &|_| {}).unwrap();
-        let f = figures(&image, &reference).unwrap();
+        let f = glint::raster::diff::figures(&image, &reference).unwrap();
         assert!(
             common::passes(&image, &reference),
             "generic {generic}, {precision:?}: {f:?}"

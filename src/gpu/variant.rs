@@ -193,6 +193,7 @@ impl Features {
         let spheres_only = spheres == scene.prims.len();
         let positioned = has(LightKind::Point) || has(LightKind::Spot);
         let experiment = Experiment::from_env();
+        let images = objects && scene.has_image_textures();
         let fits = (experiment.uniforms_always
             || spheres > 0 && !(spheres_only && lights > 0 && !positioned))
             && !experiment.storage
@@ -223,10 +224,8 @@ impl Features {
                     .materials
                     .iter()
                     .any(|m| m.texture.is_some() || m.ambient_texture.is_some()),
-            images: objects && scene.has_image_textures(),
-            uvs: objects
-                && scene.has_image_textures()
-                && scene.prims.triangles.iter().any(|t| t.uvs.is_some()),
+            images,
+            uvs: images && scene.prims.triangles.iter().any(|t| t.uvs.is_some()),
             max_depth: if reflects || transmits {
                 scene.max_depth
             } else {

@@ -225,6 +225,20 @@ pub fn same_bits(a: &Image, b: &Image) -> bool {
             .all(|(p, q)| (0..3).all(|c| p[c].to_bits() == q[c].to_bits()))
 }
 
+/// Asserts that the CPU f32 render of `scene`, and the GPU's where glint
+/// is built with it, are within the default tolerance of `reference` (its
+/// CPU f64 render).
+pub fn assert_renderers_agree(scene: &Scene, reference: &Image) {
+    assert!(
+        passes(&glint::cpu::render::<f32>(scene), reference),
+        "CPU f32"
+    );
+    if let Some(gpu) = render_gpu_if_built(scene) {
+        let f = glint::raster::diff::figures(&gpu, reference).unwrap();
+        assert!(passes(&gpu, reference), "GPU f32: {f:?}");
+    }
+}
+
 /// Whether `image` is within the default tolerance of `reference`.
 pub fn passes(image: &Image, reference: &Image) -> bool {
     let f = glint::raster::diff::figures(image, reference).unwrap();
