@@ -1,6 +1,9 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
+#ifdef WAVEFRONT
+#extension GL_KHR_shader_subgroup_ballot : require
+#endif
 
 // One invocation per pixel of the current tile: the mean of the pixel's
 // samples*samples eye rays, each traced to the fixed depth.
@@ -12,7 +15,9 @@
 #include "trace.glsl"
 #include "budget.glsl"
 
-#ifdef ADAPTIVE_LEVELS
+#ifdef WAVEFRONT
+#include "wavefront.glsl"
+#elif defined(ADAPTIVE_LEVELS)
 // Adaptive sampling's second pass: one invocation per pixel of the list.
 #include "adaptive.glsl"
 

@@ -44,6 +44,11 @@ pub fn ceiling(options: &GpuOptions, size: u32, runs: usize) -> Result<Ceiling, 
         main_builtin: Some("ceiling.comp".to_owned()),
         // The tile timeout counts a scene's rays, not these tests.
         timeout: Some(Duration::from_secs(600)),
+        // The ceiling shader is a megakernel of its own.
+        settings: crate::gpu::RenderSettings {
+            schedule: crate::gpu::Schedule::Megakernel,
+            ..options.settings
+        },
         ..options.clone()
     };
     let mut renderer = Renderer::new(&options)?;

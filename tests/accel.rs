@@ -20,6 +20,7 @@ fn gpu(accel: Accel, intersect: Intersect, precision: Precision) -> Renderer {
             intersect,
             precision,
             generic: false,
+            ..RenderSettings::default()
         },
         ..GpuOptions::default()
     };

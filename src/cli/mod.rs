@@ -124,6 +124,9 @@ pub struct DeviceArgs {
     /// Scene management: a BVH over the bounded primitives (spheres and triangles; planes are scanned), none (every ray tests every object), or auto (by the count of bounded primitives). The CPU renderer follows it too.
     #[arg(long, value_enum, default_value = "auto")]
     pub accel: Accel,
+    /// How the GPU lays out the rays: one invocation per pixel tracing its whole ray tree (megakernel), a dispatch per ray segment over a compacted queue of live paths (wavefront), or auto (the one measured faster for scenes like this; docs/performance.md, Schedules). Both give the same image, bit for bit.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub schedule: glint::gpu::Schedule,
     /// Compile the shader afresh and keep no SPIR-V or pipeline cache.
     #[arg(long)]
     no_cache: bool,
@@ -190,6 +193,7 @@ impl DeviceArgs {
             .collect::<anyhow::Result<_>>()?;
         options.settings.generic = self.generic;
         options.settings.accel = self.accel;
+        options.settings.schedule = self.schedule;
         if let Some(t) = self.timeout {
             anyhow::ensure!(
                 t.is_finite() && t > 0.0 && t <= 1e6,

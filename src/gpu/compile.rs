@@ -33,6 +33,10 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("adaptive.glsl", include_str!("../../shaders/adaptive.glsl")),
     ("bvh.glsl", include_str!("../../shaders/bvh.glsl")),
     ("budget.glsl", include_str!("../../shaders/budget.glsl")),
+    (
+        "wavefront.glsl",
+        include_str!("../../shaders/wavefront.glsl"),
+    ),
     ("ceiling.comp", include_str!("../../shaders/ceiling.comp")),
 ];
 

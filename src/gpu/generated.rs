@@ -163,13 +163,25 @@ impl Variant {
                     s,
                     "layout(std430, set = 0, binding = {binding}) readonly buffer RefineList {{ Refine refine_list[]; }};"
                 ),
+                Block::PathReals => writeln!(
+                    s,
+                    "layout(std430, set = 0, binding = {binding}) buffer PathReals {{ vec4r path_reals[]; }};"
+                ),
+                Block::PathWords => writeln!(
+                    s,
+                    "layout(std430, set = 0, binding = {binding}) buffer PathWords {{ uvec4 path_words[]; }};"
+                ),
+                Block::Queues => writeln!(
+                    s,
+                    "layout(std430, set = 0, binding = {binding}) buffer Queues {{ uint wave_header[8]; uint wave_queue[]; }};"
+                ),
                 Block::Pixels => writeln!(
                     s,
                     "layout(std430, set = 0, binding = {binding}) writeonly buffer Pixels {{ vec4 pixels[]; }};"
                 ),
             };
         }
-        s += "layout(push_constant) uniform Tile { uvec4 rect; } tile;\n";
+        s += "layout(push_constant) uniform Tile { uvec4 rect; uvec4 stage; } tile;\n";
         s
     }
 

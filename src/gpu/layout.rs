@@ -145,10 +145,15 @@ fn globals(scene: &Scene) -> globals::Values {
     }
 }
 
-/// The push constant: tile origin x, y, width, height.
+/// The push constant: the tile's origin x, y, width and height, and the
+/// wavefront's stage and queue (shaders/wavefront.glsl; zero for the
+/// megakernel).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-pub struct TileRect(pub UVec4);
+pub struct TileRect {
+    pub rect: UVec4,
+    pub stage: UVec4,
+}
 
 /// Everything the shader reads, laid out for upload.
 pub struct Uploads {

@@ -5,6 +5,7 @@ pub mod compile;
 mod error;
 pub(crate) mod generated;
 pub(crate) mod layout;
+pub mod schedule;
 pub mod variant;
 pub(crate) mod vk;
 
@@ -25,6 +26,7 @@ use crate::scene::Scene;
 use crate::stats::{Counter, Counts};
 pub use error::GpuError;
 use layout::{TileRect, Uploads};
+pub use schedule::Schedule;
 use variant::{Block, Variant};
 use vk::buffer::Buffer;
 use vk::command::{memory_barrier, Completed, OneShot};
@@ -40,6 +42,8 @@ use vk::query::Timestamps;
 const RAYS_PER_DISPATCH: u64 = 1 << 22;
 /// The word the output tile is filled with before each dispatch: a NaN.
 const UNWRITTEN: u32 = 0xffff_ffff;
+/// The most a tile's wavefront paths may take of device memory.
+const PATH_BYTES: u64 = 256 << 20;
 
 /// Which ray/primitive intersection forms the shader uses.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize, clap::ValueEnum)]
@@ -116,6 +120,8 @@ pub struct RenderSettings {
     pub accel: Accel,
     /// Render with the one shader that handles every feature.
     pub generic: bool,
+    /// How the rays are laid on the device.
+    pub schedule: Schedule,
 }
 
 /// One-time costs, apart from any render: opening the device, and compiling
@@ -376,9 +382,15 @@ impl Renderer {
 
     /// Tile size in pixels: within the rays-per-dispatch budget and the
     /// device's storage buffer range, whole rows where the image is narrow.
-    fn tile_size(&self, scene: &Scene) -> (u32, u32) {
+    fn tile_size(&self, scene: &Scene, variant: &Variant) -> (u32, u32) {
         let rays_per_pixel = u64::from(scene.samples * scene.samples);
-        let by_range = u64::from(self.device.info.max_storage_buffer_range) / 16;
+        let range = u64::from(self.device.info.max_storage_buffer_range);
+        let mut by_range = range / 16;
+        if variant.wavefront {
+            // The paths' buffers: within the range, and within PATH_BYTES.
+            let path = variant.path_bytes();
+            by_range = by_range.min(range / path).min(PATH_BYTES / path);
+        }
         let pixels = (RAYS_PER_DISPATCH / rays_per_pixel)
             .min(by_range)
             .max(u64::from(WORKGROUP * WORKGROUP));
@@ -449,6 +461,12 @@ impl Renderer {
             count,
         );
         variant.refine = refine;
+        // The refinement's list is the megakernel's alone; so is a shader
+        // of the user's, which knows nothing of the wavefront's stages.
+        variant.wavefront = refine.is_none()
+            && self.sources.main.is_none()
+            && self.sources.main_builtin.is_none()
+            && settings.schedule.wavefront_for(scene);
         let mut defines = variant.defines();
         defines.extend(self.defines.iter().cloned());
         (variant, defines)
@@ -608,7 +626,7 @@ impl Renderer {
         let t0 = Instant::now();
         up.check_storage_range(self.device.info.max_storage_buffer_range)
             .map_err(GpuError::Unsupported)?;
-        let tile = self.tile_size(scene);
+        let tile = self.tile_size(scene, &variant);
         self.make_resident(&key, &variant, &up, tile, None)?;
         times.upload_s = layout_s + secs(t0.elapsed());
         times.bvh_s = up.bvh_s;
@@ -719,6 +737,15 @@ impl Renderer {
         if self.device.hung() {
             return Err(GpuError::Lost);
         }
+        if settings.schedule == Schedule::Wavefront
+            && (self.sources.main.is_some() || self.sources.main_builtin.is_some())
+        {
+            return Err(GpuError::Unsupported(
+                "--schedule wavefront runs glint's own main.comp (shaders/wavefront.glsl); \
+                 a --shader of your own renders with the megakernel (--schedule megakernel)"
+                    .to_owned(),
+            ));
+        }
         if settings.precision == Precision::F64 && !self.device.info.shader_float64 {
             return Err(GpuError::Unsupported(format!(
                 "{} has no shaderFloat64: render in f32, or on the CPU in f64",
@@ -779,7 +806,7 @@ impl Renderer {
                 .expect("the output binding is last")
                 .raw,
             zero: None,
-            rect: TileRect(UVec4::ZERO),
+            rect: bytemuck::Zeroable::zeroed(),
         };
         match dispatch(&mut self.commands, None, &empty, COMPILE_TIMEOUT) {
             Err(GpuError::Vk {
@@ -838,9 +865,26 @@ impl Renderer {
                     pipeline,
                     out: out.raw,
                     zero: counters.take(),
-                    rect: TileRect(UVec4::new(x0, y0, w, h)),
+                    rect: TileRect {
+                        rect: UVec4::new(x0, y0, w, h),
+                        stage: UVec4::ZERO,
+                    },
                 };
-                let done = dispatch(&mut self.commands, self.timestamps.as_ref(), &job, timeout);
+                let done = if variant.wavefront {
+                    let queues = &buffers[variant
+                        .binding_of(Block::Queues)
+                        .expect("a wavefront has queues")];
+                    wavefront_tile(
+                        &mut self.commands,
+                        self.timestamps.as_ref(),
+                        &job,
+                        queues,
+                        schedule::rounds_per_submit(scene),
+                        timeout,
+                    )
+                } else {
+                    dispatch(&mut self.commands, self.timestamps.as_ref(), &job, timeout)
+                };
                 let (done, on_device) = match done {
                     Err(GpuError::Vk {
                         result: raw::Result::TIMEOUT,
@@ -900,7 +944,8 @@ impl Renderer {
         let commands = &mut self.commands;
         let stage_uploads = self.stage_uploads;
         let usage = variant.scene_buffer_usage();
-        let out_bytes = u64::from(tile.0) * u64::from(tile.1) * 16;
+        let pixels = u64::from(tile.0) * u64::from(tile.1);
+        let out_bytes = pixels * 16;
         // What the shader only reads: device-local through staging, or mapped.
         let mut scene = |bytes: &[u8], usage, what| {
             if stage_uploads {
@@ -942,6 +987,28 @@ impl Renderer {
                     &refine.expect("a refining variant has its list").bytes,
                     raw::BufferUsageFlags::STORAGE_BUFFER,
                     "the pixels to refine",
+                )?,
+                Block::PathReals | Block::PathWords => {
+                    let (reals, words) = variant.path_strides();
+                    let (stride, size) = match block {
+                        Block::PathReals => (reals, variant.path_bytes() - words * 16),
+                        _ => (words, words * 16),
+                    };
+                    debug_assert!(size % stride == 0);
+                    Buffer::device_local(
+                        d,
+                        pixels * size,
+                        raw::BufferUsageFlags::STORAGE_BUFFER,
+                        block.name(),
+                    )?
+                }
+                Block::Queues => Buffer::new(
+                    d,
+                    32 + 2 * 4 * pixels,
+                    raw::BufferUsageFlags::STORAGE_BUFFER
+                        | raw::BufferUsageFlags::TRANSFER_DST
+                        | raw::BufferUsageFlags::INDIRECT_BUFFER,
+                    "the path queues",
                 )?,
                 Block::Pixels => Buffer::new(
                     d,
@@ -1004,15 +1071,7 @@ fn dispatch<'c>(
                 raw::AccessFlags::SHADER_READ | raw::AccessFlags::SHADER_WRITE,
             ),
         );
-        dev.cmd_bind_pipeline(cb, raw::PipelineBindPoint::COMPUTE, p.pipeline);
-        dev.cmd_bind_descriptor_sets(
-            cb,
-            raw::PipelineBindPoint::COMPUTE,
-            p.layout,
-            0,
-            &[p.set],
-            &[],
-        );
+        p.record_bind(dev, cb);
         dev.cmd_push_constants(
             cb,
             p.layout,
@@ -1024,7 +1083,7 @@ fn dispatch<'c>(
         if let Some(t) = timestamps {
             t.begin(cb, raw::PipelineStageFlags::TRANSFER);
         }
-        dev.cmd_dispatch(cb, groups(rect.0.z), groups(rect.0.w), 1);
+        dev.cmd_dispatch(cb, groups(rect.rect.z), groups(rect.rect.w), 1);
         if let Some(t) = timestamps {
             t.end(cb, raw::PipelineStageFlags::COMPUTE_SHADER);
         }
@@ -1041,6 +1100,41 @@ fn dispatch<'c>(
     })?;
     let on_device = timestamps.map(|t| t.seconds(&done)).transpose()?;
     Ok((done, on_device))
+}
+
+/// Runs `job`'s tile as a wavefront (src/gpu/schedule.rs): submissions of
+/// `rounds` segments each, every one under `timeout`, until no path of the
+/// tile is alive; then the token, and the device's time summed.
+fn wavefront_tile<'c>(
+    commands: &'c mut OneShot,
+    timestamps: Option<&Timestamps>,
+    job: &Dispatch<'_>,
+    queues: &Buffer,
+    rounds: u32,
+    timeout: Duration,
+) -> Result<(Completed<'c>, Option<f64>), GpuError> {
+    let mut on_device = timestamps.map(|_| 0.0);
+    let mut wave = schedule::Wave {
+        pipeline: job.pipeline,
+        rect: job.rect.rect,
+        queues: queues.raw,
+        first: Some((job.out, job.zero)),
+        queue: 0,
+        rounds,
+    };
+    loop {
+        let (done, t) = schedule::submit(commands, timestamps, &wave, timeout)?;
+        if let (Some(total), Some(t)) = (&mut on_device, t) {
+            *total += t;
+        }
+        wave.queue = (wave.queue + rounds) % 2;
+        let header: &[u32] = queues.read(&done, 8);
+        if header[4 * wave.queue as usize + 3] == 0 {
+            break;
+        }
+        wave.first = None;
+    }
+    Ok((commands.idle()?, on_device))
 }
 
 /// Every Vulkan device, best first, for `glint info`.

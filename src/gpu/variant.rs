@@ -43,6 +43,14 @@ pub enum Block {
     Counts,
     /// The pixels adaptive sampling refines, with their corners.
     Refine,
+    /// The wavefront's paths: their rays, weights, colours and sums, and
+    /// their waiting refraction rays (shaders/wavefront.glsl).
+    PathReals,
+    /// The same paths' indices, depths, samples and stack tops.
+    PathWords,
+    /// The wavefront's two queues of live paths, with their counts and
+    /// indirect dispatch sizes.
+    Queues,
     /// The output tile the shader writes.
     Pixels,
 }
@@ -61,6 +69,9 @@ impl Block {
             Block::Nodes => "BVH nodes",
             Block::Counts => "the counters",
             Block::Refine => "the pixels to refine",
+            Block::PathReals => "the paths",
+            Block::PathWords => "the paths' words",
+            Block::Queues => "the path queues",
             Block::Pixels => "the output tile",
         }
     }
@@ -88,6 +99,9 @@ pub struct Variant {
     /// the threshold in steps of 1/255, and the levels; None: a render of
     /// pixels.
     pub refine: Option<(u64, u32)>,
+    /// The wavefront schedule (shaders/wavefront.glsl) rather than one
+    /// invocation for each pixel's whole ray tree.
+    pub wavefront: bool,
 }
 
 /// The width of the list of pixels adaptive sampling refines, as its
@@ -310,6 +324,7 @@ impl Variant {
                 && device.skips_untaken_branches
                 && !Experiment::from_env().no_filter,
             refine: None,
+            wavefront: false,
         }
     }
 
@@ -324,6 +339,7 @@ impl Variant {
             count: false,
             power_filter: false,
             refine: None,
+            wavefront: false,
         }
     }
 
@@ -359,10 +375,38 @@ impl Variant {
             d.push(("ADAPTIVE_THRESHOLD".to_owned(), Some(threshold)));
             d.push(("REFINE_WIDTH".to_owned(), Some(format!("{REFINE_WIDTH}u"))));
         }
+        if self.wavefront {
+            let (reals, words) = self.path_strides();
+            d.push(("WAVEFRONT".to_owned(), None));
+            d.push(("WAVE_REALS".to_owned(), Some(format!("{reals}u"))));
+            d.push(("WAVE_WORDS".to_owned(), Some(format!("{words}u"))));
+        }
         if let Some(f) = &self.features {
             f.defines(&mut d);
         }
         d
+    }
+
+    /// A wavefront path's vec4s in `PathReals` and uvec4s in `PathWords`:
+    /// four and two, and two and one more for each refraction ray its stack
+    /// holds (shaders/wavefront.glsl).
+    pub(crate) fn path_strides(&self) -> (u64, u64) {
+        let stack = match &self.features {
+            Some(f) if !f.transmits => 0,
+            Some(f) => u64::from(f.max_depth),
+            None => u64::from(crate::scene::MAX_DEPTH),
+        };
+        (4 + 2 * stack, 2 + stack)
+    }
+
+    /// Bytes a wavefront path takes in its two buffers.
+    pub(crate) fn path_bytes(&self) -> u64 {
+        let (reals, words) = self.path_strides();
+        let real = match self.precision {
+            Precision::F32 => 16,
+            Precision::F64 => 32,
+        };
+        reals * real + words * 16
     }
 
     /// The blocks the shader declares, with their binding numbers (dense
@@ -417,6 +461,21 @@ impl Variant {
             (
                 Block::Refine,
                 self.refine.is_some(),
+                vk::DescriptorType::STORAGE_BUFFER,
+            ),
+            (
+                Block::PathReals,
+                self.wavefront,
+                vk::DescriptorType::STORAGE_BUFFER,
+            ),
+            (
+                Block::PathWords,
+                self.wavefront,
+                vk::DescriptorType::STORAGE_BUFFER,
+            ),
+            (
+                Block::Queues,
+                self.wavefront,
                 vk::DescriptorType::STORAGE_BUFFER,
             ),
             (Block::Pixels, true, vk::DescriptorType::STORAGE_BUFFER),
@@ -478,6 +537,9 @@ impl Variant {
         }
         if let Some((_, levels)) = self.refine {
             parts.push(format!("refine{levels}"));
+        }
+        if self.wavefront {
+            parts.push("wavefront".to_owned());
         }
         if self.power_filter {
             parts.push("filtered".to_owned());

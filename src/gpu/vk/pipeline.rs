@@ -21,6 +21,26 @@ pub struct ComputePipeline {
 }
 
 impl ComputePipeline {
+    /// Binds the pipeline and its descriptor set for the dispatches after.
+    ///
+    /// # Safety
+    /// `cb` is a command buffer of `dev` (this pipeline's device) in the
+    /// recording state.
+    pub unsafe fn record_bind(&self, dev: &ash::Device, cb: vk::CommandBuffer) {
+        // SAFETY: the caller's contract; the pipeline, layout and set are live.
+        unsafe {
+            dev.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, self.pipeline);
+            dev.cmd_bind_descriptor_sets(
+                cb,
+                vk::PipelineBindPoint::COMPUTE,
+                self.layout,
+                0,
+                &[self.set],
+                &[],
+            );
+        }
+    }
+
     /// The pipeline of `spirv`'s `main`, with one descriptor set of
     /// `bindings` and `push_constant_bytes` of push constants.
     pub fn new(
