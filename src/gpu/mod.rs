@@ -746,6 +746,13 @@ impl Renderer {
                     .to_owned(),
             ));
         }
+        if settings.schedule == Schedule::Wavefront && !self.device.info.runs_the_wavefront {
+            return Err(GpuError::Unsupported(format!(
+                "--schedule wavefront: the driver {} is known to crash running it; render with \
+                 --schedule megakernel, or with lavapipe from Mesa 25 (ci/setup installs it)",
+                self.device.info.driver
+            )));
+        }
         if settings.precision == Precision::F64 && !self.device.info.shader_float64 {
             return Err(GpuError::Unsupported(format!(
                 "{} has no shaderFloat64: render in f32, or on the CPU in f64",

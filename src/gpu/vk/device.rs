@@ -34,6 +34,10 @@ pub struct DeviceInfo {
     /// group leaves. Where it holds, the robust intersections take their
     /// cheap filter (shaders/exact.glsl).
     pub skips_untaken_branches: bool,
+    /// Whether the driver is known to run the wavefront schedule: llvmpipe
+    /// before Mesa 25.0 aborts the process ("stack smashing detected") on
+    /// scenes/glass.toml's naive wavefront variant, so there it is refused.
+    pub runs_the_wavefront: bool,
     /// The largest storage buffer a shader may bind, in bytes.
     pub max_storage_buffer_range: u32,
     /// The largest uniform buffer a shader may bind, in bytes.
@@ -72,6 +76,12 @@ fn runs_loops_to_the_end(name: &str, info: &str) -> bool {
 /// llvmpipe before Mesa 24.3 (see `DeviceInfo::skips_untaken_branches`).
 fn skips_untaken_branches(name: &str, info: &str) -> bool {
     name != "llvmpipe" || mesa_version(info) >= (24, 3)
+}
+
+/// Whether a driver runs the wavefront schedule: every driver but llvmpipe
+/// before Mesa 25.0 (see `DeviceInfo::runs_the_wavefront`).
+fn runs_the_wavefront(name: &str, info: &str) -> bool {
+    name != "llvmpipe" || mesa_version(info) >= (25, 0)
 }
 
 /// The Mesa version in a driver's info string (0.0 where it names none).
@@ -167,6 +177,10 @@ pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
                     &cstr(driver.driver_info_as_c_str()),
                 ),
                 skips_untaken_branches: skips_untaken_branches(
+                    &cstr(driver.driver_name_as_c_str()),
+                    &cstr(driver.driver_info_as_c_str()),
+                ),
+                runs_the_wavefront: runs_the_wavefront(
                     &cstr(driver.driver_name_as_c_str()),
                     &cstr(driver.driver_info_as_c_str()),
                 ),
@@ -327,7 +341,17 @@ impl Drop for Device {
 
 #[cfg(test)]
 mod tests {
-    use super::{runs_loops_to_the_end, skips_untaken_branches};
+    use super::{runs_loops_to_the_end, runs_the_wavefront, skips_untaken_branches};
+
+    #[test]
+    fn llvmpipe_runs_the_wavefront_from_mesa_25() {
+        assert!(runs_the_wavefront(
+            "llvmpipe",
+            "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"
+        ));
+        assert!(!runs_the_wavefront("llvmpipe", "Mesa 22.3.6 (LLVM 15.0.6)"));
+        assert!(runs_the_wavefront("NVIDIA", "570.86.15"));
+    }
 
     #[test]
     fn llvmpipe_runs_loops_to_the_end_from_mesa_25() {
