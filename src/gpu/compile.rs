@@ -68,6 +68,12 @@ pub struct Sources {
 }
 
 impl Sources {
+    /// Whether the main shader is glint's own main.comp (no `--shader`, no
+    /// other built-in main): the only one that knows the wavefront's stages.
+    pub fn main_is_glints(&self) -> bool {
+        self.main.is_none() && self.main_builtin.is_none()
+    }
+
     /// The file's path (as messages should name it) and its text.
     pub fn find(&self, name: &str) -> Option<(String, String)> {
         for dir in &self.dirs {

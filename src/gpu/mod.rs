@@ -388,7 +388,8 @@ impl Renderer {
         let mut by_range = range / 16;
         if variant.wavefront {
             // The paths' buffers: within the range, and within PATH_BYTES.
-            let path = variant.path_bytes();
+            let (reals, words) = variant.path_bytes();
+            let path = reals + words;
             by_range = by_range.min(range / path).min(PATH_BYTES / path);
         }
         let pixels = (RAYS_PER_DISPATCH / rays_per_pixel)
@@ -464,8 +465,7 @@ impl Renderer {
         // The refinement's list is the megakernel's alone; so is a shader
         // of the user's, which knows nothing of the wavefront's stages.
         variant.wavefront = refine.is_none()
-            && self.sources.main.is_none()
-            && self.sources.main_builtin.is_none()
+            && self.sources.main_is_glints()
             && settings.schedule.wavefront_for(scene);
         let mut defines = variant.defines();
         defines.extend(self.defines.iter().cloned());
@@ -737,9 +737,7 @@ impl Renderer {
         if self.device.hung() {
             return Err(GpuError::Lost);
         }
-        if settings.schedule == Schedule::Wavefront
-            && (self.sources.main.is_some() || self.sources.main_builtin.is_some())
-        {
+        if settings.schedule == Schedule::Wavefront && !self.sources.main_is_glints() {
             return Err(GpuError::Unsupported(
                 "--schedule wavefront runs glint's own main.comp (shaders/wavefront.glsl); \
                  a --shader of your own renders with the megakernel (--schedule megakernel)"
@@ -996,12 +994,12 @@ impl Renderer {
                     "the pixels to refine",
                 )?,
                 Block::PathReals | Block::PathWords => {
-                    let (reals, words) = variant.path_strides();
-                    let (stride, size) = match block {
-                        Block::PathReals => (reals, variant.path_bytes() - words * 16),
-                        _ => (words, words * 16),
+                    let (reals, words) = variant.path_bytes();
+                    let size = if block == Block::PathReals {
+                        reals
+                    } else {
+                        words
                     };
-                    debug_assert!(size % stride == 0);
                     Buffer::device_local(
                         d,
                         pixels * size,
@@ -1135,8 +1133,7 @@ fn wavefront_tile<'c>(
             *total += t;
         }
         wave.queue = (wave.queue + rounds) % 2;
-        let header: &[u32] = queues.read(&done, 8);
-        if header[4 * wave.queue as usize + 3] == 0 {
+        if schedule::live_paths(queues.read(&done, 8), wave.queue) == 0 {
             break;
         }
         wave.first = None;

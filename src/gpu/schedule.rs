@@ -64,6 +64,11 @@ const ARGS: u32 = 2;
 /// size with 1, 1 after it, then the count, for each).
 const START_HEADER: [u32; 8] = [0, 1, 1, 0, 0, 1, 1, 0];
 
+/// The count of queue `queue` in the queues' header.
+pub(crate) fn live_paths(header: &[u32], queue: u32) -> u32 {
+    header[4 * queue as usize + 3]
+}
+
 /// Segments a submission advances every path by: a pixel's whole tree
 /// where it is a reflection chain, so that most tiles take one submission.
 pub(crate) fn rounds_per_submit(scene: &Scene) -> u32 {

@@ -399,14 +399,14 @@ impl Variant {
         (4 + 2 * stack, 2 + stack)
     }
 
-    /// Bytes a wavefront path takes in its two buffers.
-    pub(crate) fn path_bytes(&self) -> u64 {
+    /// Bytes a wavefront path takes in `PathReals` and in `PathWords`.
+    pub(crate) fn path_bytes(&self) -> (u64, u64) {
         let (reals, words) = self.path_strides();
         let real = match self.precision {
             Precision::F32 => 16,
             Precision::F64 => 32,
         };
-        reals * real + words * 16
+        (reals * real, words * 16)
     }
 
     /// The blocks the shader declares, with their binding numbers (dense
