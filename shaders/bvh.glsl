@@ -60,18 +60,133 @@ vec3r inverse_dir(vec3r d) {
     return mix(big, vec3r(1.0) / d, greaterThan(abs(d), vec3r(1e-30)));
 }
 
-// Whether the ray meets the node's box somewhere in [0, t_max].
-bool enters(Ray r, vec3r inv, Node node, real t_max) {
+// The slab test: where the ray's line enters the node's box (x) and leaves
+// it (y, widened by BOX_SLACK).
+vec2r slabs(Ray r, vec3r inv, Node node) {
     vec3r t0 = (vec3r(node.lo) - r.origin) * inv;
     vec3r t1 = (vec3r(node.hi) - r.origin) * inv;
     vec3r tn = min(t0, t1);
     vec3r tf = max(t0, t1);
-    real near = max(max(tn.x, tn.y), tn.z);
-    real far = min(min(tf.x, tf.y), tf.z) * BOX_SLACK;
-    return near <= far && far >= 0.0 && near <= t_max * BOX_SLACK;
+    return vec2r(max(max(tn.x, tn.y), tn.z), min(min(tf.x, tf.y), tf.z) * BOX_SLACK);
+}
+
+// Whether the ray meets the node's box somewhere in [0, t_max].
+bool enters(Ray r, vec3r inv, Node node, real t_max) {
+    vec2r s = slabs(r, inv, node);
+    return s.x <= s.y && s.y >= 0.0 && s.x <= t_max * BOX_SLACK;
 }
 
 
+#ifdef STACK_WALK
+// An experiment (docs/performance.md, The lavapipe-specific choices): the
+// classic walk with a stack in place of the skip links. An inner node's
+// children are node i + 1 and that node's skip link; both boxes are tested,
+// the nearer is visited first and the other pushed with its entry distance,
+// and a popped node that starts beyond the nearest hit so far is dropped.
+// The stack is a private array, as deep as the deepest tree (MAX_DEPTH in
+// src/accel/bvh.rs).
+#define WALK_STACK 64
+
+// Where the ray enters the node's box within [0, t_max] (as enters()
+// decides it), or INF where it does not.
+real box_entry(Ray r, vec3r inv, Node node, real t_max) {
+    return enters(r, inv, node, t_max) ? slabs(r, inv, node).x : INF;
+}
+
+void bvh_nearest(Ray r, uint from, inout Hit hit) {
+    vec3r inv = inverse_dir(r.dir);
+    uint base = layout_base(r.dir);
+    uint key = NONE;
+    uint stack_node[WALK_STACK];
+    real stack_t[WALK_STACK];
+    uint sp = 0u;
+    uint i = 0u;
+    bool live = box_entry(r, inv, load_node(base), hit.t) < INF;
+    [[dont_unroll]] while (live) {
+        ON_NODE();
+        COUNT_NODE();
+        Node node = load_node(base + i);
+        bool pop = true;
+        if (node.leaf != 0u) {
+            leaf_nearest(r, from, node.leaf, hit, key);
+        } else {
+            uint a = i + 1u;
+            Node na = load_node(base + a);
+            uint b = na.skip;
+            real ta = box_entry(r, inv, na, hit.t);
+            real tb = box_entry(r, inv, load_node(base + b), hit.t);
+            if (tb < ta) {
+                uint c = a;
+                a = b;
+                b = c;
+                real tc = ta;
+                ta = tb;
+                tb = tc;
+            }
+            if (ta < INF) {
+                pop = false;
+                i = a;
+                if (tb < INF) {
+                    stack_node[sp] = b;
+                    stack_t[sp] = tb;
+                    sp++;
+                }
+            }
+        }
+        if (pop) {
+            live = false;
+            [[dont_unroll]] while (sp > 0u && !live) {
+                sp--;
+                live = stack_t[sp] <= hit.t * BOX_SLACK;
+                i = stack_node[sp];
+            }
+        }
+    }
+}
+
+#if HAS_SHADOWS
+bool bvh_occluded(Ray r, uint from, real dist) {
+    vec3r inv = inverse_dir(r.dir);
+    uint base = layout_base(r.dir);
+    uint stack_node[WALK_STACK];
+    uint sp = 0u;
+    uint i = 0u;
+    bool blocked = false;
+    bool live = enters(r, inv, load_node(base), dist);
+    [[dont_unroll]] while (live && !blocked) {
+        ON_NODE();
+        COUNT_NODE();
+        Node node = load_node(base + i);
+        bool pop = true;
+        if (node.leaf != 0u) {
+            blocked = leaf_occluded(r, from, node.leaf, dist);
+        } else {
+            uint a = i + 1u;
+            Node na = load_node(base + a);
+            uint b = na.skip;
+            bool ea = enters(r, inv, na, dist);
+            bool eb = enters(r, inv, load_node(base + b), dist);
+            if (ea || eb) {
+                pop = false;
+                i = ea ? a : b;
+                if (ea && eb) {
+                    stack_node[sp] = b;
+                    sp++;
+                }
+            }
+        }
+        if (pop) {
+            live = sp > 0u;
+            if (live) {
+                sp--;
+                i = stack_node[sp];
+            }
+        }
+    }
+    return blocked;
+}
+#endif
+#else
 // The nearest hit in the tree closer than hit.t, into hit.
 void bvh_nearest(Ray r, uint from, inout Hit hit) {
     vec3r inv = inverse_dir(r.dir);
@@ -116,4 +231,5 @@ bool bvh_occluded(Ray r, uint from, real dist) {
     }
     return blocked;
 }
+#endif
 #endif

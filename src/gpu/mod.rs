@@ -751,6 +751,13 @@ impl Renderer {
                 self.device.info.driver
             )));
         }
+        if settings.schedule == Schedule::Wavefront && !self.device.info.subgroup_ballot {
+            return Err(GpuError::Unsupported(format!(
+                "--schedule wavefront: {} has no subgroup ballot in compute shaders, with which \
+                 the wavefront compacts its queues; render with --schedule megakernel",
+                self.device.info.name
+            )));
+        }
         if settings.precision == Precision::F64 && !self.device.info.shader_float64 {
             return Err(GpuError::Unsupported(format!(
                 "{} has no shaderFloat64: render in f32, or on the CPU in f64",

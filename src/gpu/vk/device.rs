@@ -38,6 +38,11 @@ pub struct DeviceInfo {
     /// before Mesa 25.0 aborts the process ("stack smashing detected") on
     /// scenes/glass.toml's naive wavefront variant, so there it is refused.
     pub runs_the_wavefront: bool,
+    /// Whether compute shaders have the subgroup ballot operations
+    /// (`subgroupBallot`, `subgroupBallotExclusiveBitCount`), with which the
+    /// wavefront schedule compacts its queues; Vulkan 1.1 requires only the
+    /// basic ones.
+    pub subgroup_ballot: bool,
     /// The largest storage buffer a shader may bind, in bytes.
     pub max_storage_buffer_range: u32,
     /// The largest uniform buffer a shader may bind, in bytes.
@@ -123,10 +128,13 @@ pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
     let mut out = Vec::new();
     for physical in physicals {
         let mut driver = vk::PhysicalDeviceDriverProperties::default();
-        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
-        // SAFETY: `physical` came from this instance; the chain is one
-        // properties struct the driver fills; Vulkan 1.1+ is required of the
-        // loader (the instance asked for 1.2).
+        let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
+        let mut props2 = vk::PhysicalDeviceProperties2::default()
+            .push_next(&mut driver)
+            .push_next(&mut subgroup);
+        // SAFETY: `physical` came from this instance; the chain is two
+        // properties structs of Vulkan 1.1 and 1.2 that the driver fills;
+        // Vulkan 1.1+ is required of the loader (the instance asked for 1.2).
         unsafe { raw.get_physical_device_properties2(physical, &mut props2) };
         let props = props2.properties;
         // SAFETY: as above, queries of a handle from this instance.
@@ -184,6 +192,12 @@ pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
                     &cstr(driver.driver_name_as_c_str()),
                     &cstr(driver.driver_info_as_c_str()),
                 ),
+                subgroup_ballot: subgroup
+                    .supported_stages
+                    .contains(vk::ShaderStageFlags::COMPUTE)
+                    && subgroup
+                        .supported_operations
+                        .contains(vk::SubgroupFeatureFlags::BALLOT),
                 max_storage_buffer_range: limits.max_storage_buffer_range,
                 max_uniform_buffer_range: limits.max_uniform_buffer_range,
                 max_compute_work_group_count: limits.max_compute_work_group_count,

@@ -1,0 +1,117 @@
+//! The shader's experiment switches (docs/shaders.md, the defines;
+//! docs/performance.md, The lavapipe-specific choices) change how the work
+//! is laid on the device, never the image: each renders the same bits as
+//! the shipped shader on the scenes that exercise it, under the validation
+//! layer, so that a measurement made with one measures the same picture.
+
+#![cfg(feature = "gpu")]
+
+mod common;
+
+use glint::gpu::{GpuOptions, Renderer};
+use glint::raster::Image;
+use glint::scene::{Overrides, Scene};
+
+fn renderer(define: Option<&str>) -> Renderer {
+    let options = GpuOptions {
+        validate: true,
+        defines: define.map(|d| (d.to_owned(), None)).into_iter().collect(),
+        ..GpuOptions::default()
+    };
+    Renderer::new(&options).expect("device")
+}
+
+fn scene(name: &str) -> Scene {
+    let o = Overrides {
+        width: Some(64),
+        height: Some(48),
+        ..Overrides::default()
+    };
+    let path = common::repo().join(name);
+    Scene::load(&path, &o).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+fn render(r: &mut Renderer, scene: &Scene) -> Image {
+    r.render(scene, &|_| {}).expect("render").0
+}
+
+/// Renders each scene with and without `define` and requires the same bits.
+fn same_bits_with(define: &str, scenes: &[&str]) {
+    let mut shipped = renderer(None);
+    let mut with = renderer(Some(define));
+    for name in scenes {
+        let s = scene(name);
+        let a = render(&mut shipped, &s);
+        let b = render(&mut with, &s);
+        assert!(
+            common::same_bits(&a, &b),
+            "{name}: -D {define} changed the image"
+        );
+    }
+}
+
+/// The BVH scenes: spheres (seed-fig5), triangles, cylinders and a mix (rings).
+const TREES: &[&str] = &[
+    "scenes/seed-fig5.toml",
+    "scenes/triangles.toml",
+    "scenes/glass.toml",
+    "scenes/spd/rings.nff",
+];
+
+#[test]
+fn the_stack_walk_finds_what_the_skip_links_find() {
+    same_bits_with("STACK_WALK", TREES);
+}
+
+#[test]
+fn the_packet_walk_finds_what_the_lanes_find() {
+    same_bits_with("PACKET_WALK", TREES);
+}
+
+#[test]
+fn material_selects_pick_the_loaded_material() {
+    same_bits_with(
+        "MATERIAL_SELECT",
+        &[
+            "scenes/showcase.toml",
+            "scenes/seed-fig3.toml",
+            "scenes/textures.toml",
+        ],
+    );
+}
+
+#[test]
+fn lanes_in_quads_shade_every_pixel_once() {
+    // 64x48 is whole workgroups; the odd size leaves part of one unshaded
+    // where the mapping were wrong at an edge.
+    same_bits_with(
+        "LANE_QUADS",
+        &["scenes/seed-fig4.toml", "scenes/showcase.toml"],
+    );
+    let o = Overrides {
+        width: Some(61),
+        height: Some(43),
+        ..Overrides::default()
+    };
+    let s = Scene::load(&common::repo().join("scenes/seed-fig3.toml"), &o).unwrap();
+    let a = render(&mut renderer(None), &s);
+    let b = render(&mut renderer(Some("LANE_QUADS")), &s);
+    assert!(common::same_bits(&a, &b), "LANE_QUADS at 61x43");
+}
+
+#[test]
+fn the_refraction_stack_in_arrays_keeps_the_branches() {
+    same_bits_with(
+        "BRANCH_ARRAYS",
+        &["scenes/glass.toml", "scenes/whitted-1980.toml"],
+    );
+}
+
+#[test]
+fn the_bit_comparison_sees_one_changed_bit() {
+    let s = scene("scenes/seed-fig4.toml");
+    let a = render(&mut renderer(None), &s);
+    let mut b = a.clone();
+    b.pixels[77][1] = f32::from_bits(b.pixels[77][1].to_bits() ^ 1);
+    assert!(!common::same_bits(&a, &b));
+}
