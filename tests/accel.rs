@@ -8,23 +8,18 @@ mod common;
 use glint::accel::Accel;
 use glint::cpu;
 #[cfg(feature = "gpu")]
-use glint::gpu::{GpuOptions, Intersect, Precision, RenderSettings, Renderer};
+use glint::gpu::{Intersect, Precision, RenderSettings, Renderer};
 use glint::scene::{Overrides, Scene};
 
 #[cfg(feature = "gpu")]
 fn gpu(accel: Accel, intersect: Intersect, precision: Precision) -> Renderer {
-    let options = GpuOptions {
-        validate: true,
-        settings: RenderSettings {
-            accel,
-            intersect,
-            precision,
-            generic: false,
-            ..RenderSettings::default()
-        },
-        ..GpuOptions::default()
-    };
-    Renderer::new(&options).expect("device")
+    common::gpu_with(RenderSettings {
+        accel,
+        intersect,
+        precision,
+        generic: false,
+        ..RenderSettings::default()
+    })
 }
 
 fn small(path: &std::path::Path) -> Scene {

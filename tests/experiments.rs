@@ -13,12 +13,10 @@ use glint::raster::Image;
 use glint::scene::{Overrides, Scene};
 
 fn renderer(define: Option<&str>) -> Renderer {
-    let options = GpuOptions {
-        validate: true,
+    common::gpu_from(GpuOptions {
         defines: define.map(|d| (d.to_owned(), None)).into_iter().collect(),
         ..GpuOptions::default()
-    };
-    Renderer::new(&options).expect("device")
+    })
 }
 
 fn scene(name: &str) -> Scene {

@@ -9,7 +9,7 @@ mod common;
 use std::path::Path;
 
 use glint::cpu;
-use glint::gpu::{GpuOptions, Intersect, RenderSettings, Renderer};
+use glint::gpu::{Intersect, RenderSettings};
 use glint::raster::diff::{figures, ErrorFigures, Tolerance};
 use glint::raster::{io, Image};
 use glint::scene::{Overrides, Scene};
@@ -22,15 +22,10 @@ fn load(name: &str) -> Scene {
 }
 
 fn gpu(scene: &Scene, intersect: Intersect) -> Image {
-    let options = GpuOptions {
-        validate: true,
-        settings: RenderSettings {
-            intersect,
-            ..RenderSettings::default()
-        },
-        ..GpuOptions::default()
-    };
-    let mut r = Renderer::new(&options).expect("device");
+    let mut r = common::gpu_with(RenderSettings {
+        intersect,
+        ..RenderSettings::default()
+    });
     r.render(scene, &|_| {}).unwrap_or_else(|e| panic!("{e}")).0
 }
 

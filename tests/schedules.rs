@@ -9,22 +9,17 @@ mod common;
 
 use std::path::Path;
 
-use glint::gpu::{GpuOptions, Intersect, Precision, RenderSettings, Renderer, Schedule};
+use glint::gpu::{Intersect, Precision, RenderSettings, Renderer, Schedule};
 use glint::raster::region::Region;
 use glint::scene::{Overrides, Scene};
 
 fn gpu(schedule: Schedule, intersect: Intersect, precision: Precision) -> Renderer {
-    let options = GpuOptions {
-        validate: true,
-        settings: RenderSettings {
-            intersect,
-            precision,
-            schedule,
-            ..RenderSettings::default()
-        },
-        ..GpuOptions::default()
-    };
-    Renderer::new(&options).expect("device")
+    common::gpu_with(RenderSettings {
+        intersect,
+        precision,
+        schedule,
+        ..RenderSettings::default()
+    })
 }
 
 /// Whether the device runs the wavefront; where it does not (Mesa 22.3's
@@ -41,6 +36,14 @@ fn runs_the_wavefront(wave: &mut Renderer) -> bool {
         wave.device_info().driver
     );
     false
+}
+
+/// Renderers of both schedules, or None where the device does not run the
+/// wavefront (its refusal checked).
+fn both(intersect: Intersect, precision: Precision) -> Option<(Renderer, Renderer)> {
+    let mega = gpu(Schedule::Megakernel, intersect, precision);
+    let mut wave = gpu(Schedule::Wavefront, intersect, precision);
+    runs_the_wavefront(&mut wave).then_some((mega, wave))
 }
 
 fn small(path: &Path) -> Scene {
@@ -70,11 +73,9 @@ fn every_scene() -> Vec<(String, Scene)> {
 
 #[test]
 fn every_scene_renders_the_same_bits_on_both_schedules() {
-    let mut mega = gpu(Schedule::Megakernel, Intersect::Robust, Precision::F32);
-    let mut wave = gpu(Schedule::Wavefront, Intersect::Robust, Precision::F32);
-    if !runs_the_wavefront(&mut wave) {
+    let Some((mut mega, mut wave)) = both(Intersect::Robust, Precision::F32) else {
         return;
-    }
+    };
     let scenes = every_scene();
     assert!(scenes.len() > 20, "found {} scenes", scenes.len());
     for (name, scene) in scenes {
@@ -103,11 +104,9 @@ fn every_scene_renders_the_same_bits_on_both_schedules() {
 /// images (textures), and adaptive sampling's first pass (whitted-1980).
 #[test]
 fn both_schedules_count_the_same_rays_and_tests() {
-    let mut mega = gpu(Schedule::Megakernel, Intersect::Robust, Precision::F32);
-    let mut wave = gpu(Schedule::Wavefront, Intersect::Robust, Precision::F32);
-    if !runs_the_wavefront(&mut wave) {
+    let Some((mut mega, mut wave)) = both(Intersect::Robust, Precision::F32) else {
         return;
-    }
+    };
     for file in [
         "scenes/glass.toml",
         "scenes/whitted-1980.toml",
@@ -135,11 +134,9 @@ fn the_other_forms_and_precisions_render_the_same_bits() {
         (Intersect::Naive, Precision::F32),
         (Intersect::Robust, Precision::F64),
     ] {
-        let mut mega = gpu(Schedule::Megakernel, intersect, precision);
-        let mut wave = gpu(Schedule::Wavefront, intersect, precision);
-        if !runs_the_wavefront(&mut wave) {
+        let Some((mut mega, mut wave)) = both(intersect, precision) else {
             return;
-        }
+        };
         for name in ["glass", "seed-fig5", "showcase"] {
             let scene = small(&common::repo().join(format!("scenes/{name}.toml")));
             let a = mega.render(&scene, &|_| {}).unwrap().0;

@@ -139,20 +139,15 @@ fn solid_and_turned_checkers_agree_and_can_fail() {
 #[cfg(feature = "gpu")]
 #[test]
 fn the_f64_and_generic_shaders_texture_alike() {
-    use glint::gpu::{GpuOptions, Precision, RenderSettings, Renderer};
+    use glint::gpu::{Precision, RenderSettings};
     let scene = common::scene(SOLID);
     let reference = cpu::render::<f64>(&scene);
     for (generic, precision) in [(true, Precision::F32), (false, Precision::F64)] {
-        let options = GpuOptions {
-            validate: true,
-            settings: RenderSettings {
-                generic,
-                precision,
-                ..RenderSettings::default()
-            },
-            ..GpuOptions::default()
-        };
-        let mut r = Renderer::new(&options).expect("device");
+        let mut r = common::gpu_with(RenderSettings {
+            generic,
+            precision,
+            ..RenderSettings::default()
+        });
         if precision == Precision::F64 && !r.device_info().shader_float64 {
             continue;
         }

@@ -7,22 +7,17 @@ mod common;
 
 use glint::cpu;
 use glint::gpu::variant::Block;
-use glint::gpu::{GpuOptions, Intersect, Precision, RenderSettings, Renderer};
+use glint::gpu::{Intersect, Precision, RenderSettings, Renderer};
 use glint::raster::diff::{figures, Tolerance};
 use glint::scene::{Overrides, Scene};
 
 fn renderer(generic: bool, intersect: Intersect, precision: Precision) -> Renderer {
-    let options = GpuOptions {
-        validate: true,
-        settings: RenderSettings {
-            generic,
-            intersect,
-            precision,
-            ..RenderSettings::default()
-        },
-        ..GpuOptions::default()
-    };
-    Renderer::new(&options).expect("device")
+    common::gpu_with(RenderSettings {
+        generic,
+        intersect,
+        precision,
+        ..RenderSettings::default()
+    })
 }
 
 /// The scenes in scenes/ at 160x120 render the same bits with their own

@@ -737,26 +737,30 @@ impl Renderer {
         if self.device.hung() {
             return Err(GpuError::Lost);
         }
-        if settings.schedule == Schedule::Wavefront && !self.sources.main_is_glints() {
-            return Err(GpuError::Unsupported(
-                "--schedule wavefront runs glint's own main.comp (shaders/wavefront.glsl); \
-                 a --shader of your own renders with the megakernel (--schedule megakernel)"
-                    .to_owned(),
-            ));
-        }
-        if settings.schedule == Schedule::Wavefront && !self.device.info.runs_the_wavefront {
-            return Err(GpuError::Unsupported(format!(
-                "--schedule wavefront: the driver {} is known to crash running it; render with \
-                 --schedule megakernel, or with lavapipe from Mesa 25 (ci/setup installs it)",
-                self.device.info.driver
-            )));
-        }
-        if settings.schedule == Schedule::Wavefront && !self.device.info.subgroup_ballot {
-            return Err(GpuError::Unsupported(format!(
-                "--schedule wavefront: {} has no subgroup ballot in compute shaders, with which \
-                 the wavefront compacts its queues; render with --schedule megakernel",
-                self.device.info.name
-            )));
+        if settings.schedule == Schedule::Wavefront {
+            let info = &self.device.info;
+            if !self.sources.main_is_glints() {
+                return Err(GpuError::Unsupported(
+                    "--schedule wavefront runs glint's own main.comp (shaders/wavefront.glsl); \
+                     a --shader of your own renders with the megakernel (--schedule megakernel)"
+                        .to_owned(),
+                ));
+            }
+            if !info.runs_the_wavefront {
+                return Err(GpuError::Unsupported(format!(
+                    "--schedule wavefront: the driver {} is known to crash running it; render \
+                     with --schedule megakernel, or with lavapipe from Mesa 25 (ci/setup \
+                     installs it)",
+                    info.driver
+                )));
+            }
+            if !info.subgroup_ballot {
+                return Err(GpuError::Unsupported(format!(
+                    "--schedule wavefront: {} has no subgroup ballot in compute shaders, with \
+                     which the wavefront compacts its queues; render with --schedule megakernel",
+                    info.name
+                )));
+            }
         }
         if settings.precision == Precision::F64 && !self.device.info.shader_float64 {
             return Err(GpuError::Unsupported(format!(

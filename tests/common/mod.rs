@@ -11,15 +11,30 @@ use predicates::prelude::*;
 use predicates::str::{contains, starts_with};
 
 #[cfg(feature = "gpu")]
-use glint::gpu::{GpuOptions, Renderer};
+use glint::gpu::{GpuOptions, RenderSettings, Renderer};
 use glint::raster::Image;
 use glint::scene::{parse, Overrides, Scene};
 
 #[cfg(feature = "gpu")]
 pub fn gpu() -> Renderer {
+    gpu_with(RenderSettings::default())
+}
+
+/// A renderer with these settings (the validation layer on).
+#[cfg(feature = "gpu")]
+pub fn gpu_with(settings: RenderSettings) -> Renderer {
+    gpu_from(GpuOptions {
+        settings,
+        ..GpuOptions::default()
+    })
+}
+
+/// A renderer of `options` with the validation layer on, whatever they say.
+#[cfg(feature = "gpu")]
+pub fn gpu_from(options: GpuOptions) -> Renderer {
     let options = GpuOptions {
         validate: true,
-        ..GpuOptions::default()
+        ..options
     };
     Renderer::new(&options)
         .unwrap_or_else(|e| panic!("cannot open the Vulkan device with validation: {e}"))

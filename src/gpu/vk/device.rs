@@ -162,6 +162,8 @@ pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
             _ => ("other", 4),
         };
         let limits = props.limits;
+        let driver_name = cstr(driver.driver_name_as_c_str());
+        let driver_info = cstr(driver.driver_info_as_c_str());
         let timestamps = compute_queue_family
             .map(|f| families[f as usize].timestamp_valid_bits)
             .filter(|bits| *bits > 0)
@@ -174,24 +176,11 @@ pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
                 name: cstr(props.device_name_as_c_str()),
                 kind: kind.to_owned(),
                 api_version: version(props.api_version),
-                driver: format!(
-                    "{} {}",
-                    cstr(driver.driver_name_as_c_str()),
-                    cstr(driver.driver_info_as_c_str())
-                ),
+                driver: format!("{driver_name} {driver_info}"),
                 shader_float64: features.shader_float64 == vk::TRUE,
-                loop_budget: !runs_loops_to_the_end(
-                    &cstr(driver.driver_name_as_c_str()),
-                    &cstr(driver.driver_info_as_c_str()),
-                ),
-                skips_untaken_branches: skips_untaken_branches(
-                    &cstr(driver.driver_name_as_c_str()),
-                    &cstr(driver.driver_info_as_c_str()),
-                ),
-                runs_the_wavefront: runs_the_wavefront(
-                    &cstr(driver.driver_name_as_c_str()),
-                    &cstr(driver.driver_info_as_c_str()),
-                ),
+                loop_budget: !runs_loops_to_the_end(&driver_name, &driver_info),
+                skips_untaken_branches: skips_untaken_branches(&driver_name, &driver_info),
+                runs_the_wavefront: runs_the_wavefront(&driver_name, &driver_info),
                 subgroup_ballot: subgroup
                     .supported_stages
                     .contains(vk::ShaderStageFlags::COMPUTE)
