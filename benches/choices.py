@@ -4,14 +4,17 @@ each lane's options, on the default driver and on Debian 12's stock 22.3
 (ci/old-lavapipe), runs interleaved lane by lane and driver by driver so
 that every lane sees the same machine load.
 
-    python3 benches/choices.py --lane base= --lane stack="-D STACK_WALK" \\
-        [--runs 3] [--drivers default,22.3] [SCENE ...]
+    python3 benches/choices.py --lane base= --lane quads="-D LANE_QUADS" \\
+        [--runs 3] [--drivers default,22.3] [--metric wall|cpu] [SCENE ...]
 
 A lane is NAME=ARGS: ARGS are glint bench options (shell words), and two
 kinds of word are taken by this script: `bin:PATH` runs another glint
 binary (a build with other constants), `env:NAME=VALUE` sets a variable
 (GLINT_EXPERIMENT=...). The first lane is the base. Each run is one
-`glint bench --runs 1` (a warm-up, then one timed GPU f32 render a scene).
+`glint bench --runs 1` (a warm-up, then one timed GPU f32 render a scene; --inner K: the
+median of K). `--metric cpu` takes the CPU seconds the process spends in
+each GPU render instead of its wall time: on lavapipe that is the render's
+work, which a shared machine disturbs less.
 Prints, for each driver, the medians of the GPU f32 times and each lane's
 ratio to the base, as a Markdown table, and the median of those ratios and
 of the CPU f32 ratios (which move only where a lane's binary builds the
@@ -51,8 +54,9 @@ def parse_lane(text, default_binary):
     return lane
 
 
-def bench(lane, icd, scenes):
-    cmd = [lane["binary"], "bench", "--json", "--runs", "1", *lane["args"], *scenes]
+def bench(lane, icd, scenes, metric, inner):
+    extra = ["--gpu-only"] if metric == "cpu" else []
+    cmd = [lane["binary"], "bench", "--json", "--runs", str(inner), *extra, *lane["args"], *scenes]
     env = dict(os.environ, VK_DRIVER_FILES=icd, **lane["env"])
     out = subprocess.run(cmd, capture_output=True, text=True, cwd=REPO, env=env)
     if out.returncode != 0:
@@ -60,7 +64,11 @@ def bench(lane, icd, scenes):
         # failed beside the others rather than ending the measurement.
         print(f"{' '.join(cmd)}: {out.stderr.strip()}", file=sys.stderr)
         return out.stderr.strip().splitlines()[-1] if out.stderr.strip() else f"exit {out.returncode}"
-    return {s["scene"]: (s["gpu_f32_s"], s["cpu_f32_s"]) for s in json.loads(out.stdout)["scenes"]}
+    scenes = json.loads(out.stdout)["scenes"]
+    if metric == "cpu":
+        # The GPU render's CPU seconds (lavapipe's work); no CPU reference.
+        return {s["scene"]: (s["gpu_f32_cpu_s"], None) for s in scenes}
+    return {s["scene"]: (s["gpu_f32_s"], s["cpu_f32_s"]) for s in scenes}
 
 
 def main():
@@ -68,6 +76,15 @@ def main():
     ap.add_argument("--lane", action="append", required=True, help="NAME=ARGS (the first is the base)")
     ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--drivers", default="default,22.3", help="default, 22.3 or both, comma-separated")
+    ap.add_argument(
+        "--metric",
+        choices=["wall", "cpu"],
+        default="wall",
+        help="wall: the GPU render's wall time (and the CPU reference's); cpu: the CPU seconds "
+        "the process spends in the GPU render, lavapipe's work, steadier on a shared machine "
+        "(glint bench --gpu-only)",
+    )
+    ap.add_argument("--inner", type=int, default=1, help="timed renders a scene in each glint bench (its median)")
     target = os.environ.get("CARGO_TARGET_DIR", os.path.join(REPO, "target"))
     ap.add_argument("--binary", default=os.path.join(target, "release", "glint"))
     ap.add_argument("scenes", nargs="*")
@@ -89,7 +106,7 @@ def main():
                 if key in failed:
                     continue
                 print(f"run {i + 1}/{a.runs}: {d} {lane['name']}", file=sys.stderr)
-                r = bench(lane, icds[d], a.scenes)
+                r = bench(lane, icds[d], a.scenes, a.metric, a.inner)
                 if isinstance(r, str):
                     failed[key] = r
                 else:
@@ -99,7 +116,8 @@ def main():
     every = [l["name"] for l in lanes]
     base = every[0]
     for d in drivers:
-        print(f"\n{d} lavapipe: GPU f32, medians of {a.runs} interleaved runs\n")
+        what = "CPU seconds of the GPU f32 render" if a.metric == "cpu" else "GPU f32"
+        print(f"\n{d} lavapipe: {what}, medians of {a.runs} interleaved runs\n")
         for n in every:
             if (d, n) in failed:
                 print(f"{n} failed on {d}: {failed[(d, n)]}\n")
@@ -111,20 +129,21 @@ def main():
         cpu_ratios = {n: [] for n in names[1:]}
         for scene in runs[(d, base)][0]:
             t = {n: statistics.median(r[scene][0] for r in runs[(d, n)]) for n in names}
-            cpu = {n: statistics.median(r[scene][1] for r in runs[(d, n)]) for n in names}
             for n in names[1:]:
                 ratios[n].append(t[n] / t[base])
-                cpu_ratios[n].append(cpu[n] / cpu[base])
+                if a.metric == "wall":
+                    cpu = {m: statistics.median(r[scene][1] for r in runs[(d, m)]) for m in (base, n)}
+                    cpu_ratios[n].append(cpu[n] / cpu[base])
             cells = " | ".join(f"{t[n]:.4f} s" for n in names)
             rcells = " | ".join(f"{t[n] / t[base]:.2f}" for n in names[1:])
             print(f"| {os.path.basename(scene)} | {cells} | {rcells} |")
         for n in names[1:]:
             r = ratios[n]
             c = cpu_ratios[n]
-            print(
-                f"\n{n}/{base} on {d}: GPU median {statistics.median(r):.2f}, {min(r):.2f}–{max(r):.2f}; "
-                f"CPU f32 median {statistics.median(c):.2f}, {min(c):.2f}–{max(c):.2f}"
-            )
+            line = f"\n{n}/{base} on {d}: GPU median {statistics.median(r):.2f}, {min(r):.2f}–{max(r):.2f}"
+            if c:
+                line += f"; CPU f32 median {statistics.median(c):.2f}, {min(c):.2f}–{max(c):.2f}"
+            print(line)
 
 
 if __name__ == "__main__":

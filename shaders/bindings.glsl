@@ -17,18 +17,11 @@
 #define vec4r vec4
 #endif
 
-// The scene's arrays. Where they fit the device's uniform buffer range the
-// host defines SCENE_IN_UNIFORMS and each array's length: llvmpipe (and many
-// GPUs) read a uniform buffer at a dynamically uniform offset with one scalar
-// load, where a storage buffer read under divergent control flow becomes a
-// loop over the lanes. Otherwise they are storage buffers of any length.
-#ifdef SCENE_IN_UNIFORMS
-#define SCENE_BLOCK(n) layout(std140, set = 0, binding = n) uniform
-#define SLOTS(n) n
-#else
-#define SCENE_BLOCK(n) layout(std430, set = 0, binding = n) readonly buffer
-#define SLOTS(n)
-#endif
+// The scene's arrays, declared by the host in interface.glsl with one
+// accessor each (sphere_at(i), material_at(i), node_at(i), ...): uniform
+// blocks where they fit the device's uniform range (the host then defines
+// SCENE_IN_UNIFORMS and each array's length, <NAME>_SLOTS), else texel
+// buffers, else storage buffers (src/gpu/access.rs).
 
 #include "interface.glsl"
 
@@ -102,6 +95,15 @@
 #define SCENE_LOOP [[unroll]]
 #else
 #define SCENE_LOOP
+#endif
+
+// The lights' loop is unrolled with the others, or alone where the lights
+// are few and in a uniform block while the primitives are not (the host
+// defines UNROLL_LIGHTS).
+#if defined(UNROLL_LOOPS) || defined(UNROLL_LIGHTS)
+#define LIGHT_LOOP [[unroll]]
+#else
+#define LIGHT_LOOP
 #endif
 
 const real INF = real(uintBitsToFloat(0x7f800000u));

@@ -1,11 +1,14 @@
-// The BVH over the bounded kinds (src/accel/bvh.rs): pre-order nodes with
-// skip links, walked without a stack, in one of eight layouts chosen by the
-// ray's direction; mirrors the BVH walks of src/cpu/intersect.rs. The Node
-// struct and block are in interface.glsl.
+// The BVH over the bounded kinds (src/accel/bvh.rs): 4-wide nodes stored
+// once, walked nearest child first with a short stack; mirrors walk() in
+// src/cpu/intersect.rs. The PackedNode struct and node_at() are in
+// interface.glsl.
 // Each kind in the tree is uploaded in leaf order, so a leaf names a range
 // of one kind's array (leaf_nearest and leaf_occluded in kinds.glsl test
 // it); each primitive's meta.y is its index in the scene file, which breaks
 // ties in t the way the linear scan does (the first in the file wins).
+//
+// A child word is an inner node (its index << 4), a leaf (first << 8 |
+// kind << 4 | count, count 1 to 4) or BVH_EMPTY.
 
 // A hook called once per node visited; empty unless a user's shader defines
 // it (shaders/experiments/cost counts the visits with it).
@@ -13,46 +16,23 @@
 #define ON_NODE()
 #endif
 
-// The layouts: 8, one per octant of ray directions, or 1 for a tree too
-// large for 8 (src/accel/bvh.rs).
-#ifndef LAYOUTS
-#define LAYOUTS 8u
+// The stack's entries: three for each node on the deepest path (the host
+// defines it from the tree; Bvh::stack_size in src/accel/bvh.rs).
+#ifndef BVH_STACK
+#define BVH_STACK 192u
 #endif
 
-// Nodes in one layout.
-#ifndef NODE_COUNT
-#define NODE_COUNT (uint(node_words.length()) / (2u * LAYOUTS))
-#endif
-
-// Node i from its two vec4s (interface.glsl): xyz the box corner, w the
-// skip link and the leaf word as uint bits.
-Node load_node(uint i) {
-    vec4 lo = node_words[2u * i];
-    vec4 hi = node_words[2u * i + 1u];
-    return Node(lo.xyz, floatBitsToUint(lo.w), hi.xyz, floatBitsToUint(hi.w));
-}
-
-// The first node of the layout for the ray's octant (src/accel/bvh.rs): in
-// it, the child a ray of that octant meets first along the split axis comes
-// first. Bit k is set where component k is negative.
-uint layout_base(vec3r d) {
-    if (LAYOUTS == 1u) {
-        return 0u;
-    }
-    uint octant = (d.x < 0.0 ? 1u : 0u) | (d.y < 0.0 ? 2u : 0u) | (d.z < 0.0 ? 4u : 0u);
-    return octant * NODE_COUNT;
-}
-
-#ifdef PACKET_WALK
-#extension GL_KHR_shader_subgroup_vote : require
-#define ANY(e) subgroupAny(e)
-#else
-#define ANY(e) (e)
-#endif
+const uint BVH_EMPTY = 0xffffffffu;
 
 // Widens a box's far distance against the rounding of the slab test (1 + 2
 // gamma_3 of Ize, JCGT 2013, with room to spare); the boxes are padded too.
 const real BOX_SLACK = 1.000002;
+
+// The children waiting, with where the ray enters their boxes: private to
+// the invocation, shared by the two walks (never nested).
+uint bvh_stack_word[BVH_STACK];
+real bvh_stack_t[BVH_STACK];
+uint bvh_sp;
 
 // 1/d, with +-1e30 for a zero component so that (lo - o) * inv is never 0 * inf.
 vec3r inverse_dir(vec3r d) {
@@ -60,152 +40,179 @@ vec3r inverse_dir(vec3r d) {
     return mix(big, vec3r(1.0) / d, greaterThan(abs(d), vec3r(1e-30)));
 }
 
-// The slab test: where the ray's line enters the node's box (x) and leaves
-// it (y, widened by BOX_SLACK).
-vec2r slabs(Ray r, vec3r inv, Node node) {
-    vec3r t0 = (vec3r(node.lo) - r.origin) * inv;
-    vec3r t1 = (vec3r(node.hi) - r.origin) * inv;
-    vec3r tn = min(t0, t1);
-    vec3r tf = max(t0, t1);
-    return vec2r(max(max(tn.x, tn.y), tn.z), min(min(tf.x, tf.y), tf.z) * BOX_SLACK);
+// A node's four boxes, a row of four a coordinate, and its child words.
+struct Node {
+    vec4 lo_x;
+    vec4 hi_x;
+    vec4 lo_y;
+    vec4 hi_y;
+    vec4 lo_z;
+    vec4 hi_z;
+    uvec4 child;
+};
+
+// The four bytes of a word, child k's in bits 8k to 8k + 7.
+vec4 bytes_of(uint w) {
+    return vec4((uvec4(w) >> uvec4(0u, 8u, 16u, 24u)) & 0xffu);
 }
 
-// Whether the ray meets the node's box somewhere in [0, t_max].
-bool enters(Ray r, vec3r inv, Node node, real t_max) {
-    vec2r s = slabs(r, inv, node);
-    return s.x <= s.y && s.y >= 0.0 && s.x <= t_max * BOX_SLACK;
+// Node i's boxes from its bytes (src/accel/quantize.rs): each bound is
+// origin + q * 2^e in f32, the product exact and the sum rounded once,
+// as the host decoded and checked it (precise: never one fused rounding).
+Node unpack(uint i) {
+    PackedNode p = node_at(i);
+    vec3 step = uintBitsToFloat(((uvec3(p.steps) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23);
+    precise vec4 lo_x = p.origin.x + bytes_of(p.xy.x) * step.x;
+    precise vec4 hi_x = p.origin.x + bytes_of(p.xy.y) * step.x;
+    precise vec4 lo_y = p.origin.y + bytes_of(p.xy.z) * step.y;
+    precise vec4 hi_y = p.origin.y + bytes_of(p.xy.w) * step.y;
+    precise vec4 lo_z = p.origin.z + bytes_of(p.z.x) * step.z;
+    precise vec4 hi_z = p.origin.z + bytes_of(p.z.y) * step.z;
+    return Node(lo_x, hi_x, lo_y, hi_y, lo_z, hi_z, p.child);
 }
 
-
-#ifdef STACK_WALK
-// An experiment (docs/performance.md, The lavapipe-specific choices): the
-// classic walk with a stack in place of the skip links. An inner node's
-// children are node i + 1 and that node's skip link; both boxes are tested,
-// the nearer is visited first and the other pushed with its entry distance,
-// and a popped node that starts beyond the nearest hit so far is dropped.
-// The stack is a private array, as deep as the deepest tree (MAX_DEPTH in
-// src/accel/bvh.rs).
-#define WALK_STACK 64
-
-// Where the ray enters the node's box within [0, t_max] (as enters()
-// decides it), or INF where it does not.
-real box_entry(Ray r, vec3r inv, Node node, real t_max) {
-    return enters(r, inv, node, t_max) ? slabs(r, inv, node).x : INF;
+bvec4 both(bvec4 a, bvec4 b) {
+    return bvec4(a.x && b.x, a.y && b.y, a.z && b.z, a.w && b.w);
 }
 
-void bvh_nearest(Ray r, uint from, inout Hit hit) {
-    vec3r inv = inverse_dir(r.dir);
-    uint base = layout_base(r.dir);
-    uint key = NONE;
-    uint stack_node[WALK_STACK];
-    real stack_t[WALK_STACK];
-    uint sp = 0u;
-    uint i = 0u;
-    bool live = box_entry(r, inv, load_node(base), hit.t) < INF;
-    [[dont_unroll]] while (live) {
-        ON_NODE();
-        COUNT_NODE();
-        Node node = load_node(base + i);
-        bool pop = true;
-        if (node.leaf != 0u) {
-            leaf_nearest(r, from, node.leaf, hit, key);
-        } else {
-            uint a = i + 1u;
-            Node na = load_node(base + a);
-            uint b = na.skip;
-            real ta = box_entry(r, inv, na, hit.t);
-            real tb = box_entry(r, inv, load_node(base + b), hit.t);
-            if (tb < ta) {
-                uint c = a;
-                a = b;
-                b = c;
-                real tc = ta;
-                ta = tb;
-                tb = tc;
-            }
-            if (ta < INF) {
-                pop = false;
-                i = a;
-                if (tb < INF) {
-                    stack_node[sp] = b;
-                    stack_t[sp] = tb;
-                    sp++;
-                }
-            }
-        }
-        if (pop) {
-            live = false;
-            [[dont_unroll]] while (sp > 0u && !live) {
-                sp--;
-                live = stack_t[sp] <= hit.t * BOX_SLACK;
-                i = stack_node[sp];
+// The slab test of the node's four children at once: where the ray's line
+// enters each box, for those it meets somewhere in [0, t_max] (the far
+// distance widened by BOX_SLACK); INF for the others and the empty slots.
+vec4r entries(Ray r, vec3r inv, Node n, real t_max) {
+    vec4r x0 = (vec4r(n.lo_x) - r.origin.x) * inv.x;
+    vec4r x1 = (vec4r(n.hi_x) - r.origin.x) * inv.x;
+    vec4r y0 = (vec4r(n.lo_y) - r.origin.y) * inv.y;
+    vec4r y1 = (vec4r(n.hi_y) - r.origin.y) * inv.y;
+    vec4r z0 = (vec4r(n.lo_z) - r.origin.z) * inv.z;
+    vec4r z1 = (vec4r(n.hi_z) - r.origin.z) * inv.z;
+    vec4r near = max(max(min(x0, x1), min(y0, y1)), min(z0, z1));
+    vec4r far = min(min(max(x0, x1), max(y0, y1)), max(z0, z1)) * BOX_SLACK;
+    bvec4 met = both(both(lessThanEqual(near, far), greaterThanEqual(far, vec4r(0.0))),
+                     both(lessThanEqual(near, vec4r(t_max * BOX_SLACK)),
+                          notEqual(n.child, uvec4(BVH_EMPTY))));
+    return mix(vec4r(INF), near, met);
+}
+
+// One compare-exchange of the sorting network: the nearer entry first, a
+// tie to the earlier slot (as the CPU's sort by entry, then slot).
+void order(inout real ta, inout uint wa, inout uint ka, inout real tb, inout uint wb, inout uint kb) {
+    bool swap = tb < ta || (tb == ta && kb < ka);
+    real t = ta;
+    uint w = wa;
+    uint k = ka;
+    ta = swap ? tb : ta;
+    wa = swap ? wb : wa;
+    ka = swap ? kb : ka;
+    tb = swap ? t : tb;
+    wb = swap ? w : wb;
+    kb = swap ? k : kb;
+}
+
+// Visits inner node `index`: of the children whose boxes the ray enters
+// within t_max, the nearest is returned and the others are pushed, the
+// farthest first; BVH_EMPTY where it enters none.
+uint bvh_descend(Ray r, vec3r inv, uint index, real t_max) {
+    ON_NODE();
+    COUNT_NODE();
+    Node n = unpack(index);
+    vec4r t = entries(r, inv, n, t_max);
+    real t0 = t.x, t1 = t.y, t2 = t.z, t3 = t.w;
+    uint w0 = n.child.x, w1 = n.child.y, w2 = n.child.z, w3 = n.child.w;
+    uint k0 = 0u, k1 = 1u, k2 = 2u, k3 = 3u;
+    order(t0, w0, k0, t1, w1, k1);
+    order(t2, w2, k2, t3, w3, k3);
+    order(t0, w0, k0, t2, w2, k2);
+    order(t1, w1, k1, t3, w3, k3);
+    order(t1, w1, k1, t2, w2, k2);
+    if (t3 < INF) {
+        bvh_stack_word[bvh_sp] = w3;
+        bvh_stack_t[bvh_sp] = t3;
+        bvh_sp++;
+    }
+    if (t2 < INF) {
+        bvh_stack_word[bvh_sp] = w2;
+        bvh_stack_t[bvh_sp] = t2;
+        bvh_sp++;
+    }
+    if (t1 < INF) {
+        bvh_stack_word[bvh_sp] = w1;
+        bvh_stack_t[bvh_sp] = t1;
+        bvh_sp++;
+    }
+    return t0 < INF ? w0 : BVH_EMPTY;
+}
+
+#ifdef SHADOW_ANY_ORDER
+// An experiment (docs/performance.md, Reading the scene): a shadow ray
+// takes the children it enters in slot order, unsorted, since any hit ends
+// its walk. (It visits other nodes than the CPU's walk, so --stats differ.)
+uint bvh_descend_any(Ray r, vec3r inv, uint index, real t_max) {
+    ON_NODE();
+    COUNT_NODE();
+    Node n = unpack(index);
+    vec4r t = entries(r, inv, n, t_max);
+    uint first = BVH_EMPTY;
+    [[unroll]] for (uint k = 0u; k < 4u; k++) {
+        if (t[k] < INF) {
+            if (first == BVH_EMPTY) {
+                first = n.child[k];
+            } else {
+                bvh_stack_word[bvh_sp] = n.child[k];
+                bvh_stack_t[bvh_sp] = t[k];
+                bvh_sp++;
             }
         }
     }
+    return first;
 }
-
-#if HAS_SHADOWS
-bool bvh_occluded(Ray r, uint from, real dist) {
-    vec3r inv = inverse_dir(r.dir);
-    uint base = layout_base(r.dir);
-    uint stack_node[WALK_STACK];
-    uint sp = 0u;
-    uint i = 0u;
-    bool blocked = false;
-    bool live = enters(r, inv, load_node(base), dist);
-    [[dont_unroll]] while (live && !blocked) {
-        ON_NODE();
-        COUNT_NODE();
-        Node node = load_node(base + i);
-        bool pop = true;
-        if (node.leaf != 0u) {
-            blocked = leaf_occluded(r, from, node.leaf, dist);
-        } else {
-            uint a = i + 1u;
-            Node na = load_node(base + a);
-            uint b = na.skip;
-            bool ea = enters(r, inv, na, dist);
-            bool eb = enters(r, inv, load_node(base + b), dist);
-            if (ea || eb) {
-                pop = false;
-                i = ea ? a : b;
-                if (ea && eb) {
-                    stack_node[sp] = b;
-                    sp++;
-                }
-            }
-        }
-        if (pop) {
-            live = sp > 0u;
-            if (live) {
-                sp--;
-                i = stack_node[sp];
-            }
-        }
-    }
-    return blocked;
-}
-#endif
+#define bvh_descend_shadow bvh_descend_any
 #else
+#define bvh_descend_shadow bvh_descend
+#endif
+
+// The next child waiting that the ray enters within t_max (one entered
+// beyond a hit found since it was pushed is dropped); BVH_EMPTY when none is.
+uint bvh_pop(real t_max) {
+    uint next = BVH_EMPTY;
+    [[dont_unroll]] while (bvh_sp > 0u && next == BVH_EMPTY) {
+        bvh_sp--;
+        next = bvh_stack_t[bvh_sp] <= t_max * BOX_SLACK ? bvh_stack_word[bvh_sp] : BVH_EMPTY;
+    }
+    return next;
+}
+
 // The nearest hit in the tree closer than hit.t, into hit.
 void bvh_nearest(Ray r, uint from, inout Hit hit) {
     vec3r inv = inverse_dir(r.dir);
-    uint base = layout_base(r.dir);
     uint key = NONE;
-    uint i = 0u;
-    [[dont_unroll]] while (i < NODE_COUNT) {
-        ON_NODE();
-        COUNT_NODE();
-        Node node = load_node(base + i);
-        if (!ANY(enters(r, inv, node, hit.t))) {
-            i = node.skip;
-        } else if (node.leaf == 0u) {
-            i++;
-        } else {
-            leaf_nearest(r, from, node.leaf, hit, key);
-            i = node.skip;
+    bvh_sp = 0u;
+    // The root is inner node 0.
+    uint current = 0u;
+#ifdef WALK_WHILE_WHILE
+    // An experiment (docs/performance.md, Reading the scene): Aila and
+    // Laine's while-while, the inner nodes until every lane holds a leaf,
+    // then the leaves.
+    [[dont_unroll]] while (current != BVH_EMPTY) {
+        [[dont_unroll]] while (current != BVH_EMPTY && (current & 15u) == 0u) {
+            uint next = bvh_descend(r, inv, current >> 4, hit.t);
+            current = next != BVH_EMPTY ? next : bvh_pop(hit.t);
+        }
+        if (current != BVH_EMPTY) {
+            leaf_nearest(r, from, current, hit, key);
+            current = bvh_pop(hit.t);
         }
     }
+#else
+    [[dont_unroll]] while (current != BVH_EMPTY) {
+        uint next = BVH_EMPTY;
+        if ((current & 15u) != 0u) {
+            leaf_nearest(r, from, current, hit, key);
+        } else {
+            next = bvh_descend(r, inv, current >> 4, hit.t);
+        }
+        current = next != BVH_EMPTY ? next : bvh_pop(hit.t);
+    }
+#endif
 }
 
 #if HAS_SHADOWS
@@ -213,23 +220,31 @@ void bvh_nearest(Ray r, uint from, inout Hit hit) {
 // dist: any hit ends the walk.
 bool bvh_occluded(Ray r, uint from, real dist) {
     vec3r inv = inverse_dir(r.dir);
-    uint base = layout_base(r.dir);
+    bvh_sp = 0u;
     bool blocked = false;
-    uint i = 0u;
-    [[dont_unroll]] while (i < NODE_COUNT && !blocked) {
-        ON_NODE();
-        COUNT_NODE();
-        Node node = load_node(base + i);
-        if (!ANY(enters(r, inv, node, dist))) {
-            i = node.skip;
-        } else if (node.leaf == 0u) {
-            i++;
-        } else {
-            blocked = leaf_occluded(r, from, node.leaf, dist);
-            i = node.skip;
+    uint current = 0u;
+#ifdef WALK_WHILE_WHILE
+    [[dont_unroll]] while (current != BVH_EMPTY) {
+        [[dont_unroll]] while (current != BVH_EMPTY && (current & 15u) == 0u) {
+            uint next = bvh_descend_shadow(r, inv, current >> 4, dist);
+            current = next != BVH_EMPTY ? next : bvh_pop(dist);
+        }
+        if (current != BVH_EMPTY) {
+            blocked = leaf_occluded(r, from, current, dist);
+            current = blocked ? BVH_EMPTY : bvh_pop(dist);
         }
     }
+#else
+    [[dont_unroll]] while (current != BVH_EMPTY && !blocked) {
+        uint next = BVH_EMPTY;
+        if ((current & 15u) != 0u) {
+            blocked = leaf_occluded(r, from, current, dist);
+        } else {
+            next = bvh_descend_shadow(r, inv, current >> 4, dist);
+        }
+        current = next != BVH_EMPTY || blocked ? next : bvh_pop(dist);
+    }
+#endif
     return blocked;
 }
-#endif
 #endif

@@ -24,8 +24,8 @@ real spec_pow(real x, real n) {
 vec3r shade(vec3r p, vec3r n, vec3r v, Material m, uint from) {
     vec3r local = vec3r(0.0);
 #if HAS_LIGHTS
-    SCENE_LOOP for (uint k = 0u; k < LIGHT_COUNT; k++) {
-        Light light = lights[k];
+    LIGHT_LOOP for (uint k = 0u; k < LIGHT_COUNT; k++) {
+        Light light = light_at(k);
         uint kind = light.meta.x;
         vec3r l;
         real dist;

@@ -19,8 +19,7 @@ uint image_wrap(real x, uint n) {
 
 // Texel (x, y) of the image whose top-left texel is `first`, `width` a row.
 vec3r image_texel(uint first, uint width, uint x, uint y) {
-    uint i = 3u * (first + y * width + x);
-    return vec3r(texels[i], texels[i + 1u], texels[i + 2u]);
+    return vec3r(texel_at(first + y * width + x).rgb);
 }
 
 // a + (b - a) t, written as the CPU reference writes it.
@@ -55,7 +54,7 @@ vec3r image_colour(Texture tx, vec2r uv) {
 // the surface's uv, turned and scaled; a pattern's of the square (or cube)
 // p is in, color0 where the cells' indices sum to an even number.
 vec3r texture_colour(uint t, Hit hit, vec3r p) {
-    Texture tx = textures[t];
+    Texture tx = texture_at(t);
     real size = tx.origin_size.w;
 #if HAS_IMAGES
     if (tx.meta.x == PATTERN_IMAGE) {

@@ -101,13 +101,13 @@ void set_branch(uint k, Branch b) {
 // picked by a chain of selects, in place of one load at a per-lane index.
 Material material_of(uint i) {
 #if defined(MATERIAL_SELECT) && defined(MATERIALS_SLOTS)
-    Material m = materials[0];
+    Material m = material_at(0u);
     [[unroll]] for (uint k = 1u; k < MATERIALS_SLOTS; k++) {
-        m = i == k ? materials[k] : m;
+        m = i == k ? material_at(k) : m;
     }
     return m;
 #else
-    return materials[i];
+    return material_at(i);
 #endif
 }
 

@@ -71,3 +71,21 @@ pub fn ceiling(options: &GpuOptions, size: u32, runs: usize) -> Result<Ceiling, 
         seconds: best,
     })
 }
+
+/// The CPU seconds this process's threads have run, where the system says
+/// (Linux's /proc/self/task/*/schedstat, in nanoseconds). On a device that
+/// is the CPU (lavapipe), the difference across a render is the render's
+/// work, which varies less than its wall time on a shared machine:
+/// `glint bench --json` reports it beside the wall time.
+pub fn process_cpu_s() -> Option<f64> {
+    let mut total = 0u64;
+    for task in std::fs::read_dir("/proc/self/task").ok()? {
+        let Ok(task) = task else { continue };
+        // A thread that ended since the listing is no longer counted.
+        let Ok(stat) = std::fs::read_to_string(task.path().join("schedstat")) else {
+            continue;
+        };
+        total += stat.split_whitespace().next()?.parse::<u64>().ok()?;
+    }
+    Some(total as f64 * 1e-9)
+}

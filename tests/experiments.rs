@@ -57,13 +57,13 @@ const TREES: &[&str] = &[
 ];
 
 #[test]
-fn the_stack_walk_finds_what_the_skip_links_find() {
-    same_bits_with("STACK_WALK", TREES);
+fn the_while_while_walk_finds_what_the_walk_finds() {
+    same_bits_with("WALK_WHILE_WHILE", TREES);
 }
 
 #[test]
-fn the_packet_walk_finds_what_the_lanes_find() {
-    same_bits_with("PACKET_WALK", TREES);
+fn shadow_rays_in_slot_order_find_what_sorted_ones_find() {
+    same_bits_with("SHADOW_ANY_ORDER", TREES);
 }
 
 #[test]

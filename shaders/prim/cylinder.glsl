@@ -97,7 +97,7 @@ vec4r cylinder_shape(Cylinder cy) {
 }
 
 vec3r cylinder_normal(uint i, vec4r shape, vec3r p) {
-    Cylinder cy = cylinders[i];
+    Cylinder cy = cylinder_at(i);
     vec3r a = cy.axis.xyz;
     vec3r q = p - cy.center.xyz;
     vec3r across = q - a * dot(q, a);

@@ -31,7 +31,7 @@ vec3r plane_normal(uint i, vec4r shape, vec3r p) {
 // u = normalize(a x n) with a the coordinate axis least along n (x, then y,
 // on a tie), and v = n x u.
 void plane_frame(uint i, out vec3r origin, out vec3r u, out vec3r v) {
-    Plane pl = planes[i];
+    Plane pl = plane_at(i);
     vec3r n = pl.normal.xyz;
     vec3r m = abs(n);
     vec3r a = m.x <= m.y && m.x <= m.z ? vec3r(1.0, 0.0, 0.0)

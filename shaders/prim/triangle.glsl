@@ -98,7 +98,7 @@ vec3r triangle_barycentric(Triangle tri, vec3r p) {
 // geometric normal where the triangle is flat. Reads the triangle again,
 // once per shaded hit, rather than carry its normals through every test.
 vec3r triangle_shading(uint i, vec3r p, vec3r geometric) {
-    Triangle tri = triangles[i];
+    Triangle tri = triangle_at(i);
     if (tri.meta.z == 0u) {
         return geometric;
     }
@@ -111,9 +111,9 @@ vec3r triangle_shading(uint i, vec3r p, vec3r geometric) {
 // only to triangles with uvs.
 vec2r triangle_uv(uint i, vec4r shape, vec3r p) {
 #if HAS_UVS
-    Triangle tri = triangles[i];
+    Triangle tri = triangle_at(i);
     vec3r b = triangle_barycentric(tri, p);
-    TriangleUv t = triangle_uvs[tri.meta.y];
+    TriangleUv t = triangle_uv_at(tri.meta.y);
     return t.uv01.xy * b.x + t.uv01.zw * b.y + t.uv2.xy * b.z;
 #else
     return vec2r(0.0);
@@ -123,7 +123,7 @@ vec2r triangle_uv(uint i, vec4r shape, vec3r p) {
 // Its own coordinates (the 2D textures), as TriangleR::frame: from its
 // first vertex, u along the edge to the second, v = n x u.
 void triangle_frame(uint i, out vec3r origin, out vec3r u, out vec3r v) {
-    Triangle tri = triangles[i];
+    Triangle tri = triangle_at(i);
     origin = tri.v0.xyz;
     u = normalize(tri.v1.xyz - tri.v0.xyz);
     v = cross(vec3r(tri.v0.w, tri.v1.w, tri.v2.w), u);

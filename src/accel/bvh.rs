@@ -1,22 +1,24 @@
-//! A bounding volume hierarchy over the bounded primitives (spheres),
-//! built once on the host with binned SAH (Wald 2007) and flattened
-//! depth-first into 32-byte nodes that both renderers walk the same way
-//! (shaders/bvh.glsl, `cpu::intersect`).
+//! A bounding volume hierarchy over the bounded primitives, built once on
+//! the host with binned SAH (Wald 2007) as a binary tree and collapsed into
+//! a 4-wide tree (Wald, Benthin and Boulos 2008; Ernst and Greiner 2008),
+//! which both renderers walk the same way (shaders/bvh.glsl,
+//! `cpu::intersect`).
 //!
-//! The walk needs no stack. Nodes are stored in pre-order and each one keeps
-//! the index of the node that follows its subtree (`skip`): a ray that
-//! misses a node's box, or has tested a leaf, goes on at `skip`; one that
-//! enters an inner node goes on at the next index. A stack on lavapipe is
-//! a per-lane array in memory; this walk keeps only an index in a register.
+//! A node holds its four children's boxes together, one row of four a
+//! coordinate (the low and high x of all four, then y, then z), and their
+//! four child words; the shader reads it in 64 bytes, four 16-byte texels,
+//! each bound a byte of steps from the node's origin (src/accel/quantize.rs),
+//! so that one node is a few consecutive reads and its four slab tests run
+//! on data already loaded. A child word is an inner node (its index << 4), a leaf (`first
+//! << 8 | kind << 4 | count`: `count` primitives of one kind, from `first`
+//! in that kind's leaf order) or `EMPTY`.
 //!
-//! A pre-order fixes which child comes first, so the tree is flattened
-//! eight times, once per octant of ray directions: in the layout for an
-//! octant, the child on the side a ray of that octant meets first along the
-//! node's split axis comes first. A nearest-hit walk then finds near hits
-//! early and skips boxes behind them. Ray direction d takes the layout
-//! `octant(d)`; the eight layouts lie one after the other. Where eight
-//! would take more than `OCTANT_BYTES_MAX`, there is one layout, walked by
-//! every ray (a sphereflake of 597,871 spheres has 1.2 million nodes).
+//! The tree is stored once. A ray orders the children it enters by where it
+//! enters them, nearest first, and keeps the others on a short stack with
+//! their entry distances; a nearest-hit walk drops a popped child that
+//! starts beyond the hit found so far, a shadow ray stops at the first hit.
+//! (The binary tree it replaced was flattened eight times, once per octant
+//! of ray directions, and walked without a stack by skip links.)
 //!
 //! Boxes are f32 for every precision, rounded outwards and padded so that a
 //! box is never missed by a ray that hits what is inside it (docs/performance.md,
@@ -24,6 +26,7 @@
 
 use glam::DVec3;
 
+use super::quantize::{self, Packed};
 use crate::base::aabb::Aabb;
 
 /// Primitives in a leaf at most (the leaf word keeps the count in 4 bits).
@@ -39,96 +42,128 @@ const BINS: usize = 16;
 /// node visit costs about twice a sphere test: every iteration of the walk
 /// runs the box test and, masked, the leaf's first sphere test. 3 : 1.5 made
 /// seed-fig5 13 % faster than 1 : 1.5 (2 and 4 measured within noise of 3).
+/// For the 4-wide tree, node cost 6 and leaves of 8 measured slower
+/// (docs/performance.md, Reading the scene).
 const COST_NODE: f64 = 3.0;
 const COST_PRIM: f64 = 1.5;
 
-crate::base::interface::gpu_struct!(
-    /// One node as both renderers read it: 32 bytes, f32 in both precisions.
-    pub mod node: "Node" {
-        lo: float3,
-        /// The node after this one's subtree; the node count for the last.
-        skip: uint,
-        hi: float3,
-        /// 0 for an inner node; for a leaf, first << 8 | kind << 4 | count:
-        /// `count` primitives of one kind, from `first` in that kind's leaf order.
-        leaf: uint,
-    }
-);
+/// One node as both renderers walk it: its four children's boxes, a row
+/// of four a coordinate, and their child words. The shader reads it in
+/// bytes (`quantize::Packed`), which decode to these boxes exactly.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Node {
+    pub lo_x: [f32; 4],
+    pub hi_x: [f32; 4],
+    pub lo_y: [f32; 4],
+    pub hi_y: [f32; 4],
+    pub lo_z: [f32; 4],
+    pub hi_z: [f32; 4],
+    /// Each child's word: an inner node, a leaf, or `EMPTY`.
+    pub child: [u32; 4],
+}
 
-pub use node::Values as Node;
+/// Children a node has at most.
+pub const WIDTH: usize = 4;
+
+/// The word of a child slot that holds nothing (its box is never entered).
+pub const EMPTY: u32 = u32::MAX;
 
 /// The most primitives of one kind a leaf word can address.
 pub const MAX_PRIMS: usize = 1 << 24;
 
+/// The most nodes a child word can address.
+pub const MAX_NODES: usize = 1 << 28;
+
+/// What a child word names.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Child {
+    /// An inner node, by its index.
+    Inner(usize),
+    /// A leaf: its kind and its primitives' range in that kind's leaf
+    /// order (`Bvh::orders`).
+    Leaf(usize, std::ops::Range<usize>),
+    Empty,
+}
+
+impl Child {
+    /// The child a word names.
+    pub fn of(word: u32) -> Self {
+        if word == EMPTY {
+            Child::Empty
+        } else if word & 15 == 0 {
+            Child::Inner((word >> 4) as usize)
+        } else {
+            let first = (word >> 8) as usize;
+            let kind = (word >> 4 & 15) as usize;
+            Child::Leaf(kind, first..first + (word & 15) as usize)
+        }
+    }
+
+    /// An inner node's word.
+    fn inner(index: usize) -> u32 {
+        assert!(index < MAX_NODES, "a child word addresses 2^28 nodes");
+        (index as u32) << 4
+    }
+}
+
 impl Node {
-    /// The leaf's kind and its primitives' range in that kind's leaf order
-    /// (`Bvh::orders`), or None for an inner node.
-    pub fn prims(&self) -> Option<(usize, std::ops::Range<usize>)> {
-        (self.leaf != 0).then(|| {
-            let first = (self.leaf >> 8) as usize;
-            let kind = (self.leaf >> 4 & 15) as usize;
-            (kind, first..first + (self.leaf & 15) as usize)
-        })
+    /// Child `k`'s box, low and high corners.
+    pub fn child_box(&self, k: usize) -> ([f32; 3], [f32; 3]) {
+        (
+            [self.lo_x[k], self.lo_y[k], self.lo_z[k]],
+            [self.hi_x[k], self.hi_y[k], self.hi_z[k]],
+        )
+    }
+
+    /// Sets child `k`: its box and its word.
+    pub(crate) fn set_child(&mut self, k: usize, (lo, hi): ([f32; 3], [f32; 3]), word: u32) {
+        self.lo_x[k] = lo[0];
+        self.lo_y[k] = lo[1];
+        self.lo_z[k] = lo[2];
+        self.hi_x[k] = hi[0];
+        self.hi_y[k] = hi[1];
+        self.hi_z[k] = hi[2];
+        self.child[k] = word;
     }
 }
 
 /// The tree, and which primitive each leaf slot holds.
 #[derive(Debug, Clone)]
 pub struct Bvh {
-    /// `layouts` layouts (`OCTANTS` or 1) of `layout_len` nodes each; skip
-    /// links count from the start of their layout.
+    /// The nodes, the root first, with the boxes their bytes decode to.
     pub nodes: Vec<Node>,
-    pub layout_len: usize,
-    pub layouts: usize,
+    /// The same nodes in bytes, as the shader reads them.
+    pub packed: Vec<Packed>,
     /// For each kind, the indices of its primitives (in the list given to
     /// `build`) in the order of the leaves that hold them.
     pub orders: Vec<Vec<u32>>,
+    /// Nodes on the longest path from the root to a leaf, the root counted.
     pub depth: u32,
 }
 
-/// Layouts: one per octant of ray directions.
-pub const OCTANTS: usize = 8;
-/// The most bytes the eight layouts may take together: half of the 128 MiB
-/// storage buffer range that Vulkan guarantees.
-pub const OCTANT_BYTES_MAX: usize = 64 << 20;
-
-/// The layout a ray of direction (x, y, z) walks: bit k set where
-/// component k is negative (-0 counts as positive, as in the shader). The
-/// walks compute it in their own arithmetic (cpu/intersect.rs, the shader).
-#[cfg(test)]
-pub fn octant(x: f64, y: f64, z: f64) -> usize {
-    usize::from(x < 0.0) | usize::from(y < 0.0) << 1 | usize::from(z < 0.0) << 2
-}
-
 impl Bvh {
-    /// The nodes a ray of the given octant walks.
-    pub fn layout(&self, octant: usize) -> &[Node] {
-        let k = if self.layouts == 1 { 0 } else { octant };
-        &self.nodes[k * self.layout_len..(k + 1) * self.layout_len]
+    /// The most entries a walk's stack holds: each node on the path to
+    /// the one visited leaves at most three of its children waiting.
+    pub fn stack_size(&self) -> usize {
+        (WIDTH - 1) * self.depth as usize
     }
 }
 
-/// A node of the built tree, before it is flattened.
+/// A node of the binary tree the SAH builds, before it is collapsed.
 #[derive(Debug, Clone, Copy)]
 enum Built {
-    Leaf,
-    /// The children's indices in the build list, split along `axis` (the
-    /// first holds the lower centres).
-    Inner {
-        axis: usize,
-        low: usize,
-        high: usize,
-    },
+    /// A leaf of the slots `start..start + count` of the build order.
+    Leaf { start: usize, count: usize },
+    /// The children's indices in the build list.
+    Inner { low: usize, high: usize },
 }
+
+/// A built node and its box, padded and rounded outwards to f32.
+type Boxed = (Built, ([f32; 3], [f32; 3]));
 
 /// Builds the tree over `bounds`, one box per primitive (at least one), of
 /// the kinds `kinds` (one each; each leaf holds one kind).
 pub fn build(bounds: &[Aabb], kinds: &[u32]) -> Bvh {
-    build_within(bounds, kinds, OCTANT_BYTES_MAX)
-}
-
-/// As `build`, with eight layouts only where they fit `octant_bytes_max`.
-fn build_within(bounds: &[Aabb], kinds: &[u32], octant_bytes_max: usize) -> Bvh {
     assert!(!bounds.is_empty(), "a BVH needs a primitive");
     assert_eq!(bounds.len(), kinds.len());
     let mut b = Builder {
@@ -145,12 +180,6 @@ fn build_within(bounds: &[Aabb], kinds: &[u32], octant_bytes_max: usize) -> Bvh 
         "BVH depth {} over {MAX_DEPTH}",
         b.depth
     );
-    let layout_len = b.built.len();
-    let layouts = if OCTANTS * layout_len * std::mem::size_of::<Node>() <= octant_bytes_max {
-        OCTANTS
-    } else {
-        1
-    };
     // Each leaf's slots, counted within its kind.
     let kind_count = kinds.iter().max().map_or(0, |k| *k as usize + 1);
     let mut orders = vec![Vec::new(); kind_count];
@@ -164,44 +193,86 @@ fn build_within(bounds: &[Aabb], kinds: &[u32], octant_bytes_max: usize) -> Bvh 
         orders.iter().all(|o| o.len() <= MAX_PRIMS) && kind_count <= 16,
         "a leaf word addresses 2^24 primitives of each of 16 kinds"
     );
-    for (built, node) in &mut b.built {
-        if let Built::Leaf = built {
-            let (start, count) = ((node.leaf >> 4) as usize, node.leaf & 15);
-            let kind = kinds[b.order[start] as usize];
-            node.leaf = at_in_kind[start] << 8 | kind << 4 | count;
-        }
-    }
-    let mut nodes = Vec::with_capacity(layouts * layout_len);
-    for oct in 0..layouts {
-        let start = nodes.len();
-        flatten(&b.built, 0, oct, start, &mut nodes);
+    let leaf_word = |start: usize, count: usize| {
+        let kind = kinds[b.order[start] as usize];
+        at_in_kind[start] << 8 | kind << 4 | count as u32
+    };
+    let mut nodes = Vec::with_capacity(b.built.len() / 2 + 1);
+    let depth = collapse(&b.built, 0, &leaf_word, &mut nodes);
+    let mut packed = Vec::with_capacity(nodes.len());
+    for node in &mut nodes {
+        let (bytes, boxes) = quantize::pack(node);
+        packed.push(bytes);
+        *node = boxes;
     }
     Bvh {
         nodes,
-        layout_len,
-        layouts,
+        packed,
         orders,
-        depth: b.depth,
+        depth,
     }
 }
 
-/// Appends the subtree of `built[i]` in pre-order for octant `oct`, its
-/// skip links relative to `base`.
-fn flatten(built: &[(Built, Node)], i: usize, oct: usize, base: usize, out: &mut Vec<Node>) {
-    let (kind, node) = built[i];
-    let at = out.len();
-    out.push(node);
-    if let Built::Inner { axis, low, high } = kind {
-        // A ray going down the axis meets the high side first.
-        let (first, second) = if oct >> axis & 1 == 1 {
-            (high, low)
-        } else {
-            (low, high)
+/// Appends the wide node whose children are the binary tree's nodes below
+/// `built[i]`: its two children, then, while fewer than `WIDTH`, the inner
+/// one of largest area opened into its two; then each inner child's own
+/// node after it. Returns the depth of the subtree in wide nodes.
+fn collapse(
+    built: &[Boxed],
+    i: usize,
+    leaf_word: &dyn Fn(usize, usize) -> u32,
+    nodes: &mut Vec<Node>,
+) -> u32 {
+    let mut kids = match built[i].0 {
+        Built::Inner { low, high } => vec![low, high],
+        // A tree of one leaf: the root holds it.
+        Built::Leaf { .. } => vec![i],
+    };
+    let area = |k: usize| {
+        let (lo, hi) = built[k].1;
+        let e: Vec<f64> = (0..3)
+            .map(|a| f64::from(hi[a]) - f64::from(lo[a]))
+            .collect();
+        e[0] * e[1] + e[1] * e[2] + e[2] * e[0]
+    };
+    while kids.len() < WIDTH {
+        // The first of the largest, so that the build is deterministic.
+        let widest = kids
+            .iter()
+            .enumerate()
+            .filter(|(_, &k)| matches!(built[k].0, Built::Inner { .. }))
+            .fold(None, |best: Option<(usize, f64)>, (at, &k)| {
+                let a = area(k);
+                match best {
+                    Some((_, b)) if b >= a => best,
+                    _ => Some((at, a)),
+                }
+            });
+        let Some((at, _)) = widest else { break };
+        let Built::Inner { low, high } = built[kids[at]].0 else {
+            unreachable!("an inner child")
         };
-        flatten(built, first, oct, base, out);
-        flatten(built, second, oct, base, out);
+        kids[at] = low;
+        kids.insert(at + 1, high);
     }
-    out[at].skip = (out.len() - base) as u32;
+    let index = nodes.len();
+    nodes.push(Node {
+        child: [EMPTY; WIDTH],
+        ..Node::default()
+    });
+    let mut depth = 0;
+    for (slot, &k) in kids.iter().enumerate() {
+        let word = match built[k].0 {
+            Built::Leaf { start, count } => leaf_word(start, count),
+            Built::Inner { .. } => {
+                let child = nodes.len();
+                depth = depth.max(collapse(built, k, leaf_word, nodes));
+                Child::inner(child)
+            }
+        };
+        nodes[index].set_child(slot, built[k].1, word);
+    }
+    depth + 1
 }
 
 struct Builder<'a> {
@@ -209,8 +280,8 @@ struct Builder<'a> {
     kinds: &'a [u32],
     centers: Vec<DVec3>,
     order: Vec<u32>,
-    /// The tree with each node's box (skip links not yet set).
-    built: Vec<(Built, Node)>,
+    /// The binary tree, with each node's box.
+    built: Vec<Boxed>,
     depth: u32,
 }
 
@@ -229,17 +300,10 @@ impl Builder<'_> {
     fn node(&mut self, start: usize, end: usize, depth: u32) -> usize {
         self.depth = self.depth.max(depth);
         let (bounds, centers) = self.bounds_of(start, end);
-        let (lo, hi) = padded(bounds);
         let count = end - start;
         let index = self.built.len();
-        // The slot range, until the kinds are numbered apart (`build_within`).
-        let leaf = Node {
-            lo,
-            skip: 0,
-            hi,
-            leaf: ((start as u32) << 4) | count as u32,
-        };
-        self.built.push((Built::Leaf, leaf));
+        let boxed = padded(bounds);
+        self.built.push((Built::Leaf { start, count }, boxed));
         let split = if count == 1 {
             None
         } else if depth >= DEPTH_SWITCH {
@@ -248,10 +312,10 @@ impl Builder<'_> {
             self.sah(start, end, bounds, centers)
         }
         .or_else(|| self.by_kind(start, end));
-        if let Some((mid, axis)) = split {
+        if let Some((mid, _axis)) = split {
             let low = self.node(start, mid, depth + 1);
             let high = self.node(mid, end, depth + 1);
-            self.built[index] = (Built::Inner { axis, low, high }, Node { leaf: 0, ..leaf });
+            self.built[index] = (Built::Inner { low, high }, boxed);
         }
         index
     }
@@ -426,61 +490,62 @@ mod tests {
             .collect()
     }
 
-    /// In every layout: every primitive is in exactly one leaf, every
-    /// node's box holds its subtree, and the skip links close each subtree.
+    /// Every primitive is in exactly one leaf, every child's box holds the
+    /// primitives of its subtree, every node is reached once, and `depth`
+    /// is the deepest path.
     fn check(b: &[Aabb], bvh: &Bvh) {
-        assert_eq!(bvh.nodes.len(), bvh.layouts * bvh.layout_len);
         assert_eq!(bvh.orders.iter().map(Vec::len).sum::<usize>(), b.len());
-        for oct in 0..OCTANTS {
-            let nodes = bvh.layout(oct);
-            let mut seen = vec![0; b.len()];
-            assert_eq!(walk(bvh, nodes, b, 0, &mut seen), nodes.len() as u32);
-            assert!(seen.iter().all(|&s| s == 1));
-        }
+        assert_eq!(bvh.packed.len(), bvh.nodes.len());
+        let mut seen = vec![0; b.len()];
+        let mut reached = vec![0; bvh.nodes.len()];
+        let (depth, _) = walk(bvh, b, 0, &mut seen, &mut reached);
+        assert_eq!(depth, bvh.depth);
+        assert!(seen.iter().all(|&s| s == 1));
+        assert!(reached.iter().all(|&r| r == 1));
     }
 
-    fn walk(bvh: &Bvh, nodes: &[Node], b: &[Aabb], i: u32, seen: &mut [u32]) -> u32 {
-        let node = nodes[i as usize];
-        let inside = |a: Aabb| {
-            (0..3).all(|k| f64::from(node.lo[k]) <= a.lo[k] && a.hi[k] <= f64::from(node.hi[k]))
-        };
-        let next = match node.prims() {
-            Some((kind, r)) => {
-                assert!(!r.is_empty() && r.len() <= LEAF_MAX);
-                for at in r {
-                    let p = bvh.orders[kind][at] as usize;
-                    seen[p] += 1;
-                    assert!(inside(b[p]));
+    /// Checks node `i`: its depth and the primitives below it.
+    fn walk(
+        bvh: &Bvh,
+        b: &[Aabb],
+        i: usize,
+        seen: &mut [u32],
+        reached: &mut [u32],
+    ) -> (u32, Vec<usize>) {
+        reached[i] += 1;
+        let node = bvh.nodes[i];
+        let mut depth = 0;
+        let mut below = Vec::new();
+        for k in 0..WIDTH {
+            let (lo, hi) = node.child_box(k);
+            let inside = |a: &Aabb| {
+                (0..3).all(|x| f64::from(lo[x]) <= a.lo[x] && a.hi[x] <= f64::from(hi[x]))
+            };
+            let prims = match Child::of(node.child[k]) {
+                Child::Empty => continue,
+                Child::Leaf(kind, r) => {
+                    assert!(!r.is_empty() && r.len() <= LEAF_MAX);
+                    r.map(|at| bvh.orders[kind][at] as usize).collect()
                 }
-                i + 1
+                Child::Inner(c) => {
+                    assert!(c > i, "children come after their parent");
+                    let (d, prims) = walk(bvh, b, c, seen, reached);
+                    depth = depth.max(d);
+                    prims
+                }
+            };
+            for &p in &prims {
+                assert!(inside(&b[p]), "node {i} child {k} misses primitive {p}");
             }
-            None => {
-                let after_first = walk(bvh, nodes, b, i + 1, seen);
-                walk(bvh, nodes, b, after_first, seen)
+            if matches!(Child::of(node.child[k]), Child::Leaf(..)) {
+                for &p in &prims {
+                    seen[p] += 1;
+                }
             }
-        };
-        assert_eq!(next, node.skip, "node {i}");
-        next
-    }
-
-    #[test]
-    fn each_octant_walks_the_near_child_first() {
-        // Two clusters far apart along x: a ray going +x meets the low one
-        // (spheres 0..8) first, a ray going -x the high one.
-        let b: Vec<Aabb> = (0..16)
-            .map(|i| {
-                let x = if i < 8 { -100.0 } else { 100.0 };
-                Aabb::sphere(DVec3::new(x, (i % 8) as f64 * 3.0, 0.0), 1.0)
-            })
-            .collect();
-        let bvh = build(&b, &vec![0; b.len()]);
-        check(&b, &bvh);
-        let first_prim = |oct: usize| {
-            let (kind, leaf) = bvh.layout(oct).iter().find_map(Node::prims).unwrap();
-            bvh.orders[kind][leaf.start]
-        };
-        assert!(first_prim(octant(1.0, 0.5, -0.5)) < 8);
-        assert!(first_prim(octant(-1.0, 0.5, -0.5)) >= 8);
+            below.extend(prims);
+        }
+        assert!(!below.is_empty());
+        (depth + 1, below)
     }
 
     #[test]
@@ -492,16 +557,30 @@ mod tests {
     }
 
     #[test]
-    fn a_tree_too_large_for_eight_layouts_keeps_one() {
+    fn nodes_are_filled_and_the_tree_is_shallow() {
         let b = spheres(1000);
-        let eight = build(&b, &vec![0; b.len()]);
-        assert_eq!(eight.layouts, OCTANTS);
-        let bytes = OCTANTS * eight.layout_len * std::mem::size_of::<Node>();
-        assert_eq!(build_within(&b, &vec![0; b.len()], bytes).layouts, OCTANTS);
-        let one = build_within(&b, &vec![0; b.len()], bytes - 1);
-        assert_eq!(one.layouts, 1);
-        check(&b, &one);
-        assert_eq!(one.layout(5).as_ptr(), one.layout(0).as_ptr());
+        let bvh = build(&b, &vec![0; b.len()]);
+        // A binary tree's nodes would hold two children each; leaves of
+        // up to four spheres leave some slots of the last levels empty.
+        let slots: usize = bvh
+            .nodes
+            .iter()
+            .map(|n| n.child.iter().filter(|&&w| w != EMPTY).count())
+            .sum();
+        assert!(
+            slots as f64 >= 2.8 * bvh.nodes.len() as f64,
+            "{slots} in {}",
+            bvh.nodes.len()
+        );
+        assert!(bvh.depth <= 8, "depth {}", bvh.depth);
+        assert_eq!(bvh.stack_size(), 3 * bvh.depth as usize);
+    }
+
+    #[test]
+    fn child_words_name_what_they_hold() {
+        assert_eq!(Child::of(EMPTY), Child::Empty);
+        assert_eq!(Child::of(Child::inner(7)), Child::Inner(7));
+        assert_eq!(Child::of(5 << 8 | 2 << 4 | 3), Child::Leaf(2, 5..8));
     }
 
     #[test]
@@ -519,9 +598,11 @@ mod tests {
         let bvh = build(&b, &kinds);
         check(&b, &bvh);
         for node in &bvh.nodes {
-            if let Some((kind, r)) = node.prims() {
-                for at in r {
-                    assert_eq!(kinds[bvh.orders[kind][at] as usize], kind as u32);
+            for word in node.child {
+                if let Child::Leaf(kind, r) = Child::of(word) {
+                    for at in r {
+                        assert_eq!(kinds[bvh.orders[kind][at] as usize], kind as u32);
+                    }
                 }
             }
         }

@@ -6,6 +6,7 @@
 //! scene file, whatever order a walk meets them in.
 
 pub(crate) mod bvh;
+pub(crate) mod quantize;
 
 use crate::prim::Prims;
 

@@ -12,8 +12,8 @@ use super::Precision;
 
 /// One struct of the interface: its values on the host (f64 reals) and its
 /// layouts in f32 and f64 (std140 and std430 agree on them: every member is
-/// 16 bytes, or a vec3 and a uint that share 16, and f64 structs are padded
-/// to dvec4's 32-byte alignment).
+/// 16 bytes, or a vec3 and a uint that share 16, and f64 structs with a
+/// dvec4 are padded to its 32-byte alignment).
 pub trait GpuStruct: Copy {
     type F32: Pod;
     type F64: Pod;
@@ -21,13 +21,56 @@ pub trait GpuStruct: Copy {
     const NAME: &'static str;
     /// Its members in GLSL, one declaration a line.
     const MEMBERS: &'static str;
+    /// Its members' names and types, in order.
+    const FIELDS: &'static [(&'static str, Member)];
     fn f32(&self) -> Self::F32;
     fn f64(&self) -> Self::F64;
+}
+
+/// A member's type (`gpu_struct!`'s field types).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Member {
+    /// `vec4r`: four reals, 16 bytes in f32 and 32 in f64.
+    Real4,
+    /// `uvec4`: 16 bytes.
+    Uvec4,
+    /// `vec4`: four f32 in both precisions, 16 bytes.
+    Float4,
+    /// `vec3`: three f32 in both precisions, sharing 16 bytes with the
+    /// `Uint` that follows it.
+    Float3,
+    /// `uint`: after a `Float3`, in the same 16 bytes.
+    Uint,
 }
 
 /// `struct Name { members };` in GLSL.
 pub fn declaration<S: GpuStruct>() -> String {
     format!("struct {} {{\n{}}};\n", S::NAME, S::MEMBERS)
+}
+
+/// 16-byte words a struct of these members takes in `precision`'s layout
+/// (the size of `gpu_struct!`'s F32 or F64 over 16): its stride in an
+/// array, and in texels of a texel buffer.
+pub fn words(fields: &[(&str, Member)], precision: Precision) -> usize {
+    let n = span(fields, precision);
+    let dvec4 = fields.iter().any(|(_, m)| *m == Member::Real4);
+    match precision {
+        Precision::F64 if dvec4 => n.next_multiple_of(2),
+        _ => n,
+    }
+}
+
+/// 16-byte words these members take in `precision`'s layout, before the
+/// struct's padding: where the member after them starts.
+pub fn span(fields: &[(&str, Member)], precision: Precision) -> usize {
+    fields
+        .iter()
+        .map(|(_, m)| match (m, precision) {
+            (Member::Real4, Precision::F64) => 2,
+            (Member::Uint, _) => 0,
+            _ => 1,
+        })
+        .sum()
 }
 
 /// One array of the scene as bytes of `precision`, with its element count
@@ -59,32 +102,44 @@ pub struct Array {
 /// Declares one interface struct: `gpu_struct!(pub mod m: "Name" { field:
 /// type, .. })` makes `m::Values` (the host's values, f64 reals), `m::F32`
 /// and `m::F64` (the layouts) and implements [`GpuStruct`] for `Values`.
-/// Field types: `real4` (vec4r: vec4 or dvec4), `uvec4`, and `float3`
-/// followed by `uint` (a vec3 and a uint in one 16-byte slot, f32 in both
-/// precisions). `real4` fields come first, so that each sits at a multiple
+/// Field types: `real4` (vec4r: vec4 or dvec4), `uvec4`, `float4` (a vec4,
+/// f32 in both precisions), and `float3` followed by `uint` (a vec3 and a
+/// uint in one 16-byte slot, f32 in both precisions). `real4` fields come first, so that each sits at a multiple
 /// of 32 bytes in f64.
 macro_rules! gpu_struct {
     (@host real4) => { [f64; 4] };
     (@host uvec4) => { [u32; 4] };
     (@host float3) => { [f32; 3] };
+    (@host float4) => { [f32; 4] };
     (@host uint) => { u32 };
     (@f32 real4) => { [f32; 4] };
     (@f32 uvec4) => { [u32; 4] };
     (@f32 float3) => { [f32; 3] };
+    (@f32 float4) => { [f32; 4] };
     (@f32 uint) => { u32 };
     (@f64 real4) => { [f64; 4] };
     (@f64 uvec4) => { [u32; 4] };
     (@f64 float3) => { [f32; 3] };
+    (@f64 float4) => { [f32; 4] };
     (@f64 uint) => { u32 };
     (@to32 real4, $v:expr) => { $v.map(|x| x as f32) };
     (@to32 $t:ident, $v:expr) => { $v };
     (@glsl real4) => { "vec4r" };
     (@glsl uvec4) => { "uvec4" };
     (@glsl float3) => { "vec3" };
+    (@glsl float4) => { "vec4" };
     (@glsl uint) => { "uint" };
+    (@member real4) => { $crate::base::interface::Member::Real4 };
+    (@member uvec4) => { $crate::base::interface::Member::Uvec4 };
+    (@member float3) => { $crate::base::interface::Member::Float3 };
+    (@member float4) => { $crate::base::interface::Member::Float4 };
+    (@member uint) => { $crate::base::interface::Member::Uint };
+    (@real4 real4) => { true };
+    (@real4 $t:ident) => { false };
     (@bytes64 real4) => { 32 };
     (@bytes64 uvec4) => { 16 };
     (@bytes64 float3) => { 12 };
+    (@bytes64 float4) => { 16 };
     (@bytes64 uint) => { 4 };
     (
         $(#[$doc:meta])*
@@ -103,6 +158,8 @@ macro_rules! gpu_struct {
             }
 
             const BYTES_64: usize = 0 $( + $crate::base::interface::gpu_struct!(@bytes64 $ty) )*;
+            /// A struct with a dvec4 is aligned to 32 bytes in f64.
+            const ALIGN_64: usize = if false $( || $crate::base::interface::gpu_struct!(@real4 $ty) )* { 32 } else { 16 };
 
             /// The f32 layout.
             #[repr(C)]
@@ -111,12 +168,13 @@ macro_rules! gpu_struct {
                 $( pub $field: $crate::base::interface::gpu_struct!(@f32 $ty), )*
             }
 
-            /// The f64 layout, padded to a multiple of 32 bytes.
+            /// The f64 layout, padded to a multiple of 32 bytes where it
+            /// holds a `real4`.
             #[repr(C)]
             #[derive(Debug, Clone, Copy, Pod, Zeroable)]
             pub struct F64 {
                 $( pub $field: $crate::base::interface::gpu_struct!(@f64 $ty), )*
-                pub pad: [u32; (32 - BYTES_64 % 32) % 32 / 4],
+                pub pad: [u32; (ALIGN_64 - BYTES_64 % ALIGN_64) % ALIGN_64 / 4],
             }
 
             impl $crate::base::interface::GpuStruct for Values {
@@ -126,6 +184,9 @@ macro_rules! gpu_struct {
                 const MEMBERS: &'static str = concat!(
                     $( "    ", $crate::base::interface::gpu_struct!(@glsl $ty), " ", stringify!($field), ";\n", )*
                 );
+                const FIELDS: &'static [(&'static str, $crate::base::interface::Member)] = &[
+                    $( (stringify!($field), $crate::base::interface::gpu_struct!(@member $ty)), )*
+                ];
                 fn f32(&self) -> F32 {
                     F32 { $( $field: $crate::base::interface::gpu_struct!(@to32 $ty, self.$field), )* }
                 }
@@ -154,6 +215,14 @@ mod tests {
         use std::mem::size_of;
         assert_eq!(size_of::<probe::F32>(), 32);
         assert_eq!(size_of::<probe::F64>(), 64);
+        assert_eq!(
+            words(<probe::Values as GpuStruct>::FIELDS, Precision::F32),
+            2
+        );
+        assert_eq!(
+            words(<probe::Values as GpuStruct>::FIELDS, Precision::F64),
+            4
+        );
         assert_eq!(
             declaration::<probe::Values>(),
             "struct Probe {\n    vec4r a;\n    uvec4 b;\n};\n"

@@ -24,6 +24,10 @@ pub struct BenchArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
+    /// Time the GPU renders alone (no ceiling, no CPU reference): for
+    /// comparing builds and choices of the GPU path (benches/choices.py).
+    #[arg(long)]
+    gpu_only: bool,
     #[command(flatten)]
     device: DeviceArgs,
 }
@@ -31,6 +35,8 @@ pub struct BenchArgs {
 struct Row {
     scene: PathBuf,
     gpu_s: f64,
+    /// The process's CPU seconds during a GPU render (`bench::process_cpu_s`).
+    gpu_cpu_s: Option<f64>,
     cpu_s: f64,
     counts: Counts,
 }
@@ -49,7 +55,11 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
         a.scenes.clone()
     };
     let options = a.device.options()?;
-    let ceiling = bench::ceiling(&options, 512, a.runs)?;
+    let ceiling = if a.gpu_only {
+        None
+    } else {
+        Some(bench::ceiling(&options, 512, a.runs)?)
+    };
     let mut renderer = Renderer::new(&options)?;
     let accel = a.device.accel;
     let bar = progress::bar(scenes.len() as u64, "scenes");
@@ -61,11 +71,16 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
         renderer.prepare_for(&scene)?;
         renderer.render(&scene, &|_| {})?;
         let mut gpu = Vec::new();
+        let mut gpu_cpu = Vec::new();
         for _ in 0..a.runs {
+            let before = bench::process_cpu_s();
             gpu.push(renderer.render(&scene, &|_| {})?.1.total_s());
+            if let (Some(b), Some(a)) = (before, bench::process_cpu_s()) {
+                gpu_cpu.push(a - b);
+            }
         }
         let mut cpu = Vec::new();
-        for _ in 0..a.runs {
+        for _ in 0..if a.gpu_only { 0 } else { a.runs } {
             let t = Instant::now();
             cpu::render_rows::<f32>(&scene, accel, &|_| {});
             cpu.push(t.elapsed().as_secs_f64());
@@ -74,7 +89,12 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
         rows.push(Row {
             scene: path.clone(),
             gpu_s: median(&mut gpu),
-            cpu_s: median(&mut cpu),
+            gpu_cpu_s: (!gpu_cpu.is_empty()).then(|| median(&mut gpu_cpu)),
+            cpu_s: if cpu.is_empty() {
+                f64::NAN
+            } else {
+                median(&mut cpu)
+            },
             counts,
         });
         bar.inc(1);
@@ -88,6 +108,7 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
                 json!({
                     "scene": r.scene,
                     "gpu_f32_s": r.gpu_s,
+                    "gpu_f32_cpu_s": r.gpu_cpu_s,
                     "cpu_f32_s": r.cpu_s,
                     "rays": r.counts.rays(),
                     "tests": r.counts.tests(),
@@ -102,28 +123,30 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
                 "cpu_threads": rayon::current_num_threads(),
                 "runs": a.runs,
                 "intersect": format!("{:?}", options.settings.intersect).to_lowercase(),
-                "ceiling": { "tests": ceiling.tests, "seconds": ceiling.seconds, "tests_per_s": ceiling.tests_per_s() },
+                "ceiling": ceiling.map(|c| json!({ "tests": c.tests, "seconds": c.seconds, "tests_per_s": c.tests_per_s() })),
                 "scenes": scenes,
             })
         );
         return Ok(ExitCode::SUCCESS);
     }
     let forms = format!("{:?}", options.settings.intersect).to_lowercase();
-    print_table(&rows, &ceiling, &info.name, &forms, a.runs);
+    print_table(&rows, ceiling.as_ref(), &info.name, &forms, a.runs);
     Ok(ExitCode::SUCCESS)
 }
 
-fn print_table(rows: &[Row], ceiling: &Ceiling, device: &str, forms: &str, runs: usize) {
+fn print_table(rows: &[Row], ceiling: Option<&Ceiling>, device: &str, forms: &str, runs: usize) {
     println!(
         "device {device}, CPU {} threads; medians of {runs}; GPU f32 with its warm-up apart",
         rayon::current_num_threads()
     );
-    println!(
-        "ceiling: {:.2} G {forms} ray-sphere tests/s with no memory traffic ({:.2e} tests in {:.3} s)",
-        ceiling.tests_per_s() / 1e9,
-        ceiling.tests as f64,
-        ceiling.seconds
-    );
+    if let Some(ceiling) = ceiling {
+        println!(
+            "ceiling: {:.2} G {forms} ray-sphere tests/s with no memory traffic ({:.2e} tests in {:.3} s)",
+            ceiling.tests_per_s() / 1e9,
+            ceiling.tests as f64,
+            ceiling.seconds
+        );
+    }
     println!(
         "{:<22} {:>9} {:>9} {:>8} {:>10} {:>9} {:>9} {:>8}  per ray type: rays, tests/ray, nodes/ray",
         "scene", "GPU f32", "CPU f32", "GPU/CPU", "rays", "Mrays/s", "Mtests/s", "ceiling"
@@ -145,16 +168,28 @@ fn print_table(rows: &[Row], ceiling: &Ceiling, device: &str, forms: &str, runs:
                 )
             })
             .collect();
+        // --gpu-only measures neither the CPU nor the ceiling.
+        let (cpu, ratio) = if r.cpu_s.is_nan() {
+            ("-".to_owned(), "-".to_owned())
+        } else {
+            (
+                format!("{:.3}s", r.cpu_s),
+                format!("{:.2}", r.gpu_s / r.cpu_s),
+            )
+        };
+        let share = ceiling.map_or("-".to_owned(), |c| {
+            format!("{:.1}%", 100.0 * tests_per_s / c.tests_per_s())
+        });
         println!(
-            "{:<22} {:>8.3}s {:>8.3}s {:>8.2} {:>10} {:>9.2} {:>9.1} {:>7.1}%  {}",
+            "{:<22} {:>8.3}s {:>9} {:>8} {:>10} {:>9.2} {:>9.1} {:>8}  {}",
             r.scene.file_name().unwrap_or_default().to_string_lossy(),
             r.gpu_s,
-            r.cpu_s,
-            r.gpu_s / r.cpu_s,
+            cpu,
+            ratio,
             rays,
             rays as f64 / r.gpu_s / 1e6,
             tests_per_s / 1e6,
-            100.0 * tests_per_s / ceiling.tests_per_s(),
+            share,
             per_type.join("; ")
         );
     }

@@ -40,6 +40,10 @@ pub fn run(a: &InfoArgs) -> anyhow::Result<ExitCode> {
         );
         println!("   storage range     {} bytes", d.max_storage_buffer_range);
         println!("   uniform range     {} bytes", d.max_uniform_buffer_range);
+        println!(
+            "   texel buffers     {} texels",
+            d.max_texel_buffer_elements
+        );
         let [x, y, z] = d.max_compute_work_group_count;
         println!(
             "   workgroups        {x} x {y} x {z}, {} invocations each",

@@ -1,6 +1,7 @@
 //! The BVH checks can fail: the CPU reference with an altered tree.
 
 use super::{render_rows, render_world, world::World};
+use crate::accel::bvh::{Child, WIDTH};
 use crate::accel::Accel;
 use crate::raster::Image;
 use crate::scene::{Overrides, Scene};
@@ -21,8 +22,12 @@ fn a_broken_tree_changes_the_image() {
     let mut world = World::<f64>::new(&scene, Accel::Bvh);
     let tree = world.bvh.as_mut().unwrap();
     // Shrink every leaf's box to its lower half in y.
-    for node in tree.nodes.iter_mut().filter(|n| n.leaf != 0) {
-        node.hi[1] = (node.lo[1] + node.hi[1]) / 2.0;
+    for node in &mut tree.nodes {
+        for k in 0..WIDTH {
+            if let Child::Leaf(..) = Child::of(node.child[k]) {
+                node.hi_y[k] = (node.lo_y[k] + node.hi_y[k]) / 2.0;
+            }
+        }
     }
     assert!(render_world(&world, &|_| {}) != reference);
 }
@@ -35,8 +40,15 @@ fn leaf_order_does_not_matter() {
     let reference: Image = render_rows::<f64>(&scene, Accel::None, &|_| {});
     let mut world = World::<f64>::new(&scene, Accel::Bvh);
     let tree = world.bvh.as_mut().unwrap();
-    // Every layout holds the same leaves; take them once.
-    let leaves: Vec<_> = tree.layout(0).iter().filter_map(|n| n.prims()).collect();
+    let leaves: Vec<_> = tree
+        .nodes
+        .iter()
+        .flat_map(|n| n.child)
+        .filter_map(|w| match Child::of(w) {
+            Child::Leaf(kind, r) => Some((kind, r)),
+            _ => None,
+        })
+        .collect();
     assert!(
         leaves.iter().any(|(_, r)| r.len() >= 2),
         "leaves of several spheres"

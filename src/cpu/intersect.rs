@@ -2,7 +2,7 @@
 //! and the scans that src/gpu/generated.rs writes for the shader. Each
 //! kind's own intersect and normal are in its module of `crate::prim`.
 
-use crate::accel::bvh::{Bvh, Node};
+use crate::accel::bvh::{Bvh, Child, EMPTY, MAX_DEPTH, WIDTH};
 use crate::prim::{PrimId, KINDS};
 use crate::stats::{Counter, Tally};
 
@@ -82,44 +82,107 @@ pub fn occluded<R: Real, T: Tally>(
 /// Walks the tree in `ray`'s order: for each primitive of every leaf whose
 /// box the ray meets within `limit`, calls `visit(id, &mut limit)`, which
 /// may lower the limit, and returns false to end the walk. Returns the limit.
+/// Mirrors walk() in shaders/bvh.glsl: at an inner node, the children whose
+/// boxes the ray enters are taken nearest entry first (ties to the earlier
+/// slot), the first at once and the others from a stack, where one that
+/// starts beyond the limit by then is dropped.
 fn walk<R: Real, T: Tally>(
+    tree: &Bvh,
+    ray: &Ray<R>,
+    limit: R,
+    tally: &mut T,
+    mut visit: impl FnMut(PrimId, &mut R, &mut T) -> bool,
+) -> R {
+    STACK.with_borrow_mut(|stack| {
+        stack.clear();
+        walk_with(tree, ray, limit, tally, &mut visit, stack)
+    })
+}
+
+thread_local! {
+    /// Each thread's walk stack: child words and entry distances (an f32
+    /// entry is exact in f64), kept between rays so that no walk clears or
+    /// allocates one.
+    static STACK: std::cell::RefCell<Vec<(u32, f64)>> = std::cell::RefCell::new(Vec::with_capacity(STACK_MAX));
+}
+
+fn walk_with<R: Real, T: Tally>(
     tree: &Bvh,
     ray: &Ray<R>,
     mut limit: R,
     tally: &mut T,
-    mut visit: impl FnMut(PrimId, &mut R, &mut T) -> bool,
+    visit: &mut impl FnMut(PrimId, &mut R, &mut T) -> bool,
+    stack: &mut Vec<(u32, f64)>,
 ) -> R {
     let boxes = BoxWalk::new(ray);
-    let nodes = boxes.layout(tree);
-    let mut i = 0;
-    while i < nodes.len() {
-        let node = &nodes[i];
-        tally.count(Counter::Node);
-        if boxes.enters(node, limit) {
-            let Some((kind, range)) = node.prims() else {
-                i += 1;
-                continue;
-            };
-            for &index in &tree.orders[kind][range] {
-                let id = PrimId {
-                    kind: kind as u32,
-                    index,
-                };
-                if !visit(id, &mut limit, tally) {
-                    return limit;
+    let mut current = ROOT;
+    loop {
+        match Child::of(current) {
+            Child::Leaf(kind, range) => {
+                for &index in &tree.orders[kind][range] {
+                    let id = PrimId {
+                        kind: kind as u32,
+                        index,
+                    };
+                    if !visit(id, &mut limit, tally) {
+                        return limit;
+                    }
                 }
             }
+            Child::Inner(i) => {
+                tally.count(Counter::Node);
+                let node = &tree.nodes[i];
+                let mut entered = [(R::zero(), 0usize); WIDTH];
+                let mut n = 0;
+                for k in 0..WIDTH {
+                    if node.child[k] == EMPTY {
+                        continue;
+                    }
+                    if let Some(t) = boxes.entry(node.child_box(k), limit) {
+                        entered[n] = (t, k);
+                        n += 1;
+                    }
+                }
+                // Nearest first; a tie to the earlier slot (the order the
+                // shader's sorting network gives).
+                entered[..n].sort_unstable_by(|a, b| {
+                    a.0.partial_cmp(&b.0)
+                        .unwrap_or(std::cmp::Ordering::Equal)
+                        .then(a.1.cmp(&b.1))
+                });
+                if n > 0 {
+                    for &(t, k) in entered[1..n].iter().rev() {
+                        stack.push((node.child[k], t.to_f64()));
+                    }
+                    current = node.child[entered[0].1];
+                    continue;
+                }
+            }
+            Child::Empty => unreachable!("an empty slot is never entered"),
         }
-        i = node.skip as usize;
+        // The next child waiting that starts within the limit.
+        loop {
+            let Some((word, t)) = stack.pop() else {
+                return limit;
+            };
+            if R::of(t) <= limit * R::of(BOX_SLACK) {
+                current = word;
+                break;
+            }
+        }
     }
-    limit
 }
+
+/// The root's word: inner node 0.
+const ROOT: u32 = 0;
+
+/// The deepest stack a walk can need (`Bvh::stack_size` of the deepest tree).
+const STACK_MAX: usize = (WIDTH - 1) * MAX_DEPTH as usize;
 
 /// A ray's slab test against node boxes; mirrors shaders/bvh.glsl.
 struct BoxWalk<R> {
     origin: Vec3<R>,
     inv: Vec3<R>,
-    octant: usize,
 }
 
 /// Widens a box's far distance against the rounding of the slab test
@@ -143,35 +206,18 @@ impl<R: Real> BoxWalk<R> {
         Self {
             origin: ray.origin,
             inv: Vec3::new(inv(d.x), inv(d.y), inv(d.z)),
-            // As bvh::octant, in R: a negative component sets its bit.
-            octant: usize::from(d.x < R::zero())
-                | usize::from(d.y < R::zero()) << 1
-                | usize::from(d.z < R::zero()) << 2,
         }
     }
 
-    /// The nodes in the order this ray's octant walks them.
-    fn layout<'t>(&self, tree: &'t Bvh) -> &'t [Node] {
-        tree.layout(self.octant)
-    }
-
-    /// Whether the ray meets the node's box somewhere in [0, t_max].
-    fn enters(&self, node: &Node, t_max: R) -> bool {
-        let lo = Vec3::new(
-            R::of(node.lo[0].into()),
-            R::of(node.lo[1].into()),
-            R::of(node.lo[2].into()),
-        );
-        let hi = Vec3::new(
-            R::of(node.hi[0].into()),
-            R::of(node.hi[1].into()),
-            R::of(node.hi[2].into()),
-        );
-        let t0 = (lo - self.origin) * self.inv;
-        let t1 = (hi - self.origin) * self.inv;
+    /// Where the ray enters the box (lo, hi), where it meets it somewhere
+    /// in [0, t_max]; else None.
+    fn entry(&self, (lo, hi): ([f32; 3], [f32; 3]), t_max: R) -> Option<R> {
+        let v = |c: [f32; 3]| Vec3::new(R::of(c[0].into()), R::of(c[1].into()), R::of(c[2].into()));
+        let t0 = (v(lo) - self.origin) * self.inv;
+        let t1 = (v(hi) - self.origin) * self.inv;
         let near = t0.x.min(t1.x).max(t0.y.min(t1.y)).max(t0.z.min(t1.z));
         let far = t0.x.max(t1.x).min(t0.y.max(t1.y)).min(t0.z.max(t1.z)) * R::of(BOX_SLACK);
-        near <= far && far >= R::zero() && near <= t_max * R::of(BOX_SLACK)
+        (near <= far && far >= R::zero() && near <= t_max * R::of(BOX_SLACK)).then_some(near)
     }
 }
 

@@ -182,12 +182,13 @@ pub fn reserved_define(name: &str) -> bool {
         "SAMPLES",
         "SCENE_IN_UNIFORMS",
         "UNROLL_LOOPS",
+        "UNROLL_LIGHTS",
         "NO_LOOP_CANARY",
         "POWER_FILTER",
         "INTERSECT_NAIVE",
         "GLINT_F64",
         "USE_BVH",
-        "LAYOUTS",
+        "BVH_STACK",
     ];
     NAMES.contains(&name)
         || name.starts_with("HAS_")

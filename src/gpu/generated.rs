@@ -12,9 +12,10 @@
 
 use std::fmt::Write;
 
-use super::layout::{globals, light, material, refine, texture, LIGHT_KINDS};
+use super::access::{self, ArrayDecl, Form};
+use super::layout::{globals, light, material, refine, texel, texture, LIGHT_KINDS};
 use super::variant::{Block, Variant};
-use crate::accel::bvh::node;
+use crate::accel::quantize::packed;
 use crate::base::interface::{declaration, GpuStruct};
 use crate::base::WORKGROUP;
 use crate::prim::{KindInfo, KINDS};
@@ -51,6 +52,20 @@ impl Variant {
 
     fn interface(&self) -> String {
         let mut s = String::from(NOTE);
+        let forms: Vec<Form> = self
+            .bindings()
+            .into_iter()
+            .filter(|(block, _, _)| ArrayDecl::of(*block).is_some())
+            .map(|(block, _, _)| self.form(block))
+            .collect();
+        if forms.contains(&Form::Texels) {
+            // A texel buffer without a sampler: a SPIR-V image of Dim Buffer
+            // that is no sampled image, as Vulkan wants it.
+            s += "#extension GL_EXT_samplerless_texture_functions : require\n";
+        }
+        if forms.contains(&Form::Address) {
+            s += "#extension GL_EXT_buffer_reference : require\n";
+        }
         let w = WORKGROUP;
         let _ = writeln!(
             s,
@@ -59,9 +74,10 @@ impl Variant {
         s += &declaration::<material::Values>();
         s += &declaration::<light::Values>();
         s += &declaration::<texture::Values>();
+        s += &declaration::<texel::Values>();
         s += &declaration::<crate::prim::triangle::uvs::Values>();
         s += &declaration::<refine::Values>();
-        s += &declaration::<node::Values>();
+        s += &declaration::<packed::Values>();
         for kind in KINDS {
             let _ = writeln!(
                 s,
@@ -115,46 +131,17 @@ impl Variant {
                     <globals::Values as GpuStruct>::NAME,
                     <globals::Values as GpuStruct>::MEMBERS
                 ),
-                Block::Kind(k) => {
-                    let kind = &KINDS[k];
-                    writeln!(
-                        s,
-                        "SCENE_BLOCK({binding}) {} {{ {} {}[SLOTS({}_SLOTS)]; }};",
-                        block_name(kind.key),
-                        kind.struct_name,
-                        kind.key,
-                        kind.upper()
-                    )
+                Block::Kind(_)
+                | Block::Materials
+                | Block::Lights
+                | Block::Textures
+                | Block::Texels
+                | Block::Uvs
+                | Block::Nodes => {
+                    let array = ArrayDecl::of(block).expect("a read-only array");
+                    s += &access::declare(&array, binding, self.form(block), self.precision);
+                    Ok(())
                 }
-                Block::Materials => writeln!(
-                    s,
-                    "SCENE_BLOCK({binding}) Materials {{ Material materials[SLOTS(MATERIALS_SLOTS)]; }};"
-                ),
-                Block::Lights => writeln!(
-                    s,
-                    "SCENE_BLOCK({binding}) Lights {{ Light lights[SLOTS(LIGHTS_SLOTS)]; }};"
-                ),
-                Block::Textures => writeln!(
-                    s,
-                    "SCENE_BLOCK({binding}) Textures {{ Texture textures[SLOTS(TEXTURES_SLOTS)]; }};"
-                ),
-                Block::Texels => writeln!(
-                    s,
-                    "layout(std430, set = 0, binding = {binding}) readonly buffer Texels {{ float texels[]; }};"
-                ),
-                Block::Uvs => writeln!(
-                    s,
-                    "layout(std430, set = 0, binding = {binding}) readonly buffer TriangleUvs {{ TriangleUv triangle_uvs[]; }};"
-                ),
-                // Two vec4s a Node (bvh.glsl's load_node): llvmpipe loads a
-                // vec4 at once, the struct's vec3 and uint apart, which made
-                // flake-4 10 % slower. Uniform where the scene is (the host
-                // defines NODE_SLOTS then).
-                Block::Nodes => writeln!(
-                    s,
-                    "#ifdef NODE_SLOTS\nSCENE_BLOCK({binding}) Nodes {{ vec4 node_words[2u * NODE_SLOTS]; }};\n#else\n\
-                     layout(std430, set = 0, binding = {binding}) readonly buffer Nodes {{ vec4 node_words[]; }};\n#endif"
-                ),
                 Block::Counts => writeln!(
                     s,
                     "layout(std430, set = 0, binding = {binding}) buffer Counts {{ uint count_words[]; }};"
@@ -189,7 +176,7 @@ impl Variant {
         let declared = self.declared();
         // The hit primitive's index in its kind's array.
         let index = format!("hit.prim & {:#x}u", (1u32 << KIND_SHIFT) - 1);
-        let bvh = self.bvh_layouts > 0;
+        let bvh = self.bvh_stack > 0;
         let mut s = String::from(NOTE);
         for kind in &declared {
             let _ = writeln!(s, "#include \"{}\"", kind.include());
@@ -214,7 +201,7 @@ impl Variant {
                 "    SCENE_LOOP for (uint i = 0u; i < {upper}_COUNT; i++) {{\n\
                  \x20       ON_TEST();\n\
                  \x20       COUNT_TEST(KIND_{upper});\n\
-                 \x20       {ty} p = {key}[i];\n\
+                 \x20       {ty} p = {name}_test_at(i);\n\
                  \x20       uint id = prim_id(KIND_{upper}, i);\n\
                  \x20       real t = {name}_intersect(r, p, from == id);\n\
                  \x20       if (t > 0.0 && t < hit.t) {{\n\
@@ -223,7 +210,6 @@ impl Variant {
                  \x20   }}\n",
                 upper = k.upper(),
                 ty = k.struct_name,
-                key = k.key,
                 name = k.name
             );
         }
@@ -236,13 +222,12 @@ impl Variant {
                 "    SCENE_LOOP for (uint i = 0u; i < {upper}_COUNT; i++) {{\n\
                  \x20       ON_TEST();\n\
                  \x20       COUNT_TEST(KIND_{upper});\n\
-                 \x20       real t = {name}_intersect(r, {key}[i], from == prim_id(KIND_{upper}, i));\n\
+                 \x20       real t = {name}_intersect(r, {name}_test_at(i), from == prim_id(KIND_{upper}, i));\n\
                  \x20       if (t > 0.0 && t < dist) {{\n\
                  \x20           return true;\n\
                  \x20       }}\n\
                  \x20   }}\n",
                 upper = k.upper(),
-                key = k.key,
                 name = k.name
             );
         }
@@ -365,7 +350,7 @@ fn leaves(declared: &[&KindInfo]) -> String {
             "    [[dont_unroll]] for (uint i = first; i < end; i++) {{\n\
              \x20       ON_TEST();\n\
              \x20       COUNT_TEST(KIND_{upper});\n\
-             \x20       {ty} p = {key}[i];\n\
+             \x20       {ty} p = {name}_test_at(i);\n\
              \x20       uint id = prim_id(KIND_{upper}, i);\n\
              \x20       real t = {name}_intersect(r, p, from == id);\n\
              \x20       uint order = prim_id(KIND_{upper}, p.meta.y);\n\
@@ -375,7 +360,6 @@ fn leaves(declared: &[&KindInfo]) -> String {
              \x20       }}\n\
              \x20   }}\n",
             ty = k.struct_name,
-            key = k.key,
             upper = k.upper(),
             name = k.name
         )
@@ -390,22 +374,13 @@ fn leaves(declared: &[&KindInfo]) -> String {
             "    [[dont_unroll]] for (uint i = first; i < end && !blocked; i++) {{\n\
              \x20       ON_TEST();\n\
              \x20       COUNT_TEST(KIND_{upper});\n\
-             \x20       real t = {name}_intersect(r, {key}[i], from == prim_id(KIND_{upper}, i));\n\
+             \x20       real t = {name}_intersect(r, {name}_test_at(i), from == prim_id(KIND_{upper}, i));\n\
              \x20       blocked = t > 0.0 && t < dist;\n\
              \x20   }}\n",
-            key = k.key,
             upper = k.upper(),
             name = k.name
         )
     });
     s += "    return blocked;\n}\n#endif\n\n";
     s
-}
-
-/// A kind's block name: its key, capitalised (`Spheres`).
-fn block_name(key: &str) -> String {
-    let mut c = key.chars();
-    c.next()
-        .map(|f| f.to_uppercase().chain(c).collect())
-        .unwrap_or_default()
 }

@@ -67,6 +67,16 @@ crate::base::interface::gpu_struct!(
 );
 
 crate::base::interface::gpu_struct!(
+    /// A texel of an image texture: f32 in both precisions, as the files
+    /// hold them at most (and the CPU reference reads them).
+    pub mod texel: "Texel" {
+        /// the linear colour
+        rgb: float3,
+        unused: uint,
+    }
+);
+
+crate::base::interface::gpu_struct!(
     pub mod texture: "Texture" {
         /// xyz a corner of the solid checker's cubes, w the side
         origin_size: real4,
@@ -164,15 +174,14 @@ pub struct Uploads {
     pub materials: Array,
     pub lights: Array,
     pub textures: Array,
-    /// The images' texels, three f32 each (at least one value).
+    /// The images' texels (at least one).
     pub texels: Array,
     /// The triangles' uvs by their index in the file, where any has them.
     pub uvs: Array,
-    /// The BVH's nodes, where the scene is traced through one: one layout
-    /// per ray octant (or one), `layout_len` nodes each.
+    /// The BVH's nodes, where the scene is traced through one.
     pub nodes: Option<Array>,
-    pub layout_len: usize,
-    pub layouts: usize,
+    /// The entries its walk's stack needs (`Bvh::stack_size`); 0 without one.
+    pub bvh_stack: usize,
     /// Seconds spent building the BVH.
     pub bvh_s: f64,
 }
@@ -227,18 +236,13 @@ impl Uploads {
                 None => [t.pattern.code(), 0, 0, 0],
             },
         });
-        // Texels in f32 whatever the precision, as the files hold them at
-        // most (and the CPU reference reads them).
-        let texels = match scene.texels.len() {
-            0 => Array {
-                bytes: vec![0; 12],
-                len: 1,
-            },
-            n => Array {
-                bytes: bytemuck::cast_slice(&scene.texels[..]).to_vec(),
-                len: n,
-            },
-        };
+        let texels = interface::array(
+            scene
+                .texels
+                .iter()
+                .map(|&rgb| texel::Values { rgb, unused: 0 }),
+            precision,
+        );
         // By each triangle's index in the file, where any has uvs.
         let uvs = if scene.prims.triangles.iter().any(|t| t.uvs.is_some()) {
             scene
@@ -275,9 +279,8 @@ impl Uploads {
             textures: interface::array(textures, precision),
             texels,
             uvs,
-            layout_len: bvh.as_ref().map_or(0, |b| b.layout_len),
-            layouts: bvh.as_ref().map_or(0, |b| b.layouts),
-            nodes: bvh.map(|b| interface::array(b.nodes.into_iter(), Precision::F32)),
+            bvh_stack: bvh.as_ref().map_or(0, |b| b.stack_size()),
+            nodes: bvh.map(|b| interface::array(b.packed.into_iter(), Precision::F32)),
             bvh_s,
         }
     }
@@ -300,10 +303,10 @@ impl Uploads {
         self.arrays().map(|a| a.len).collect()
     }
 
-    /// Fails, naming the array and the limit, where one array is larger than
-    /// a storage buffer of this device can be (lavapipe: 128 MiB, about four
-    /// million spheres in f32 and two million in f64).
-    pub fn check_storage_range(&self, limit: u32) -> Result<(), String> {
+    /// Every read-only array, with its name in messages: each kind's, the
+    /// materials, the lights, the textures, the BVH's nodes, the texels and
+    /// the uvs.
+    fn named_arrays(&self) -> impl Iterator<Item = (&'static str, &Array)> {
         let names = KINDS.iter().map(|k| k.key).chain([
             "materials",
             "lights",
@@ -312,16 +315,33 @@ impl Uploads {
             "texels",
             "uvs",
         ]);
-        let sizes = self.arrays().map(|a| a.bytes.len()).chain([
-            self.nodes.as_ref().map_or(0, |n| n.bytes.len()),
-            self.texels.bytes.len(),
-            self.uvs.bytes.len(),
-        ]);
-        for (name, bytes) in names.zip(sizes) {
+        names.zip(
+            self.arrays()
+                .chain(self.nodes.as_ref())
+                .chain([&self.texels, &self.uvs]),
+        )
+    }
+
+    /// Whether every read-only array fits a texel buffer of at most
+    /// `max_texels` 16-byte texels (the device's maxTexelBufferElements).
+    pub fn fit_texels(&self, max_texels: u32) -> bool {
+        self.named_arrays()
+            .all(|(_, a)| a.bytes.len() as u64 / 16 <= u64::from(max_texels))
+    }
+
+    /// Fails, naming the array and the limits, where one array is larger
+    /// than a storage buffer of this device can be (lavapipe: 128 MiB,
+    /// about four million spheres in f32 and two million in f64); the
+    /// arrays are storage buffers where one is longer than a texel buffer
+    /// can be (`max_texels`).
+    pub fn check_storage_range(&self, limit: u32, max_texels: u32) -> Result<(), String> {
+        for (name, array) in self.named_arrays() {
+            let bytes = array.bytes.len();
             if bytes as u64 > u64::from(limit) {
                 return Err(format!(
                     "the scene's {name} take {bytes} bytes, more than this device's \
-                     maxStorageBufferRange of {limit} bytes; render fewer objects, in f32 \
+                     maxStorageBufferRange of {limit} bytes (and its maxTexelBufferElements \
+                     of {max_texels} texels of 16 bytes); render fewer objects, in f32 \
                      rather than f64, or with --backend cpu"
                 ));
             }
@@ -331,8 +351,9 @@ impl Uploads {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
+    use crate::base::interface::Member;
 
     #[test]
     fn f64_structs_are_rounded_to_dvec4_alignment() {
@@ -345,11 +366,84 @@ mod tests {
         assert_eq!(size_of::<light::F64>(), 256);
         assert_eq!(size_of::<sphere::gpu::F32>(), 32);
         assert_eq!(size_of::<light::F32>(), 128);
-        assert_eq!(size_of::<crate::accel::bvh::node::F64>(), 32);
+        assert_eq!(size_of::<crate::accel::quantize::packed::F64>(), 64);
+        assert_eq!(size_of::<super::texel::F64>(), 16);
+    }
+
+    /// Each member's offset in bytes by the std430 (and std140) rules, and
+    /// the struct's size; those of the packed Rust layouts `gpu_struct!`
+    /// makes (each member right after the last, the struct padded to its
+    /// alignment); equal for every struct the shader reads.
+    fn offsets(fields: &[(&str, Member)], precision: Precision, glsl: bool) -> (Vec<usize>, usize) {
+        let (mut at, mut align_all, mut out) = (0usize, 16usize, Vec::new());
+        for (_, m) in fields {
+            let (size, align) = match (m, precision) {
+                (Member::Real4, Precision::F64) => (32, 32),
+                (Member::Real4 | Member::Uvec4 | Member::Float4, _) => (16, 16),
+                (Member::Float3, _) => (12, 16),
+                (Member::Uint, _) => (4, 4),
+            };
+            let align = if glsl { align } else { 4 };
+            align_all = align_all.max(align);
+            at = at.next_multiple_of(align);
+            out.push(at);
+            at += size;
+        }
+        let rust_align =
+            if fields.iter().any(|(_, m)| *m == Member::Real4) && precision == Precision::F64 {
+                32
+            } else {
+                16
+            };
+        (
+            out,
+            at.next_multiple_of(if glsl { align_all } else { rust_align }),
+        )
     }
 
     #[test]
-    fn arrays_over_the_storage_range_are_named() {
+    fn every_struct_is_laid_out_as_the_shader_reads_it() {
+        use crate::accel::quantize::packed;
+        use crate::base::interface::words;
+        let mut all: Vec<(&str, &[(&str, Member)])> = vec![
+            ("Globals", <globals::Values as GpuStruct>::FIELDS),
+            ("Material", <material::Values as GpuStruct>::FIELDS),
+            ("Light", <light::Values as GpuStruct>::FIELDS),
+            ("Texture", <texture::Values as GpuStruct>::FIELDS),
+            ("Texel", <texel::Values as GpuStruct>::FIELDS),
+            ("Refine", <refine::Values as GpuStruct>::FIELDS),
+            ("PackedNode", <packed::Values as GpuStruct>::FIELDS),
+            (
+                "TriangleUv",
+                <crate::prim::triangle::uvs::Values as GpuStruct>::FIELDS,
+            ),
+        ];
+        all.extend(KINDS.iter().map(|k| (k.struct_name, k.struct_fields)));
+        for (name, fields) in all {
+            for precision in [Precision::F32, Precision::F64] {
+                let glsl = offsets(fields, precision, true);
+                assert_eq!(
+                    glsl,
+                    offsets(fields, precision, false),
+                    "{name} in {precision:?}"
+                );
+                assert_eq!(
+                    glsl.1,
+                    16 * words(fields, precision),
+                    "{name} in {precision:?}"
+                );
+            }
+        }
+        // A dvec4 after a lone uvec4 is where the two disagree.
+        let bad = [("meta", Member::Uvec4), ("n", Member::Real4)];
+        assert_ne!(
+            offsets(&bad, Precision::F64, true),
+            offsets(&bad, Precision::F64, false)
+        );
+    }
+
+    /// 64 spheres in a row, for what a BVH scene uploads.
+    pub(in crate::gpu) fn row() -> Scene {
         let mut text = String::from(
             "[image]\nwidth = 4\nheight = 4\n[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nvfov = 40\n\
              [materials.m]\n",
@@ -360,26 +454,33 @@ mod tests {
                 3 * i
             );
         }
-        let scene = crate::scene::parse(
+        crate::scene::parse(
             &text,
             std::path::Path::new("t.toml"),
             &crate::scene::Overrides::default(),
         )
-        .unwrap();
+        .unwrap()
+    }
+
+    #[test]
+    fn arrays_over_the_storage_range_are_named() {
+        let scene = row();
         for (precision, sphere_bytes) in [(Precision::F32, 32), (Precision::F64, 64)] {
             let up = Uploads::new(&scene, Intersect::Robust, precision, Accel::Bvh);
             let nodes = up.nodes.as_ref().unwrap().bytes.len();
             let spheres = up.kinds[0].bytes.len();
             assert_eq!(spheres, 64 * sphere_bytes);
             let biggest = up.array_bytes().into_iter().chain([nodes]).max().unwrap();
-            assert!(up.check_storage_range(biggest as u32).is_ok());
-            let err = up.check_storage_range(spheres as u32 - 1).unwrap_err();
+            assert!(up.check_storage_range(biggest as u32, 0).is_ok());
+            assert!(up.fit_texels(biggest as u32 / 16));
+            assert!(!up.fit_texels(biggest as u32 / 16 - 1));
+            let err = up.check_storage_range(spheres as u32 - 1, 0).unwrap_err();
             assert!(
                 err.contains(&format!("spheres take {spheres} bytes")),
                 "{err}"
             );
             if nodes > spheres {
-                let err = up.check_storage_range(nodes as u32 - 1).unwrap_err();
+                let err = up.check_storage_range(nodes as u32 - 1, 0).unwrap_err();
                 assert!(err.contains("BVH nodes"), "{err}");
             }
         }

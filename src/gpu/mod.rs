@@ -1,6 +1,7 @@
 //! The GPU renderer: the model of docs/scene-format.md (Rays, Shading) as a
 //! Vulkan compute shader, one invocation per pixel, large images in tiles.
 
+mod access;
 pub mod compile;
 mod error;
 pub(crate) mod generated;
@@ -33,9 +34,10 @@ use vk::command::{memory_barrier, Completed, OneShot};
 use vk::device::Device;
 pub use vk::device::DeviceInfo;
 use vk::instance::Instance;
-use vk::pipeline::ComputePipeline;
+use vk::pipeline::{ComputePipeline, Resource};
 use vk::pipeline_cache::PipelineCache;
 use vk::query::Timestamps;
+use vk::texel_view::TexelBuffer;
 
 /// Rays per dispatch at most: small enough that no single dispatch runs long
 /// enough to trip a desktop GPU's watchdog, large enough to fill one.
@@ -234,7 +236,34 @@ struct Resident {
     uploads: std::rc::Rc<Uploads>,
     tile: (u32, u32),
     /// In the variant's binding order; the output tile last.
-    buffers: Vec<Buffer>,
+    buffers: Vec<Bound>,
+}
+
+/// What one binding holds: a buffer, a texel buffer (a buffer seen
+/// through its view), or a buffer read through its address (the binding's
+/// uniform block holds the address).
+enum Bound {
+    Buffer(Buffer),
+    Texels(TexelBuffer),
+    Address { data: Buffer, address: Buffer },
+}
+
+impl Bound {
+    fn buffer(&self) -> &Buffer {
+        match self {
+            Bound::Buffer(b) => b,
+            Bound::Texels(t) => &t.buffer,
+            Bound::Address { data, .. } => data,
+        }
+    }
+
+    fn resource(&self) -> Resource {
+        match self {
+            Bound::Buffer(b) => Resource::Buffer(b.raw),
+            Bound::Texels(t) => Resource::Texels(t.view),
+            Bound::Address { address, .. } => Resource::Buffer(address.raw),
+        }
+    }
 }
 
 /// A scene's uploads and what they were built from.
@@ -624,8 +653,14 @@ impl Renderer {
             ..RenderTimes::default()
         };
         let t0 = Instant::now();
-        up.check_storage_range(self.device.info.max_storage_buffer_range)
+        if variant.reads == access::Form::Storage {
+            let info = &self.device.info;
+            up.check_storage_range(
+                info.max_storage_buffer_range,
+                info.max_texel_buffer_elements,
+            )
             .map_err(GpuError::Unsupported)?;
+        }
         let tile = self.tile_size(scene, &variant);
         self.make_resident(&key, &variant, &up, tile, None)?;
         times.upload_s = layout_s + secs(t0.elapsed());
@@ -794,7 +829,9 @@ impl Renderer {
         // SAFETY: the device is idle between renders; the buffers are
         // kept in `resident` until the set is bound again or the
         // pipeline is dropped, or leaked where a dispatch timed out.
-        unsafe { self.pipelines[key].bind(&buffers.iter().collect::<Vec<_>>()) };
+        unsafe {
+            self.pipelines[key].bind(&buffers.iter().map(Bound::resource).collect::<Vec<_>>())
+        };
         self.resident = Some(Resident {
             pipeline: key.clone(),
             uploads: up.clone(),
@@ -820,6 +857,7 @@ impl Renderer {
                 .buffers
                 .last()
                 .expect("the output binding is last")
+                .buffer()
                 .raw,
             zero: None,
             rect: bytemuck::Zeroable::zeroed(),
@@ -861,9 +899,11 @@ impl Renderer {
     ) -> Result<(Vec<[f32; 3]>, Option<Counts>), GpuError> {
         let pipeline = &self.pipelines[key];
         let buffers = &self.resident.as_ref().expect("made resident first").buffers;
-        let out = buffers.last().expect("the output binding is last");
+        let out = buffers.last().expect("the output binding is last").buffer();
         // The counters start at zero on the device, in the first dispatch.
-        let mut counters = variant.binding_of(Block::Counts).map(|at| buffers[at].raw);
+        let mut counters = variant
+            .binding_of(Block::Counts)
+            .map(|at| buffers[at].buffer().raw);
         let mut last = None;
         let (x_end, y_end) = (region.x + region.width, region.y + region.height);
         let mut pixels = vec![[0.0f32; 3]; region.pixel_count() as usize];
@@ -875,7 +915,7 @@ impl Renderer {
                 // refinement's list entries trace up to many a pixel's).
                 let timeout = self.timeout.unwrap_or_else(|| {
                     let pixels = (work * f64::from(w) * f64::from(h)).ceil() as u64;
-                    tile_timeout(scene, pixels, variant.bvh_layouts > 0)
+                    tile_timeout(scene, pixels, variant.bvh_stack > 0)
                 });
                 let job = Dispatch {
                     pipeline,
@@ -887,9 +927,10 @@ impl Renderer {
                     },
                 };
                 let done = if variant.wavefront {
-                    let queues = &buffers[variant
+                    let queues = buffers[variant
                         .binding_of(Block::Queues)
-                        .expect("a wavefront has queues")];
+                        .expect("a wavefront has queues")]
+                    .buffer();
                     wavefront_tile(
                         &mut self.commands,
                         self.timestamps.as_ref(),
@@ -942,7 +983,7 @@ impl Renderer {
         let buffers = &self.resident.as_ref().expect("made resident first").buffers;
         let counts = variant.binding_of(Block::Counts).map(|at| {
             let done = last.as_ref().expect("a region has at least one tile");
-            read_counts(&buffers[at], done)
+            read_counts(buffers[at].buffer(), done)
         });
         Ok((pixels, counts))
     }
@@ -955,11 +996,10 @@ impl Renderer {
         up: &Uploads,
         tile: (u32, u32),
         refine: Option<&Array>,
-    ) -> Result<Vec<Buffer>, GpuError> {
+    ) -> Result<Vec<Bound>, GpuError> {
         let d = &self.device;
         let commands = &mut self.commands;
         let stage_uploads = self.stage_uploads;
-        let usage = variant.scene_buffer_usage();
         let pixels = u64::from(tile.0) * u64::from(tile.1);
         let out_bytes = pixels * 16;
         // What the shader only reads: device-local through staging, or mapped.
@@ -971,8 +1011,20 @@ impl Renderer {
             }
         };
         let mut buffers = Vec::new();
-        for (block, _, _) in variant.bindings() {
-            buffers.push(match block {
+        for (block, _, ty) in variant.bindings() {
+            let form = access::ArrayDecl::of(block).map(|_| variant.form(block));
+            let usage = match (form, ty) {
+                (Some(access::Form::Address), _) => {
+                    raw::BufferUsageFlags::STORAGE_BUFFER
+                        | raw::BufferUsageFlags::SHADER_DEVICE_ADDRESS
+                }
+                (_, raw::DescriptorType::UNIFORM_BUFFER) => raw::BufferUsageFlags::UNIFORM_BUFFER,
+                (_, raw::DescriptorType::UNIFORM_TEXEL_BUFFER) => {
+                    raw::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
+                }
+                _ => raw::BufferUsageFlags::STORAGE_BUFFER,
+            };
+            let buffer = match block {
                 Block::Globals => scene(
                     bytemuck::cast_slice(&up.globals),
                     raw::BufferUsageFlags::UNIFORM_BUFFER,
@@ -982,12 +1034,8 @@ impl Renderer {
                 Block::Materials => scene(&up.materials.bytes, usage, "materials")?,
                 Block::Lights => scene(&up.lights.bytes, usage, "lights")?,
                 Block::Textures => scene(&up.textures.bytes, usage, "textures")?,
-                Block::Texels => scene(
-                    &up.texels.bytes,
-                    raw::BufferUsageFlags::STORAGE_BUFFER,
-                    "texels",
-                )?,
-                Block::Uvs => scene(&up.uvs.bytes, raw::BufferUsageFlags::STORAGE_BUFFER, "uvs")?,
+                Block::Texels => scene(&up.texels.bytes, usage, "texels")?,
+                Block::Uvs => scene(&up.uvs.bytes, usage, "uvs")?,
                 Block::Nodes => scene(
                     &up.nodes.as_ref().expect("a BVH variant has nodes").bytes,
                     usage,
@@ -1032,6 +1080,23 @@ impl Renderer {
                     raw::BufferUsageFlags::STORAGE_BUFFER | raw::BufferUsageFlags::TRANSFER_DST,
                     "the output tile",
                 )?,
+            };
+            buffers.push(match form {
+                Some(access::Form::Texels) => Bound::Texels(TexelBuffer::new(d, buffer)?),
+                Some(access::Form::Address) => {
+                    let at = [buffer.address(), 0u64];
+                    let address = Buffer::with_data(
+                        d,
+                        &at,
+                        raw::BufferUsageFlags::UNIFORM_BUFFER,
+                        "an array's address",
+                    )?;
+                    Bound::Address {
+                        data: buffer,
+                        address,
+                    }
+                }
+                _ => Bound::Buffer(buffer),
             });
         }
         Ok(buffers)

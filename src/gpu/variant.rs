@@ -5,6 +5,7 @@
 
 use ash::vk;
 
+use super::access::Form;
 use super::layout::Uploads;
 use super::vk::device::DeviceInfo;
 use super::Intersect;
@@ -85,9 +86,10 @@ pub struct Variant {
     pub intersect: Intersect,
     /// The shader's arithmetic.
     pub precision: Precision,
-    /// The BVH's layouts (8, one per ray octant, or 1) where spheres are
-    /// traced through it (shaders/bvh.glsl); 0: a linear scan.
-    pub bvh_layouts: usize,
+    /// The entries of the BVH walk's stack (shaders/bvh.glsl), three for
+    /// each node on the tree's deepest path, where the bounded kinds are
+    /// traced through one; 0: a linear scan.
+    pub bvh_stack: usize,
     /// None: the generic shader.
     pub features: Option<Features>,
     /// Counts rays, tests and BVH nodes (shaders/count.glsl).
@@ -102,6 +104,9 @@ pub struct Variant {
     /// The wavefront schedule (shaders/wavefront.glsl) rather than one
     /// invocation for each pixel's whole ray tree.
     pub wavefront: bool,
+    /// How the scene's read-only arrays outside uniform blocks are read
+    /// (src/gpu/access.rs): `Storage`, `Texels` or `Address`.
+    pub reads: Form,
 }
 
 /// The width of the list of pixels adaptive sampling refines, as its
@@ -142,15 +147,21 @@ pub struct Features {
     /// The scene's arrays as uniform buffers of these lengths (each kind's,
     /// then materials, lights) where they fit; else storage buffers.
     pub uniform_slots: Option<Vec<usize>>,
-    /// Whether the light loop is unrolled (few lights).
+    /// Whether the scene loops are unrolled (few objects and lights, all
+    /// in uniform blocks).
     pub unroll: bool,
+    /// Where the scene's arrays are not all uniform blocks: the materials,
+    /// the lights and the textures in uniform blocks of these lengths, where
+    /// each fits.
+    pub table_slots: Option<[usize; 3]>,
+    /// Whether the lights' loop alone is unrolled (few lights, in a
+    /// uniform block).
+    pub unroll_lights: bool,
     /// Whether the shader carries the loop-budget canary
     /// (`DeviceInfo::loop_budget`).
     pub canary: bool,
-    /// BVH nodes per layout; 0 without a BVH.
+    /// BVH nodes; 0 without a BVH.
     pub nodes: usize,
-    /// BVH layouts: 8 (one per ray octant) or 1.
-    pub layouts: usize,
 }
 
 /// Overrides of the variant choice, for measuring it on a driver
@@ -160,8 +171,12 @@ pub struct Features {
 /// buffers to dodge Mesa 22.3's crash), `no-unroll` and `unroll-all` (no
 /// cap on the objects and lights unrolled), `canary` (the loop-budget
 /// canary on a driver that needs none), `no-filter` (the robust forms'
-/// exact power everywhere, also where the device skips untaken branches). Not for rendering: a name it
-/// does not know is ignored.
+/// exact power everywhere, also where the device skips untaken branches),
+/// `no-uniform-tables` (the small tables read as the large arrays where
+/// these are no uniform blocks), `storage-reads`, `texel-reads`,
+/// `address-reads` (the arrays outside
+/// uniform blocks read that way, where the device can). Not for
+/// rendering: a name it does not know is ignored.
 #[derive(Debug, Default, Clone, Copy)]
 struct Experiment {
     storage: bool,
@@ -170,6 +185,8 @@ struct Experiment {
     unroll_all: bool,
     canary: bool,
     no_filter: bool,
+    no_uniform_tables: bool,
+    reads: Option<Form>,
 }
 
 impl Experiment {
@@ -183,6 +200,16 @@ impl Experiment {
             unroll_all: has("unroll-all"),
             canary: has("canary"),
             no_filter: has("no-filter"),
+            no_uniform_tables: has("no-uniform-tables"),
+            reads: if has("storage-reads") {
+                Some(Form::Storage)
+            } else if has("texel-reads") {
+                Some(Form::Texels)
+            } else if has("address-reads") {
+                Some(Form::Address)
+            } else {
+                None
+            },
         }
     }
 }
@@ -208,19 +235,34 @@ impl Features {
         let positioned = has(LightKind::Point) || has(LightKind::Spot);
         let experiment = Experiment::from_env();
         let images = objects && scene.has_image_textures();
-        let fits = (experiment.uniforms_always
+        let uniforms = (experiment.uniforms_always
             || spheres > 0 && !(spheres_only && lights > 0 && !positioned))
-            && !experiment.storage
+            && !experiment.storage;
+        let fits = uniforms
             && uploads.array_bytes().iter().all(|b| *b <= range)
             && uploads
                 .nodes
                 .as_ref()
                 .is_none_or(|n| n.bytes.len() <= range);
+        // Where the arrays do not all fit, the small tables still do: each
+        // read in uniform blocks, and the lights' loop unrolled, so that a
+        // light is read at a constant offset (docs/performance.md, Reading
+        // the scene).
+        let tables = [&uploads.materials, &uploads.lights, &uploads.textures];
+        let table_slots = (uniforms
+            && !fits
+            && !experiment.no_uniform_tables
+            && tables.iter().all(|t| t.bytes.len() <= range))
+        .then(|| tables.map(|t| t.len));
         Self {
             unroll: fits
                 && !experiment.no_unroll
                 && (experiment.unroll_all
                     || scene.prims.len() <= UNROLL_OBJECTS && lights <= UNROLL_LIGHTS),
+            unroll_lights: table_slots.is_some()
+                && !experiment.no_unroll
+                && lights <= UNROLL_LIGHTS,
+            table_slots,
             canary: device.loop_budget || experiment.canary,
             kinds,
             lights,
@@ -247,8 +289,7 @@ impl Features {
             },
             samples: scene.samples,
             uniform_slots: fits.then(|| uploads.array_lengths()),
-            nodes: uploads.layout_len,
-            layouts: uploads.layouts,
+            nodes: uploads.nodes.as_ref().map_or(0, |n| n.len),
         }
     }
 
@@ -286,16 +327,27 @@ impl Features {
         if self.unroll {
             d.push(("UNROLL_LOOPS".to_owned(), None));
         }
+        if self.unroll_lights {
+            d.push(("UNROLL_LIGHTS".to_owned(), None));
+        }
         if !self.canary {
             d.push(("NO_LOOP_CANARY".to_owned(), None));
         }
-        if self.nodes > 0 {
-            d.push(("NODE_COUNT".to_owned(), Some(format!("{}u", self.nodes))));
-            if self.uniform_slots.is_some() {
-                let slots = self.nodes * self.layouts;
-                d.push(("NODE_SLOTS".to_owned(), Some(format!("{slots}u"))));
-            }
-        }
+    }
+}
+
+/// How `device` reads the scene's arrays that are no uniform blocks
+/// (docs/performance.md, Reading the scene): through texel buffers where
+/// every array fits one, else as storage buffers. (Device addresses, an
+/// experiment, measured slower on llvmpipe where LLVM turns their gathers
+/// into a branch a lane.)
+fn reads(uploads: &Uploads, device: &DeviceInfo) -> Form {
+    let texels = uploads.fit_texels(device.max_texel_buffer_elements);
+    let wanted = Experiment::from_env().reads.unwrap_or(Form::Texels);
+    match wanted {
+        Form::Address if device.buffer_device_address => Form::Address,
+        Form::Address | Form::Texels if texels => Form::Texels,
+        _ => Form::Storage,
     }
 }
 
@@ -315,7 +367,7 @@ impl Variant {
         Self {
             intersect,
             precision,
-            bvh_layouts: uploads.layouts,
+            bvh_stack: uploads.bvh_stack,
             features: (!generic).then(|| Features::of(scene, uploads, device)),
             count,
             // The generic shader takes it too: a scene's variant renders the
@@ -325,6 +377,7 @@ impl Variant {
                 && !Experiment::from_env().no_filter,
             refine: None,
             wavefront: false,
+            reads: reads(uploads, device),
         }
     }
 
@@ -334,12 +387,13 @@ impl Variant {
         Self {
             intersect: Intersect::Robust,
             precision: Precision::F32,
-            bvh_layouts: 0,
+            bvh_stack: 0,
             features: None,
             count: false,
             power_filter: false,
             refine: None,
             wavefront: false,
+            reads: Form::Storage,
         }
     }
 
@@ -355,9 +409,9 @@ impl Variant {
         if self.power_filter {
             d.push(("POWER_FILTER".to_owned(), None));
         }
-        if self.bvh_layouts > 0 {
+        if self.bvh_stack > 0 {
             d.push(("USE_BVH".to_owned(), None));
-            d.push(("LAYOUTS".to_owned(), Some(format!("{}u", self.bvh_layouts))));
+            d.push(("BVH_STACK".to_owned(), Some(format!("{}u", self.bvh_stack))));
         }
         if self.count {
             d.push(("COUNT_RAYS".to_owned(), None));
@@ -421,10 +475,11 @@ impl Variant {
     /// The blocks the shader declares, numbered densely from 0, with their
     /// descriptor types.
     pub(crate) fn bindings(&self) -> Vec<(Block, u32, vk::DescriptorType)> {
-        let scene_type = if self.in_uniforms() {
-            vk::DescriptorType::UNIFORM_BUFFER
-        } else {
-            vk::DescriptorType::STORAGE_BUFFER
+        let scene_type = |block| match self.form(block) {
+            // An address's block holds the array's address.
+            Form::Uniform(_) | Form::Address => vk::DescriptorType::UNIFORM_BUFFER,
+            Form::Storage => vk::DescriptorType::STORAGE_BUFFER,
+            Form::Texels => vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
         };
         let (kinds, lights, textures, images, uvs) = match &self.features {
             Some(f) => (
@@ -442,17 +497,15 @@ impl Variant {
             kinds
                 .iter()
                 .enumerate()
-                .map(|(k, used)| (Block::Kind(k), *used, scene_type)),
+                .map(|(k, used)| (Block::Kind(k), *used, scene_type(Block::Kind(k)))),
         );
         blocks.extend([
-            (Block::Materials, objects, scene_type),
-            (Block::Textures, textures, scene_type),
-            // Storage buffers whatever the variant: an image is larger than
-            // any uniform buffer.
-            (Block::Texels, images, vk::DescriptorType::STORAGE_BUFFER),
-            (Block::Uvs, uvs, vk::DescriptorType::STORAGE_BUFFER),
-            (Block::Lights, lights, scene_type),
-            (Block::Nodes, self.bvh_layouts > 0, scene_type),
+            (Block::Materials, objects, scene_type(Block::Materials)),
+            (Block::Textures, textures, scene_type(Block::Textures)),
+            (Block::Texels, images, scene_type(Block::Texels)),
+            (Block::Uvs, uvs, scene_type(Block::Uvs)),
+            (Block::Lights, lights, scene_type(Block::Lights)),
+            (Block::Nodes, self.bvh_stack > 0, scene_type(Block::Nodes)),
             (
                 Block::Counts,
                 self.count,
@@ -501,20 +554,43 @@ impl Variant {
             .collect()
     }
 
-    /// Whether the scene's arrays are uniform buffers (else storage buffers).
+    /// Whether the scene's arrays are uniform buffers (else texel or
+    /// storage buffers).
     pub fn in_uniforms(&self) -> bool {
         self.features
             .as_ref()
             .is_some_and(|f| f.uniform_slots.is_some())
     }
 
-    /// The usage of the scene's read-only buffers: uniform where they fit
-    /// the uniform block's range, else storage.
-    pub(crate) fn scene_buffer_usage(&self) -> vk::BufferUsageFlags {
-        if self.in_uniforms() {
-            vk::BufferUsageFlags::UNIFORM_BUFFER
-        } else {
-            vk::BufferUsageFlags::STORAGE_BUFFER
+    /// How the shader reads `block`, one of the scene's read-only arrays
+    /// (src/gpu/access.rs): a uniform block where the scene's arrays fit
+    /// the uniform range (the images' texels and the triangles' uvs never
+    /// do), else a texel buffer where the device takes them, else a storage
+    /// buffer.
+    pub fn form(&self, block: Block) -> Form {
+        let slots = self.features.as_ref().and_then(|f| {
+            if let Some([materials, lights, textures]) = f.table_slots {
+                match block {
+                    Block::Materials => return Some(materials),
+                    Block::Lights => return Some(lights),
+                    Block::Textures => return Some(textures),
+                    _ => return None,
+                }
+            }
+            let slots = f.uniform_slots.as_ref()?;
+            let kinds = KINDS.len();
+            match block {
+                Block::Kind(k) => Some(slots[k]),
+                Block::Materials => Some(slots[kinds]),
+                Block::Lights => Some(slots[kinds + 1]),
+                Block::Textures => Some(slots[kinds + 2]),
+                Block::Nodes => Some(f.nodes),
+                _ => None,
+            }
+        });
+        match slots {
+            Some(n) => Form::Uniform(n),
+            None => self.reads,
         }
     }
 
@@ -529,8 +605,8 @@ impl Variant {
         if self.precision == Precision::F64 {
             parts.push("f64".to_owned());
         }
-        if self.bvh_layouts > 0 {
-            parts.push(format!("bvh{}", self.bvh_layouts));
+        if self.bvh_stack > 0 {
+            parts.push(format!("bvh{}", self.bvh_stack));
         }
         if self.count {
             parts.push("counted".to_owned());
@@ -540,6 +616,11 @@ impl Variant {
         }
         if self.wavefront {
             parts.push("wavefront".to_owned());
+        }
+        match self.reads {
+            Form::Texels => parts.push("texels".to_owned()),
+            Form::Address => parts.push("address".to_owned()),
+            _ => {}
         }
         if self.power_filter {
             parts.push("filtered".to_owned());
@@ -561,7 +642,9 @@ impl Variant {
                     (f.shadows, "shadows"),
                     (f.transmits, "refract"),
                     (f.uniform_slots.is_some(), "ubo"),
+                    (f.table_slots.is_some(), "tables"),
                     (f.unroll, "unrolled"),
+                    (f.unroll_lights, "lights"),
                     (!f.canary, "nocanary"),
                 ] {
                     if on {
@@ -572,5 +655,27 @@ impl Variant {
             }
         }
         parts.join("-")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::Accel;
+
+    #[test]
+    fn an_array_longer_than_a_texel_buffer_makes_them_storage_buffers() {
+        let scene = super::super::layout::tests::row();
+        let up = Uploads::new(&scene, Intersect::Robust, Precision::F32, Accel::Bvh);
+        let mut device = DeviceInfo {
+            max_texel_buffer_elements: u32::MAX,
+            ..DeviceInfo::default()
+        };
+        assert_eq!(reads(&up, &device), Form::Texels);
+        // The 64 spheres are 128 texels; the nodes fewer.
+        device.max_texel_buffer_elements = 127;
+        assert_eq!(reads(&up, &device), Form::Storage);
+        device.max_texel_buffer_elements = 128;
+        assert_eq!(reads(&up, &device), Form::Texels);
     }
 }

@@ -2,9 +2,11 @@
 //! failing with its name (docs/shaders.md, Adding a kind). What the
 //! generated code assumes of a kind, and nothing else says:
 //!
-//! - its GPU struct ends with `uvec4 meta`, x the material and y the
+//! - its GPU struct has a member `uvec4 meta`, x the material and y the
 //!   primitive's place among its kind in the scene file (the scans read
-//!   `p.meta.x` and `p.meta.y`);
+//!   `p.meta.x` and `p.meta.y`); the members it names as shading-only
+//!   (`Kind::SHADING_ONLY`, which a ray test does not fetch) are members
+//!   of it, and meta is none of them;
 //! - its include defines `<name>_intersect`, `<name>_shape` (a hit keeps
 //!   one `vec4r` of shape), `<name>_normal` and, where `Kind::SHADING`,
 //!   `<name>_shading`, where `Kind::FRAME` `<name>_frame`, where `Kind::UV`
@@ -29,17 +31,29 @@ fn problems<K: Kind>() -> Vec<String> {
     let file_index = 7;
     let p = K::example(material);
 
-    let members = <K::Gpu as GpuStruct>::MEMBERS;
-    if !members.ends_with("    uvec4 meta;\n") {
-        out.push(format!(
-            "{name}: its GPU struct's last member is not `uvec4 meta`: {members:?}"
-        ));
-    } else {
+    let fields = <K::Gpu as GpuStruct>::FIELDS;
+    let at = fields
+        .iter()
+        .position(|f| *f == ("meta", interface::Member::Uvec4));
+    if let Some(at) = at {
+        // Its byte offset in the f32 layout: 16 a word.
+        let offset = 16 * interface::span(&fields[..at], Precision::F32);
         let bytes = bytemuck::bytes_of(&p.gpu(file_index).f32()).to_vec();
-        let meta: [u32; 4] = bytemuck::pod_read_unaligned(&bytes[bytes.len() - 16..]);
+        let meta: [u32; 4] = bytemuck::pod_read_unaligned(&bytes[offset..offset + 16]);
         if meta[0] != material || meta[1] != file_index {
             out.push(format!(
                 "{name}: meta is {meta:?}: x must be the material ({material}), y the file index ({file_index})"
+            ));
+        }
+    } else {
+        out.push(format!(
+            "{name}: its GPU struct has no `uvec4 meta`: {fields:?}"
+        ));
+    }
+    for skipped in K::SHADING_ONLY {
+        if *skipped == "meta" || !fields.iter().any(|(f, _)| f == skipped) {
+            out.push(format!(
+                "{name}: `{skipped}` is shading-only but no member a test may skip"
             ));
         }
     }

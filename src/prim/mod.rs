@@ -60,6 +60,10 @@ pub trait Kind: Clone + PartialEq + std::fmt::Debug + Send + Sync + 'static {
     /// Whether its shading normal can differ from its geometric one: its
     /// include then gives `<name>_shading` too (see [`Shape::shading`]).
     const SHADING: bool = false;
+    /// The members of its GPU struct that a ray test (`<name>_intersect`,
+    /// `<name>_shape`) never reads: the scans fetch the others alone
+    /// (`<name>_test_at`), and these are read for shading.
+    const SHADING_ONLY: &'static [&'static str] = &[];
     /// Whether it has its own surface coordinates, for the 2D textures
     /// (`Shape::frame`): its include then gives `<name>_frame` too.
     const FRAME: bool = false;
@@ -85,9 +89,9 @@ pub trait Kind: Clone + PartialEq + std::fmt::Debug + Send + Sync + 'static {
     fn relative_to(&self, origin: DVec3) -> Self;
     /// Its box; None where it is unbounded.
     fn bounds(&self) -> Option<Aabb>;
-    /// Its struct in the shader's buffers, whose last member is `uvec4
-    /// meta`: x the material, y `file_index`, its place among its kind in
-    /// the scene file (ties in t go to the lower); z and w are the kind's.
+    /// Its struct in the shader's buffers, with a member `uvec4 meta`: x
+    /// the material, y `file_index`, its place among its kind in the scene
+    /// file (ties in t go to the lower); z and w are the kind's.
     fn gpu(&self, file_index: u32) -> Self::Gpu;
     /// Its form in the CPU reference's arithmetic.
     fn cpu<R: Real>(&self) -> Self::Cpu<R>;
@@ -144,6 +148,8 @@ pub struct KindInfo {
     pub name: &'static str,
     pub struct_name: &'static str,
     pub struct_members: &'static str,
+    pub struct_fields: &'static [(&'static str, interface::Member)],
+    pub shading_only: &'static [&'static str],
     pub glsl: &'static str,
     pub bounded: bool,
     pub shading: bool,
@@ -159,6 +165,8 @@ impl KindInfo {
             name: K::NAME,
             struct_name: <K::Gpu as GpuStruct>::NAME,
             struct_members: <K::Gpu as GpuStruct>::MEMBERS,
+            struct_fields: <K::Gpu as GpuStruct>::FIELDS,
+            shading_only: K::SHADING_ONLY,
             glsl: K::GLSL,
             bounded: K::BOUNDED,
             shading: K::SHADING,

@@ -63,6 +63,7 @@ impl Kind for Plane {
     const NAME: &'static str = "plane";
     const GLSL: &'static str = include_str!("../../shaders/prim/plane.glsl");
     const BOUNDED: bool = false;
+    const SHADING_ONLY: &'static [&'static str] = &["origin"];
     const FRAME: bool = true;
     const UV: bool = true;
 

@@ -124,6 +124,7 @@ impl Kind for Triangle {
     const GLSL: &'static str = include_str!("../../shaders/prim/triangle.glsl");
     const BOUNDED: bool = true;
     const SHADING: bool = true;
+    const SHADING_ONLY: &'static [&'static str] = &["n0", "n1", "n2"];
     const LIFT: bool = true;
     const FRAME: bool = true;
     const UV: bool = true;

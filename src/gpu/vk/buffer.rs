@@ -78,9 +78,16 @@ impl Buffer {
             unsafe { raw_device.destroy_buffer(raw, None) };
             return Err(GpuError::NoMemoryType(what));
         };
-        let alloc = vk::MemoryAllocateInfo::default()
+        // A buffer the shader reads through its address needs memory that
+        // has one.
+        let mut flags =
+            vk::MemoryAllocateFlagsInfo::default().flags(vk::MemoryAllocateFlags::DEVICE_ADDRESS);
+        let mut alloc = vk::MemoryAllocateInfo::default()
             .allocation_size(needs.size)
             .memory_type_index(type_index);
+        if usage.contains(vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS) {
+            alloc = alloc.push_next(&mut flags);
+        }
         // SAFETY: a memory type index the device listed for this buffer.
         let memory = match unsafe { raw_device.allocate_memory(&alloc, None) } {
             Ok(m) => m,
@@ -188,6 +195,19 @@ impl Buffer {
                 Err(e)
             }
         }
+    }
+
+    /// The buffer's device address (made with `SHADER_DEVICE_ADDRESS`
+    /// usage, on a device with bufferDeviceAddress enabled).
+    pub fn address(&self) -> u64 {
+        let info = vk::BufferDeviceAddressInfo::default().buffer(self.raw);
+        // SAFETY: a live buffer of this device, made with that usage.
+        unsafe { self.device.raw.get_buffer_device_address(&info) }
+    }
+
+    /// The device the buffer belongs to.
+    pub fn device(&self) -> &Arc<Device> {
+        &self.device
     }
 
     /// Writes `bytes` at the start of a buffer just made, which no

@@ -12,6 +12,7 @@ use crate::gpu::error::{GpuError, VkContext};
 
 /// What `glint info` shows of a device and what the renderer needs to know.
 #[derive(Debug, Clone, Serialize)]
+#[cfg_attr(test, derive(Default))]
 pub struct DeviceInfo {
     /// The device's name, as `llvmpipe (LLVM 15.0.6, 256 bits)`.
     pub name: String,
@@ -43,10 +44,15 @@ pub struct DeviceInfo {
     /// wavefront schedule compacts its queues; Vulkan 1.1 requires only the
     /// basic ones.
     pub subgroup_ballot: bool,
+    /// Whether shaders may read buffers through their device addresses
+    /// (Vulkan 1.2's bufferDeviceAddress; enabled where the device has it).
+    pub buffer_device_address: bool,
     /// The largest storage buffer a shader may bind, in bytes.
     pub max_storage_buffer_range: u32,
     /// The largest uniform buffer a shader may bind, in bytes.
     pub max_uniform_buffer_range: u32,
+    /// The most texels a texel buffer may hold.
+    pub max_texel_buffer_elements: u32,
     /// The most workgroups a dispatch may have in x, y and z.
     pub max_compute_work_group_count: [u32; 3],
     /// The most invocations a workgroup may have.
@@ -127,6 +133,12 @@ pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
         unsafe { raw.enumerate_physical_devices() }.doing("vkEnumeratePhysicalDevices")?;
     let mut out = Vec::new();
     for physical in physicals {
+        let mut v12 = vk::PhysicalDeviceVulkan12Features::default();
+        let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut v12);
+        // SAFETY: `physical` came from this instance; the chain is one
+        // Vulkan 1.2 features struct that the driver fills.
+        unsafe { raw.get_physical_device_features2(physical, &mut features2) };
+        let buffer_device_address = v12.buffer_device_address == vk::TRUE;
         let mut driver = vk::PhysicalDeviceDriverProperties::default();
         let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
         let mut props2 = vk::PhysicalDeviceProperties2::default()
@@ -181,6 +193,7 @@ pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
                 loop_budget: !runs_loops_to_the_end(&driver_name, &driver_info),
                 skips_untaken_branches: skips_untaken_branches(&driver_name, &driver_info),
                 runs_the_wavefront: runs_the_wavefront(&driver_name, &driver_info),
+                buffer_device_address,
                 subgroup_ballot: subgroup
                     .supported_stages
                     .contains(vk::ShaderStageFlags::COMPUTE)
@@ -189,6 +202,7 @@ pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
                         .contains(vk::SubgroupFeatureFlags::BALLOT),
                 max_storage_buffer_range: limits.max_storage_buffer_range,
                 max_uniform_buffer_range: limits.max_uniform_buffer_range,
+                max_texel_buffer_elements: limits.max_texel_buffer_elements,
                 max_compute_work_group_count: limits.max_compute_work_group_count,
                 max_compute_work_group_invocations: limits.max_compute_work_group_invocations,
                 compute_queue_family,
@@ -251,12 +265,15 @@ impl Device {
             .queue_priorities(&priorities);
         let features =
             vk::PhysicalDeviceFeatures::default().shader_float64(chosen.info.shader_float64);
+        let mut v12 = vk::PhysicalDeviceVulkan12Features::default()
+            .buffer_device_address(chosen.info.buffer_device_address);
         let info = vk::DeviceCreateInfo::default()
             .queue_create_infos(std::slice::from_ref(&queue_info))
-            .enabled_features(&features);
+            .enabled_features(&features)
+            .push_next(&mut v12);
         // SAFETY: `chosen.physical` came from this instance; the create
         // info asks for one queue of a family it has and only features it
-        // reported (shaderFloat64 where supported).
+        // reported (shaderFloat64 and bufferDeviceAddress where supported).
         let raw = unsafe { instance.raw.create_device(chosen.physical, &info, None) }
             .doing("vkCreateDevice")?;
         // SAFETY: queue 0 of the family the device was created with.

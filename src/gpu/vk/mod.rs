@@ -8,3 +8,4 @@ pub mod instance;
 pub mod pipeline;
 pub mod pipeline_cache;
 pub mod query;
+pub mod texel_view;

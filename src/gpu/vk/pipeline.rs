@@ -1,15 +1,16 @@
 //! The compute pipeline: shader module, descriptor layout, pipeline layout,
-//! pipeline, and the descriptor set that binds the scene's buffers.
+//! pipeline, and the descriptor set that binds the scene's buffers and
+//! texel buffers.
 
 use std::sync::Arc;
 
 use ash::vk;
 
-use super::buffer::Buffer;
 use super::device::Device;
 use crate::gpu::error::{GpuError, VkContext};
 
-/// One descriptor set of buffers, at the given bindings and types.
+/// One descriptor set of buffers and texel buffers, at the given bindings
+/// and types.
 pub struct ComputePipeline {
     pub pipeline: vk::Pipeline,
     pub layout: vk::PipelineLayout,
@@ -116,6 +117,7 @@ impl ComputePipeline {
         let sizes: Vec<_> = [
             vk::DescriptorType::UNIFORM_BUFFER,
             vk::DescriptorType::STORAGE_BUFFER,
+            vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
         ]
         .into_iter()
         .filter(|t| count(*t) > 0)
@@ -140,39 +142,65 @@ impl ComputePipeline {
         Ok(p)
     }
 
-    /// Points each binding at its buffer; `buffers` follows the order of
-    /// the bindings given to `new`.
+    /// Points each binding at what it sees; `resources` follows the order
+    /// of the bindings given to `new`.
     ///
     /// # Safety
-    /// The set is not in use by a pending submission, and the buffers
-    /// outlive every submission that uses the set until it is bound again
-    /// (the set refers to them by handle, not by Rust borrow).
-    pub unsafe fn bind(&self, buffers: &[&Buffer]) {
-        assert_eq!(buffers.len(), self.bindings.len(), "one buffer per binding");
-        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+    /// The set is not in use by a pending submission, and the buffers and
+    /// views outlive every submission that uses the set until it is bound
+    /// again (the set refers to them by handle, not by Rust borrow).
+    pub unsafe fn bind(&self, resources: &[Resource]) {
+        assert_eq!(
+            resources.len(),
+            self.bindings.len(),
+            "one resource per binding"
+        );
+        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = resources
             .iter()
-            .map(|b| {
+            .map(|r| {
                 [vk::DescriptorBufferInfo::default()
-                    .buffer(b.raw)
+                    .buffer(match r {
+                        Resource::Buffer(b) => *b,
+                        Resource::Texels(_) => vk::Buffer::null(),
+                    })
                     .offset(0)
                     .range(vk::WHOLE_SIZE)]
             })
             .collect();
-        let writes: Vec<_> = infos
+        let views: Vec<[vk::BufferView; 1]> = resources
             .iter()
-            .zip(&self.bindings)
-            .map(|(info, (binding, ty))| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(self.set)
-                    .dst_binding(*binding)
-                    .descriptor_type(*ty)
-                    .buffer_info(info)
+            .map(|r| match r {
+                Resource::Texels(v) => [*v],
+                Resource::Buffer(_) => [vk::BufferView::null()],
             })
             .collect();
-        // SAFETY: the caller's contract above; the set and buffers are live
-        // handles of this device.
+        let writes: Vec<_> = resources
+            .iter()
+            .zip(infos.iter().zip(&views))
+            .zip(&self.bindings)
+            .map(|((r, (info, view)), (binding, ty))| {
+                let write = vk::WriteDescriptorSet::default()
+                    .dst_set(self.set)
+                    .dst_binding(*binding)
+                    .descriptor_type(*ty);
+                match r {
+                    Resource::Buffer(_) => write.buffer_info(info),
+                    Resource::Texels(_) => write.texel_buffer_view(view),
+                }
+            })
+            .collect();
+        // SAFETY: the caller's contract above; the set, buffers and views
+        // are live handles of this device.
         unsafe { self.device.raw.update_descriptor_sets(&writes, &[]) };
     }
+}
+
+/// What one binding of the set sees: a whole buffer, or a texel buffer's
+/// view.
+#[derive(Debug, Clone, Copy)]
+pub enum Resource {
+    Buffer(vk::Buffer),
+    Texels(vk::BufferView),
 }
 
 impl Drop for ComputePipeline {
