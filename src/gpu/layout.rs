@@ -131,15 +131,18 @@ fn xyz(v: glam::DVec3) -> [f64; 4] {
     [v.x, v.y, v.z, 0.0]
 }
 
-fn globals(scene: &Scene) -> globals::Values {
+/// The globals of `scene` translated by `-origin` (as `camera_relative`
+/// moves the camera where `origin` is the eye).
+fn globals(scene: &Scene, origin: glam::DVec3) -> globals::Values {
     let cam = &scene.camera;
+    let (eye, screen_center) = (cam.eye - origin, cam.screen_center - origin);
     let mut kinds = [0u32; 8];
     for (n, c) in kinds.iter_mut().zip(scene.prims.counts()) {
         *n = c as u32;
     }
     globals::Values {
-        eye: xyz(cam.eye),
-        to_screen: xyz(cam.screen_center - cam.eye),
+        eye: xyz(eye),
+        to_screen: xyz(screen_center - eye),
         screen_right: xyz(cam.screen_right),
         screen_up: xyz(cam.screen_up),
         background: xyz(scene.background),
@@ -189,19 +192,17 @@ pub struct Uploads {
 impl Uploads {
     /// The robust forms trace the scene in camera-relative coordinates (see
     /// `Scene::camera_relative`); the naive ones trace it as written.
+    /// Everything is moved item by item as it is laid out: no translated
+    /// copy of the scene is held (a million triangles are 192 MB).
     pub fn new(scene: &Scene, intersect: Intersect, precision: Precision, accel: Accel) -> Self {
-        let relative;
-        let scene = match intersect {
-            Intersect::Robust => {
-                relative = scene.camera_relative();
-                &relative
-            }
-            Intersect::Naive => scene,
-        };
+        // A plane's rebase moves its point, so the naive forms take the
+        // primitives as written; elsewhere subtracting zero keeps every bit.
+        let relative = matches!(intersect, Intersect::Robust).then_some(scene.camera.eye);
+        let origin = relative.unwrap_or_default();
         let t0 = std::time::Instant::now();
         let bvh = accel
             .uses_bvh(&scene.prims)
-            .then(|| accel::scene_bvh(&scene.prims));
+            .then(|| accel::relative_bvh(&scene.prims, origin));
         let bvh_s = t0.elapsed().as_secs_f64();
         let orders: Vec<Option<Vec<u32>>> = (0..KINDS.len())
             .map(|k| {
@@ -209,7 +210,7 @@ impl Uploads {
                 (!order.is_empty()).then(|| order.clone())
             })
             .collect();
-        let globals = globals(scene);
+        let globals = globals(scene, origin);
         let globals = match precision {
             Precision::F32 => bytemuck::bytes_of(&globals.f32()).to_vec(),
             Precision::F64 => bytemuck::bytes_of(&globals.f64()).to_vec(),
@@ -227,7 +228,10 @@ impl Uploads {
             ],
         });
         let textures = scene.textures.iter().map(|t| texture::Values {
-            origin_size: [t.origin.x, t.origin.y, t.origin.z, t.size],
+            origin_size: {
+                let o = t.origin - origin;
+                [o.x, o.y, o.z, t.size]
+            },
             color0: xyz(t.colors[0]),
             color1: xyz(t.colors[1]),
             rotation: [t.rotation[0], t.rotation[1], 0.0, 0.0],
@@ -262,7 +266,7 @@ impl Uploads {
         };
         let uvs = interface::array(uvs.into_iter(), precision);
         let lights = scene.lights.iter().map(|l| light::Values {
-            position: xyz(l.position),
+            position: xyz(l.position - origin),
             direction: xyz(l.direction),
             ambient: xyz(l.ambient),
             diffuse: xyz(l.diffuse),
@@ -273,7 +277,7 @@ impl Uploads {
         });
         Uploads {
             globals,
-            kinds: scene.prims.gpu_arrays(&orders, precision),
+            kinds: scene.prims.gpu_arrays(&orders, precision, relative),
             materials: interface::array(materials, precision),
             lights: interface::array(lights, precision),
             textures: interface::array(textures, precision),

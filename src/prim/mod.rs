@@ -204,13 +204,19 @@ impl PrimId {
 }
 
 /// A kind's GPU struct, as the shader's array holds it.
-fn gpu_array<K: Kind>(items: &[K], order: Option<&[u32]>, precision: Precision) -> Array {
+fn gpu_array<K: Kind>(
+    items: &[K],
+    order: Option<&[u32]>,
+    precision: Precision,
+    origin: Option<DVec3>,
+) -> Array {
+    let gpu = |i: u32| match origin {
+        Some(origin) => items[i as usize].relative_to(origin).gpu(i),
+        None => items[i as usize].gpu(i),
+    };
     match order {
-        Some(order) => interface::array(order.iter().map(|&i| items[i as usize].gpu(i)), precision),
-        None => interface::array(
-            items.iter().enumerate().map(|(i, p)| p.gpu(i as u32)),
-            precision,
-        ),
+        Some(order) => interface::array(order.iter().map(|&i| gpu(i)), precision),
+        None => interface::array((0..items.len() as u32).map(gpu), precision),
     }
 }
 
@@ -333,14 +339,21 @@ macro_rules! generate {
                 out
             }
 
-            /// Each kind's array as the shader reads it; `orders[kind]`:
-            /// the kind in the BVH's leaf order, where it is in one.
-            pub(crate) fn gpu_arrays(&self, orders: &[Option<Vec<u32>>], precision: Precision) -> Vec<Array> {
+            /// Each kind's array as the shader reads it, translated by
+            /// `-origin` item by item (None: as written); `orders[kind]`: the
+            /// kind in the BVH's leaf order, where it is in one.
+            pub(crate) fn gpu_arrays(
+                &self,
+                orders: &[Option<Vec<u32>>],
+                precision: Precision,
+                origin: Option<DVec3>,
+            ) -> Vec<Array> {
                 let mut orders = orders.iter();
                 vec![$(gpu_array(
                     &self.$key,
                     orders.next().and_then(|o| o.as_deref()),
                     precision,
+                    origin,
                 ),)*]
             }
 
