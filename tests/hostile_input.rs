@@ -90,6 +90,90 @@ fn an_include_cycle_is_an_error_in_bounded_time() {
     assert!(stderr(&o).contains("an include cycle?"), "{}", stderr(&o));
 }
 
+/// Shader sources are read as every input is, and their defines bounded
+/// (issue 31, defects 6, 7 and 16): a FIFO or a link to /dev/zero in an
+/// `-I` folder is passed over (it used to block or be read for 2.2 GB);
+/// a NUL byte is one error with file and line (it panicked in glslang);
+/// doubling defines are refused before glslang expands them (they never
+/// finished).
+#[test]
+fn shader_sources_are_read_within_bounds() {
+    let scene = common::repo().join("scenes/seed-fig3.toml");
+    let scene = scene.to_str().unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let inc = dir.path().join("inc");
+    std::fs::create_dir(&inc).unwrap();
+    let out = dir.path().join("x.png");
+    let render = || {
+        glint_within(
+            &[
+                "render",
+                scene,
+                "-I",
+                inc.to_str().unwrap(),
+                "--no-cache",
+                "--timeout",
+                "2",
+                "-o",
+                out.to_str().unwrap(),
+            ],
+            Duration::from_secs(60),
+        )
+    };
+    // Files that are never included: the render goes on.
+    std::os::unix::fs::symlink("/dev/zero", inc.join("zero.glsl")).unwrap();
+    let fifo_made = Command::new("mkfifo")
+        .arg(inc.join("pipe.glsl"))
+        .status()
+        .is_ok_and(|s| s.success());
+    assert!(fifo_made, "mkfifo");
+    common::assert_ok(&render());
+    std::fs::remove_file(&out).unwrap();
+    // Included, they are refused by name.
+    std::fs::remove_file(inc.join("zero.glsl")).unwrap();
+    std::fs::remove_file(inc.join("pipe.glsl")).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", inc.join("shade.glsl")).unwrap();
+    let o = render();
+    assert_user_error(&o, "shade.glsl: is a character device, not a regular file");
+    assert!(!out.exists());
+    std::fs::remove_file(inc.join("shade.glsl")).unwrap();
+
+    let shade = std::fs::read_to_string(common::repo().join("shaders/shade.glsl")).unwrap();
+    std::fs::write(inc.join("shade.glsl"), format!("{shade}\n\0")).unwrap();
+    let lines = shade.matches('\n').count() + 2;
+    let o = render();
+    assert_user_error(&o, &format!("shade.glsl:{lines}: error: a NUL byte"));
+    assert!(!out.exists());
+    let nul = dir.path().join("nul.comp");
+    std::fs::write(&nul, "void f() {}\n\0\0\0").unwrap();
+    let o = glint_within(
+        &["shader", "check", nul.to_str().unwrap()],
+        Duration::from_secs(60),
+    );
+    assert_ne!(o.status.code(), Some(0));
+    assert!(!stderr(&o).contains("panicked"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("nul.comp:2: error: a NUL byte"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(o.stderr.len() < 500, "{} bytes of error", o.stderr.len());
+
+    let mut doubling = String::from("#define A0 x\n");
+    for i in 1..=40 {
+        doubling += &format!("#define A{i} A{} A{}\n", i - 1, i - 1);
+    }
+    std::fs::write(
+        inc.join("shade.glsl"),
+        format!("{shade}\n{doubling}float zz = A40;\n"),
+    )
+    .unwrap();
+    let o = render();
+    assert_user_error(&o, "shade.glsl: error: macro A");
+    assert_user_error(&o, "past the bound of 16 MiB");
+    assert!(!out.exists());
+}
+
 #[test]
 fn a_define_may_not_replace_glints_own() {
     let scene = common::repo().join("scenes/seed-fig3.toml");
@@ -606,6 +690,44 @@ fn reads_are_of_regular_files_within_a_bound() {
     let o = glint(&["diff", claims.to_str().unwrap(), small.to_str().unwrap()]);
     assert_user_error(&o, "16384x16384 and");
     assert!(start.elapsed().as_secs() < 30);
+}
+
+/// Under `spd_rays` a material that only transmits splits a ray too (the
+/// SPD follows a reflection ray at every transmitter): the CPU's bound
+/// counts it (issue 31, defect 5: this scene never finished on the CPU).
+#[test]
+fn the_cpus_ray_bound_counts_spd_rays_splits() {
+    let mut text = String::from(
+        "[image]\nwidth = 4\nheight = 4\n[render]\nmax_depth = 64\nspd_rays = true\n\
+         [camera]\neye = [0, 0, 40]\nscreen_center = [0, 0, 0]\n\
+         screen_right = [20, 0, 0]\nscreen_up = [0, 20, 0]\n\
+         [materials.glass]\ndiffuse = [0.1, 0.1, 0.1]\ntransmittance = 0.8\nior = 1.5\n\
+         [[lights]]\ntype = \"point\"\nposition = [30, 30, 50]\ndiffuse = [1, 1, 1]\n",
+    );
+    for i in 1..=15 {
+        text += &format!("[[spheres]]\ncenter = [0, 0, 0]\nradius = {i}\nmaterial = \"glass\"\n");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("spd.toml");
+    std::fs::write(&scene, text).unwrap();
+    let scene = scene.to_str().unwrap();
+    for args in [
+        vec!["render", scene, "--backend", "cpu"],
+        vec![
+            "report",
+            scene,
+            "--quick",
+            "--timeout",
+            "2",
+            "-o",
+            dir.path().join("r").to_str().unwrap(),
+        ],
+    ] {
+        let o = glint_within(&args, Duration::from_secs(60));
+        // report renders at its own size (160x120), so its depth is lower.
+        assert_user_error(&o, "under spd_rays its transmitting materials");
+        assert_user_error(&o, "lower max_depth to ");
+    }
 }
 
 #[test]

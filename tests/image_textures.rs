@@ -134,6 +134,43 @@ fn png_texels_are_decoded_from_srgb_and_pfm_texels_are_linear() {
     assert_eq!(scene.texels[0], [0.5; 3]);
 }
 
+/// A file's content must be the format its extension names: a PNG named
+/// .exr read 128 as 0.502 (linear) and an EXR named .png read 0.5 as 0.214
+/// (sRGB-decoded) without a word (issue 31, defect 2).
+#[test]
+fn an_image_whose_content_is_not_its_extensions_format_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    write_png(&dir.path().join("a.png"), 1, 1, |_, _| [128; 3]);
+    std::fs::copy(dir.path().join("a.png"), dir.path().join("png.exr")).unwrap();
+    let exr = glint::raster::Image::new(1, 1, vec![[0.5; 3]]);
+    glint::raster::io::write(&dir.path().join("real.exr"), &exr, false).unwrap();
+    std::fs::rename(dir.path().join("real.exr"), dir.path().join("exr.png")).unwrap();
+    for (file, words) in [
+        (
+            "png.exr",
+            "png.exr: its content is Png, not the OpenEXR its extension names",
+        ),
+        (
+            "exr.png",
+            "exr.png: its content is OpenExr, not the PNG its extension names",
+        ),
+    ] {
+        let msg = load(dir.path(), &small(&format!("image = \"{file}\""), SPHERE)).unwrap_err();
+        assert!(msg.contains(words), "expected {words:?}: {msg}");
+        assert_eq!(msg.lines().count(), 1, "{msg}");
+    }
+    // diff reads images the same way (the binary needs the GPU feature).
+    #[cfg(feature = "gpu")]
+    {
+        let o = common::glint(&[
+            "diff",
+            dir.path().join("a.png").to_str().unwrap(),
+            dir.path().join("png.exr").to_str().unwrap(),
+        ]);
+        common::assert_user_error(&o, "its content is Png, not the OpenEXR");
+    }
+}
+
 /// A sphere's latitude and longitude: the image's middle column faces +z
 /// (the camera), its left half is on −x, its top at +y.
 #[test]

@@ -154,3 +154,103 @@ fn bad_mtl_files_are_named() {
         assert_eq!(msg.lines().count(), 1, "{msg}");
     }
 }
+
+/// Each MTL file's maps are found beside it and its materials named after
+/// it, whichever `mtllib` line named it (issue 31, defect 1: the second
+/// file's maps were looked up beside the first, and the texture it named
+/// was not an input).
+#[test]
+fn each_mtl_file_resolves_its_maps_in_its_own_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let sub = dir.path().join("sub");
+    std::fs::create_dir(&sub).unwrap();
+    let obj = OBJ
+        .replace(
+            "mtllib cubes.mtl\n",
+            "mtllib cubes.mtl\nmtllib sub/more.mtl\n",
+        )
+        .replace(
+            "f 9 10 11 12",
+            "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 9/1 10/2 11/3 12/4",
+        );
+    let mtl = MTL.replace("newmtl floor", "newmtl old_floor");
+    write(dir.path(), &obj, Some(&mtl));
+    std::fs::write(
+        sub.join("more.mtl"),
+        "newmtl floor\nKd 1 1 1\nmap_Kd tex.pfm\n",
+    )
+    .unwrap();
+    // Only the folder of more.mtl holds tex.pfm: red there, green beside
+    // cubes.mtl, where the map was wrongly looked up.
+    let pfm = |rgb: [f32; 3]| {
+        let mut bytes = b"PF\n1 1\n-1.0\n".to_vec();
+        bytes.extend(rgb.iter().flat_map(|c| c.to_le_bytes()));
+        bytes
+    };
+    std::fs::write(sub.join("tex.pfm"), pfm([1.0, 0.0, 0.0])).unwrap();
+    std::fs::write(dir.path().join("tex.pfm"), pfm([0.0, 1.0, 0.0])).unwrap();
+    let scene = load(dir.path(), &scene_text("")).unwrap();
+    let floor = scene.materials.last().unwrap();
+    assert!(floor.name.ends_with("more.mtl: floor"), "{}", floor.name);
+    assert_eq!(scene.texels.as_slice(), [[1.0, 0.0, 0.0]]);
+    let inputs = &scene.input_files;
+    assert!(
+        inputs.iter().any(|f| f.ends_with("sub/more.mtl")),
+        "{inputs:?}"
+    );
+    assert!(
+        inputs.iter().any(|f| f.ends_with("sub/tex.pfm")),
+        "{inputs:?}"
+    );
+    // An error in the second file names that file.
+    std::fs::write(sub.join("more.mtl"), "newmtl floor\nKd 1 -1 1\n").unwrap();
+    let msg = load(dir.path(), &scene_text("")).unwrap_err();
+    assert!(msg.contains("more.mtl: material \"floor\""), "{msg}");
+}
+
+/// A colour line with fewer than three values is one error naming the
+/// file and line (issue 31, defect 15: tobj panicked, exit 101).
+#[test]
+fn short_colour_lines_are_named_not_panics() {
+    let dir = tempfile::tempdir().unwrap();
+    for (from, to, words) in [
+        (
+            "Kd 0.8 0.1 0.1",
+            "Kd 1 1",
+            "cubes.mtl:3: Kd needs three numbers (r g b), got 2",
+        ),
+        (
+            "Ka 0.1 0.02 0.02",
+            "Ka 1",
+            "cubes.mtl:2: Ka needs three numbers (r g b), got 1",
+        ),
+        (
+            "Ns 40",
+            "Ns 40\nKe 1",
+            "cubes.mtl:6: Ke needs three numbers (r g b), got 1",
+        ),
+        (
+            "Ns 40",
+            "Ns 40\n  Ks\r",
+            "cubes.mtl:6: Ks needs three numbers (r g b), got 0",
+        ),
+    ] {
+        write(dir.path(), OBJ, Some(&MTL.replacen(from, to, 1)));
+        let msg = load(dir.path(), &scene_text("")).unwrap_err();
+        assert!(msg.contains(words), "expected {words:?}: {msg}");
+        assert_eq!(msg.lines().count(), 1, "{msg}");
+    }
+}
+
+/// A file named by many `mtllib` lines is read once (issue 31, defect 10:
+/// 1,000 lines naming one file loaded its materials 1,000 times).
+#[test]
+fn an_mtl_file_named_again_is_read_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let again = "mtllib cubes.mtl\nmtllib ./cubes.mtl\n".repeat(500);
+    write(dir.path(), &format!("{again}{OBJ}"), Some(MTL));
+    let scene = load(dir.path(), &scene_text("")).unwrap();
+    assert_eq!(scene.materials.len(), 4);
+    let used: Vec<u32> = scene.prims.triangles.iter().map(|t| t.material).collect();
+    assert_eq!(used, [1, 1, 2, 2, 3, 3]);
+}

@@ -189,7 +189,16 @@ fn bad_textures_are_named() {
             "size = 0.0",
             "size = 0.0",
             "textures.cubes.size",
-            "must be > 0",
+            "must be at least 1e-18",
+        ),
+        // Issue 31, defect 17: 1e-40 made the f32 shading NaN, and render
+        // said only that the image had non-finite values.
+        (
+            "size = 0.35",
+            "size = 1e-40",
+            "size = 1e-40",
+            "textures.cubes.size",
+            "must be at least 1e-18 and at most 1e18, so that a coordinate over it stays finite in f32; got 1e-40",
         ),
         (
             "origin = [0.1, 0.05, 0.0]",

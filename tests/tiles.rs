@@ -195,6 +195,7 @@ fn render_tile_and_assemble_through_the_binary() {
     );
     no_output("c.pfm");
     // A partial tile: its image is not its sidecar's region.
+    std::fs::copy(d.join("tiles/1.exr"), d.join("tiles/1.exr.bak")).unwrap();
     let half = read("tiles/1.exr");
     let cut = Image::new(
         half.width,
@@ -260,4 +261,28 @@ fn render_tile_and_assemble_through_the_binary() {
     );
     no_output("g.pfm");
     no_output("h.pfm");
+
+    // A sidecar claiming 100,000,000 tiles names a few missing ones and
+    // counts the rest (issue 31, defect 14: it listed them all, 3.8 GB).
+    std::fs::write(&sidecar, &original).unwrap();
+    edit("\"tile\": \"0/3\"", "\"tile\": \"0/100000000\"");
+    let o = assemble(&["copy.exr"], "i.pfm");
+    fails_with(&o, "tile 1/100000000, 2/100000000, 3/100000000, 4/100000000, 5/100000000, 99999994 more of the 67x130 image is missing");
+    assert!(o.stderr.len() < 2000, "{} bytes of error", o.stderr.len());
+    no_output("i.pfm");
+
+    // A tile holding NaN or infinity is refused as render refuses such an
+    // image (issue 31, defect 4: the NaN became black in the PNG).
+    std::fs::write(&sidecar, &original).unwrap();
+    let mut bad = read("tiles/0.exr");
+    let w = bad.width as usize;
+    bad.pixels[3 * w + 2][1] = f32::NAN;
+    bad.pixels[5 * w][0] = f32::INFINITY;
+    io::write(&d.join("copy.exr"), &bad, false).unwrap();
+    std::fs::copy(d.join("tiles/1.exr.bak"), d.join("tiles/1.exr")).unwrap();
+    fails_with(
+        &assemble(&["copy.exr", "tiles/1.exr", "tiles/2.exr"], "j.png"),
+        "copy.exr: holds 2 non-finite values, the first at pixel (2, 3) of the tile",
+    );
+    no_output("j.png");
 }

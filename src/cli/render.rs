@@ -192,21 +192,9 @@ pub fn stage_json(
 /// glint's own shading stays finite for every scene it accepts; a shader
 /// of the user's may not, and such an image is not written.
 fn refuse_nonfinite(image: &Image) -> anyhow::Result<()> {
-    let nonfinite = image
-        .pixels
-        .iter()
-        .flatten()
-        .filter(|c| !c.is_finite())
-        .count();
-    if let Some(i) = image
-        .pixels
-        .iter()
-        .position(|p| p.iter().any(|c| !c.is_finite()))
-    {
+    if let Some((count, x, y)) = image.nonfinite() {
         anyhow::bail!(
-            "the render has {nonfinite} non-finite values, the first at pixel ({}, {}); the image is not written",
-            i % image.width as usize,
-            i / image.width as usize
+            "the render has {count} non-finite values, the first at pixel ({x}, {y}); the image is not written"
         );
     }
     Ok(())

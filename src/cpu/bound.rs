@@ -16,9 +16,8 @@ pub const MAX_RAYS: f64 = 1e12;
 #[derive(Debug, thiserror::Error)]
 #[error(
     "this scene can cast up to {rays:.1e} rays on the CPU, past its bound of {MAX_RAYS:.0e}: \
-     its materials that both reflect and transmit split a ray in two at each of {depth} bounces; \
-     lower max_depth to {fits} or less (--max-depth), or make those materials reflect or \
-     transmit, not both"
+     {why} split a ray in two at each of {depth} bounces; lower max_depth to {fits} or less \
+     (--max-depth), or {instead}"
 )]
 pub struct TooManyRays {
     /// The worst case.
@@ -27,21 +26,31 @@ pub struct TooManyRays {
     pub depth: u32,
     /// The largest max_depth within the bound.
     pub fits: u32,
+    /// Which materials split a ray.
+    pub why: &'static str,
+    /// What else would avoid the split.
+    pub instead: &'static str,
+}
+
+/// Whether a ray can split in two at a bounce of `scene`: where a material
+/// both reflects and transmits, and under `spd_rays` (the SPD's procedure
+/// follows a reflection ray at every transmitter) wherever one transmits.
+fn splits(scene: &Scene) -> bool {
+    scene
+        .materials
+        .iter()
+        .any(|m| m.transmittance > 0.0 && (m.reflectivity > 0.0 || scene.spd_rays))
 }
 
 /// The most rays a render of `scene` can cast: every eye ray's tree full to
-/// `max_depth` (binary where a material reflects and transmits), each node
+/// `max_depth` (binary where a ray can split, `splits`), each node
 /// with a shadow ray to every light.
 pub fn worst_case_rays(scene: &Scene) -> f64 {
     rays_at_depth(scene, scene.max_depth)
 }
 
 fn rays_at_depth(scene: &Scene, depth: u32) -> f64 {
-    let splits = scene
-        .materials
-        .iter()
-        .any(|m| m.reflectivity > 0.0 && m.transmittance > 0.0);
-    let per_eye_ray = if splits {
+    let per_eye_ray = if splits(scene) {
         2f64.powi(depth as i32) - 1.0
     } else {
         f64::from(depth)
@@ -67,9 +76,22 @@ pub fn check(scene: &Scene) -> Result<(), TooManyRays> {
         .rev()
         .find(|&d| rays_at_depth(scene, d) <= MAX_RAYS)
         .unwrap_or(1);
+    let (why, instead) = if scene.spd_rays {
+        (
+            "under spd_rays its transmitting materials",
+            "leave out spd_rays",
+        )
+    } else {
+        (
+            "its materials that both reflect and transmit",
+            "make those materials reflect or transmit, not both",
+        )
+    };
     Err(TooManyRays {
         rays,
         depth: scene.max_depth,
         fits,
+        why,
+        instead,
     })
 }

@@ -74,20 +74,22 @@ impl Sources {
         self.main.is_none() && self.main_builtin.is_none()
     }
 
-    /// The file's path (as messages should name it) and its text.
-    pub fn find(&self, name: &str) -> Option<(String, String)> {
+    /// The file's path (as messages should name it) and its text; an
+    /// error where a user's file of that name is there but cannot be read
+    /// as a shader (see `read_source`).
+    pub fn find(&self, name: &str) -> Result<Option<(String, String)>, String> {
         for dir in &self.dirs {
             let path = dir.join(name);
-            if let Ok(text) = std::fs::read_to_string(&path) {
-                return Some((path.display().to_string(), text));
+            if std::fs::metadata(&path).is_ok() {
+                return read_source(&path).map(Some);
             }
         }
         if let Some((n, text)) = self.generated.iter().find(|(n, _)| n == name) {
-            return Some((format!("(generated) {n}"), text.clone()));
+            return Ok(Some((format!("(generated) {n}"), text.clone())));
         }
-        builtin()
+        Ok(builtin()
             .find(|(n, _)| n == name)
-            .map(|(n, text)| (format!("shaders/{n}"), text.to_owned()))
+            .map(|(n, text)| (format!("shaders/{n}"), text.to_owned())))
     }
 
     /// These sources with the files generated for `variant`.
@@ -100,12 +102,11 @@ impl Sources {
 
     fn main_source(&self) -> Result<(String, String), GpuError> {
         match &self.main {
-            Some(path) => std::fs::read_to_string(path)
-                .map(|text| (path.display().to_string(), text))
-                .map_err(|e| GpuError::Shader(format!("{}: {e}", path.display()))),
+            Some(path) => read_source(path).map_err(GpuError::Shader),
             None => {
                 let name = self.main_builtin.as_deref().unwrap_or("main.comp");
                 self.find(name)
+                    .map_err(GpuError::Shader)?
                     .ok_or_else(|| GpuError::Shader(format!("{name} not found")))
             }
         }
@@ -127,12 +128,34 @@ impl Sources {
         }
         let mut files: Vec<PathBuf> = self.main.iter().cloned().collect();
         files.extend(crate::files::in_dirs(&self.dirs));
+        // Read as every input is (a FIFO is not opened, a device not read
+        // past the bound); a file that cannot be read is hashed by its error,
+        // and refused only if a compile includes it.
         for f in files {
             h.write(f.display().to_string().as_bytes());
-            h.write(&std::fs::read(&f).unwrap_or_default());
+            match crate::input::read(&f, crate::input::Kind::Shader) {
+                Ok(bytes) => h.write(&bytes),
+                Err(e) => h.write(e.to_string().as_bytes()),
+            }
         }
         h.finish()
     }
+}
+
+/// A user's shader file: its path as messages name it, and its text: a
+/// regular file within `Kind::Shader`'s bound, UTF-8, without NUL bytes
+/// (glslang takes C strings; issue 31, defect 16).
+fn read_source(path: &Path) -> Result<(String, String), String> {
+    let shown = crate::printable::path(path);
+    let text = crate::input::read_text(path, crate::input::Kind::Shader)
+        .map_err(|e| format!("{shown}: {e}"))?;
+    if let Some(at) = text.find('\0') {
+        let line = text[..at].matches('\n').count() + 1;
+        return Err(format!(
+            "{shown}:{line}: error: a NUL byte (offset {at}); a shader is text"
+        ));
+    }
+    Ok((path.display().to_string(), text))
 }
 
 /// Nested `#include`s deeper than this are refused: a file that includes
@@ -140,11 +163,14 @@ impl Sources {
 /// memory runs out.
 pub const MAX_INCLUDE_DEPTH: usize = 32;
 
-/// Resolves a compile's `#include`s and remembers one nested too deep.
+/// Resolves a compile's `#include`s and remembers the first problem: one
+/// nested too deep, a file that cannot be read, macros past their bound.
 struct Includes<'a> {
     sources: &'a Sources,
     /// Read after glslang fails, while it still holds the handler.
-    too_deep: &'a std::cell::RefCell<Option<String>>,
+    problem: &'a std::cell::RefCell<Option<String>>,
+    /// The defines of the files read so far (`macros::Macros`).
+    macros: &'a std::cell::RefCell<super::macros::Macros>,
 }
 
 impl IncludeHandler for Includes<'_> {
@@ -156,7 +182,7 @@ impl IncludeHandler for Includes<'_> {
         depth: usize,
     ) -> Option<IncludeResult> {
         if depth > MAX_INCLUDE_DEPTH {
-            self.too_deep.borrow_mut().get_or_insert_with(|| {
+            self.problem.borrow_mut().get_or_insert_with(|| {
                 format!(
                     "{}: error: #include \"{}\" nests deeper than {MAX_INCLUDE_DEPTH} files: \
                      an include cycle?",
@@ -166,9 +192,19 @@ impl IncludeHandler for Includes<'_> {
             });
             return None;
         }
-        self.sources
-            .find(name)
-            .map(|(path, data)| IncludeResult { name: path, data })
+        let found = self.sources.find(name).and_then(|found| {
+            if let Some((path, data)) = &found {
+                self.macros.borrow_mut().add(path, data)?;
+            }
+            Ok(found)
+        });
+        match found {
+            Ok(found) => found.map(|(path, data)| IncludeResult { name: path, data }),
+            Err(problem) => {
+                self.problem.borrow_mut().get_or_insert(problem);
+                None
+            }
+        }
     }
 }
 
@@ -218,6 +254,11 @@ pub struct Compiled {
 /// Compiles the main shader with `defines`.
 pub fn compile(sources: &Sources, defines: &Defines) -> Result<Compiled, GpuError> {
     let (main_path, main) = sources.main_source()?;
+    let macros = std::cell::RefCell::new(super::macros::Macros::default());
+    macros
+        .borrow_mut()
+        .add(&main_path, &main)
+        .map_err(GpuError::Shader)?;
     let defines: Vec<(&str, Option<&str>)> = defines
         .iter()
         .map(|(n, v)| (n.as_str(), v.as_deref()))
@@ -233,14 +274,15 @@ pub fn compile(sources: &Sources, defines: &Defines) -> Result<Compiled, GpuErro
         },
         ..CompilerOptions::default()
     };
-    let too_deep = std::cell::RefCell::new(None);
+    let problem = std::cell::RefCell::new(None);
     let mut includes = Includes {
         sources,
-        too_deep: &too_deep,
+        problem: &problem,
+        macros: &macros,
     };
     let fail = |e: GlslangError| {
         GpuError::Shader(
-            too_deep
+            problem
                 .borrow()
                 .clone()
                 .unwrap_or_else(|| format_log(&e, &main_path)),

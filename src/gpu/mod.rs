@@ -6,6 +6,7 @@ pub mod compile;
 mod error;
 pub(crate) mod generated;
 pub(crate) mod layout;
+mod macros;
 pub mod schedule;
 pub mod variant;
 pub(crate) mod vk;

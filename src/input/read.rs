@@ -25,6 +25,9 @@ pub enum Kind {
     Mesh,
     /// A tile's sidecar: 1 MiB.
     Sidecar,
+    /// A shader source (`--shader`, a file in an `-I` folder): 16 MiB
+    /// (glint's own together are 0.2 MB).
+    Shader,
     /// A PFM image: the largest image any reader accepts
     /// (`MAX_PIXELS`, 12 bytes a pixel) and its header.
     Pfm,
@@ -39,6 +42,7 @@ impl Kind {
         match self {
             Kind::Scene | Kind::Mesh => 256 << 20,
             Kind::Sidecar => 1 << 20,
+            Kind::Shader => 16 << 20,
             Kind::Pfm => MAX_PIXELS * 12 + 4096,
             Kind::Image => u64::MAX >> 1,
         }
@@ -49,6 +53,7 @@ impl Kind {
             Kind::Scene => "a scene file",
             Kind::Mesh => "a mesh file",
             Kind::Sidecar => "a sidecar",
+            Kind::Shader => "a shader file",
             Kind::Pfm | Kind::Image => "an image",
         }
     }

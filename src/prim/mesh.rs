@@ -101,29 +101,41 @@ pub fn load(
         ..Default::default()
     };
     // With a material of the scene's the OBJ's own (mtllib) are not read.
-    // Else each MTL file is read as every input is (crate::input), and its
-    // first problem kept for the message.
+    // Else each MTL file is read once, as every input is (crate::input),
+    // and its first problem kept for the message; `reads` lists each file
+    // read with the number of materials it gave, in tobj's order.
     let obj_dir = path.parent().unwrap_or(Path::new(".")).to_owned();
     let mtl_problem: RefCell<Option<String>> = RefCell::new(None);
-    let mtl_files: RefCell<Vec<PathBuf>> = RefCell::new(Vec::new());
+    let reads: RefCell<Vec<(PathBuf, usize)>> = RefCell::new(Vec::new());
+    let seen = RefCell::new(std::collections::HashSet::new());
     let read_mtl = |p: &Path| {
         if material.is_some() {
             return Ok(Default::default());
         }
         let mtl = obj_dir.join(p);
+        // A file named again adds nothing: its materials are known by name.
+        if !seen
+            .borrow_mut()
+            .insert(std::fs::canonicalize(&mtl).unwrap_or_else(|_| mtl.clone()))
+        {
+            return Ok(Default::default());
+        }
         let name = crate::printable::path(&mtl);
-        mtl_files.borrow_mut().push(mtl.clone());
-        let file = crate::input::open(&mtl, crate::input::Kind::Mesh).map_err(|e| {
-            mtl_problem
-                .borrow_mut()
-                .get_or_insert(format!("cannot read {name}: {e}"));
+        let fail = |problem: String| {
+            mtl_problem.borrow_mut().get_or_insert(problem);
             tobj::LoadError::OpenFileFailed
+        };
+        let text = crate::input::read(&mtl, crate::input::Kind::Mesh)
+            .map_err(|e| fail(format!("cannot read {name}: {e}")))?;
+        short_colour_line(&text).map_or(Ok(()), |(line, key, n)| {
+            Err(fail(format!(
+                "{name}:{line}: {key} needs three numbers (r g b), got {n}"
+            )))
         })?;
-        tobj::load_mtl_buf(&mut BufReader::new(file)).inspect_err(|e| {
-            mtl_problem
-                .borrow_mut()
-                .get_or_insert(format!("{name}: not a valid MTL file: {e}"));
-        })
+        let loaded = tobj::load_mtl_buf(&mut text.as_slice())
+            .map_err(|e| fail(format!("{name}: not a valid MTL file: {e}")))?;
+        reads.borrow_mut().push((mtl, loaded.0.len()));
+        Ok(loaded)
     };
     let loaded = tobj::load_obj_buf(&mut BufReader::new(file), &options, read_mtl);
     if let Some(problem) = mtl_problem.into_inner() {
@@ -136,19 +148,20 @@ pub fn load(
         (None, Ok(m)) => m,
         (None, Err(e)) => return at.invalid("file", format!("{shown}: its materials: {e}")),
     };
-    let files = mtl_files.into_inner();
-    let mtl_name = files
-        .first()
-        .map_or_else(|| shown.clone(), |f| crate::printable::path(f));
-    let mtl_dir = files
-        .first()
-        .and_then(|f| f.parent())
-        .unwrap_or(&obj_dir)
-        .to_owned();
+    // Each material is named after, and its maps found beside, its own file.
+    let reads = reads.into_inner();
+    let owners = reads
+        .iter()
+        .flat_map(|(file, n)| std::iter::repeat_n(file, *n));
     let materials = mtl
         .iter()
-        .map(|m| mtl_material(m, &mtl_name, &mtl_dir, at))
+        .zip(owners)
+        .map(|(m, file)| {
+            let dir = file.parent().unwrap_or(&obj_dir);
+            mtl_material(m, &crate::printable::path(file), dir, at)
+        })
         .collect::<Result<Vec<_>, _>>()?;
+    let files = reads.into_iter().map(|(file, _)| file).collect();
 
     // Exactly as many as there are faces (at most): a Vec grown by doubling
     // would hold up to twice the triangles' 208 bytes each.
@@ -244,6 +257,25 @@ pub fn load(
         }
     }
     Ok(Loaded { materials, files })
+}
+
+/// The first line of an MTL file whose colour (Ka, Kd, Ks, Ke) has fewer
+/// than three values, which tobj cannot take: its number (from 1), its key
+/// and how many values it has.
+fn short_colour_line(text: &[u8]) -> Option<(usize, &'static str, usize)> {
+    text.split(|&b| b == b'\n')
+        .enumerate()
+        .find_map(|(i, line)| {
+            let mut words = line
+                .split(|b| b.is_ascii_whitespace())
+                .filter(|w| !w.is_empty());
+            let first = words.next()?;
+            let key = ["Ka", "Kd", "Ks", "Ke"]
+                .into_iter()
+                .find(|k| k.as_bytes() == first)?;
+            let n = words.take(3).count();
+            (n < 3).then_some((i + 1, key, n))
+        })
 }
 
 /// An MTL material's values, checked; `file`: the MTL file, for messages;

@@ -33,6 +33,22 @@ pub enum ImageIoError {
         /// What the codec said.
         cause: image::ImageError,
     },
+    /// A file whose content is another format than its extension names:
+    /// decoded by its content and read as its name says, its values would
+    /// take the wrong colour curve (issue 31, defect 2).
+    #[error(
+        "{}: its content is {content}, not the {named} its extension names: rename it, or \
+         convert it",
+        crate::printable::path(path)
+    )]
+    Mismatch {
+        /// The file.
+        path: PathBuf,
+        /// The format its extension names.
+        named: &'static str,
+        /// The format of its content.
+        content: String,
+    },
     /// A PFM file that breaks the format.
     #[error("{}: not a valid PFM file: {reason}", crate::printable::path(path))]
     BadPfm {
@@ -178,7 +194,8 @@ fn write_exr(out: &mut dyn Write, img: &Image, path: &Path) -> Result<(), ImageI
 
 /// Reads a PNG (as value/255, no curve undone), PFM or EXR file.
 pub fn read(path: &Path) -> Result<Image, ImageIoError> {
-    match Format::of(path)? {
+    let format = Format::of(path)?;
+    match format {
         Format::Pfm => {
             let bytes = crate::input::read(path, crate::input::Kind::Pfm).map_err(io_err(path))?;
             read_pfm(&bytes).map_err(|reason| ImageIoError::BadPfm {
@@ -188,11 +205,7 @@ pub fn read(path: &Path) -> Result<Image, ImageIoError> {
         }
         Format::Png | Format::Exr => {
             // A FIFO would block the open, a device never end.
-            crate::input::check(path, crate::input::Kind::Image).map_err(io_err(path))?;
-            let mut reader = image::ImageReader::open(path)
-                .map_err(io_err(path))?
-                .with_guessed_format()
-                .map_err(io_err(path))?;
+            let mut reader = reader_of(path, format)?;
             let mut limits = image::Limits::default();
             limits.max_image_width = Some(MAX_SIDE);
             limits.max_image_height = Some(MAX_SIDE);
@@ -267,6 +280,34 @@ fn pfm_header(bytes: &[u8]) -> Result<(u32, u32, bool, usize), String> {
     Ok((w, h, scale < 0.0, pos))
 }
 
+/// A decoder of the PNG or EXR at `path`, once its content is found to be
+/// the format its extension names (`format`).
+fn reader_of(
+    path: &Path,
+    format: Format,
+) -> Result<image::ImageReader<std::io::BufReader<std::fs::File>>, ImageIoError> {
+    // A FIFO would block the open, a device never end.
+    crate::input::check(path, crate::input::Kind::Image).map_err(io_err(path))?;
+    let reader = image::ImageReader::open(path)
+        .map_err(io_err(path))?
+        .with_guessed_format()
+        .map_err(io_err(path))?;
+    let (named, want) = match format {
+        Format::Png => ("PNG", image::ImageFormat::Png),
+        _ => ("OpenEXR", image::ImageFormat::OpenExr),
+    };
+    // Content the decoder does not know keeps the extension's format, and
+    // its decode fails on its own.
+    match reader.format() {
+        Some(found) if found != want => Err(ImageIoError::Mismatch {
+            path: path.to_owned(),
+            named,
+            content: format!("{found:?}"),
+        }),
+        _ => Ok(reader),
+    }
+}
+
 /// An image file's width and height, from its header alone: `diff`
 /// compares them before it decodes either image.
 pub fn dimensions(path: &Path) -> Result<(u32, u32), ImageIoError> {
@@ -283,12 +324,8 @@ pub fn dimensions(path: &Path) -> Result<(u32, u32), ImageIoError> {
             })?;
             Ok((w, h))
         }
-        Format::Png | Format::Exr => {
-            crate::input::check(path, crate::input::Kind::Image).map_err(io_err(path))?;
-            image::ImageReader::open(path)
-                .map_err(io_err(path))?
-                .with_guessed_format()
-                .map_err(io_err(path))?
+        format @ (Format::Png | Format::Exr) => {
+            reader_of(path, format)?
                 .into_dimensions()
                 .map_err(|cause| ImageIoError::Codec {
                     path: path.to_owned(),

@@ -32,6 +32,22 @@ impl Image {
         }
     }
 
+    /// Where the image has non-finite values (NaN or infinite): how many
+    /// values, and the column and row of the first pixel holding one.
+    pub fn nonfinite(&self) -> Option<(usize, u32, u32)> {
+        let first = self
+            .pixels
+            .iter()
+            .position(|p| p.iter().any(|c| !c.is_finite()))?;
+        let count = self.pixels[first..]
+            .iter()
+            .flatten()
+            .filter(|c| !c.is_finite())
+            .count();
+        let w = self.width as usize;
+        Some((count, (first % w) as u32, (first / w) as u32))
+    }
+
     /// This image divided by `by`, in f64 before rounding back, so that
     /// 1e-30 and 1e30 scale without loss.
     pub fn scaled(&self, by: f64) -> Image {

@@ -403,10 +403,16 @@ impl Check<'_> {
             (None, Pattern::Image) => 1.0,
             (None, _) => return self.err(path, "a pattern needs its size (size = ...)"),
         };
-        if size <= 0.0 || size > MAX_COORDINATE {
+        // A point's coordinate over the size must stay finite in f32: from
+        // 1/MAX_COORDINATE up (issue 31, defect 17: 1e-40 made NaN).
+        let smallest = 1.0 / MAX_COORDINATE;
+        if !(smallest..=MAX_COORDINATE).contains(&size) {
             return self.err(
                 &path.key("size"),
-                format!("must be > 0 and at most {MAX_COORDINATE:e}, got {size:e}"),
+                format!(
+                    "must be at least {smallest:e} and at most {MAX_COORDINATE:e}, so that a \
+                     coordinate over it stays finite in f32; got {size:e}"
+                ),
             );
         }
         let colors = match (t.colors, pattern) {

@@ -55,6 +55,21 @@ pub enum TileError {
         /// Its region's height.
         want_h: u32,
     },
+    /// A tile with NaN or infinite values, which `render` never writes.
+    #[error(
+        "{tile}: holds {count} non-finite values, the first at pixel ({x}, {y}) of the tile; \
+         a render writes none, so the tile is not glint's as rendered"
+    )]
+    NonFinite {
+        /// The tile.
+        tile: PathBuf,
+        /// How many values are NaN or infinite.
+        count: usize,
+        /// The first such pixel's column in the tile.
+        x: u32,
+        /// Its row.
+        y: u32,
+    },
     /// A tile whose region is not inside the image.
     #[error("{0}: {1}")]
     Outside(PathBuf, RegionError),
@@ -167,6 +182,14 @@ pub fn read_tile(path: &Path) -> Result<Tile, TileError> {
     }
     r.within(sidecar.width, sidecar.height)
         .map_err(|e| TileError::Outside(path.to_owned(), e))?;
+    if let Some((count, x, y)) = image.nonfinite() {
+        return Err(TileError::NonFinite {
+            tile: path.to_owned(),
+            count,
+            x,
+            y,
+        });
+    }
     Ok(Tile {
         path: path.to_owned(),
         sidecar,
@@ -215,19 +238,13 @@ pub fn assemble(tiles: &[Tile]) -> Result<(Image, Sidecar), TileError> {
         let Some((n, present)) = split_of(tiles) else {
             return e;
         };
-        let missing: Vec<String> = (0..n)
-            .filter(|i| !present.contains(i))
-            .map(|i| format!("{i}/{n}"))
-            .collect();
+        let missing = missing_tiles(n, present);
         match e {
             // Every index present and still a gap: the split does not
             // cover the image the sidecars claim; the gap says where.
-            TileError::Gap { w, h, .. } if !missing.is_empty() => TileError::Missing {
-                missing: missing.join(", "),
-                n,
-                w,
-                h,
-            },
+            TileError::Gap { w, h, .. } if !missing.is_empty() => {
+                TileError::Missing { missing, n, w, h }
+            }
             e => e,
         }
     })?;
@@ -245,6 +262,25 @@ pub fn assemble(tiles: &[Tile]) -> Result<(Image, Sidecar), TileError> {
         ..first.sidecar.clone()
     };
     Ok((Image::new(width, height, pixels), whole))
+}
+
+/// The tiles of `n` not `present`, as "I/N" for the first few and a count
+/// of the rest: a sidecar may claim any N (issue 31, defect 14: one of
+/// 100,000,000 listed them all, 3.8 GB). Empty where none is missing.
+fn missing_tiles(n: u32, mut present: Vec<u32>) -> String {
+    const NAMED: usize = 5;
+    present.sort_unstable();
+    present.dedup();
+    let count = n as usize - present.iter().filter(|&&i| i < n).count();
+    let mut names: Vec<String> = (0..n)
+        .filter(|i| present.binary_search(i).is_err())
+        .take(NAMED)
+        .map(|i| format!("{i}/{n}"))
+        .collect();
+    if count > names.len() {
+        names.push(format!("{} more", count - names.len()));
+    }
+    names.join(", ")
 }
 
 /// Where every tile is tile I of one N: N and the indices present.
