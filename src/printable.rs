@@ -36,14 +36,18 @@ pub fn path(p: &Path) -> String {
     text(&p.to_string_lossy())
 }
 
-/// A message from a library that may span lines, on one line.
+/// A message that may span lines, on one line, cut to `MAX_MESSAGE_CHARS`:
+/// the names and paths in it are already cut to `MAX_CHARS` each, so a long
+/// name does not push out what the message says is wrong (issue 31,
+/// defect 18).
 pub fn one_line(s: &str) -> String {
-    text(
+    cut(
         &s.trim()
             .lines()
             .map(str::trim)
             .collect::<Vec<_>>()
             .join("; "),
+        MAX_MESSAGE_CHARS,
     )
 }
 
@@ -62,5 +66,8 @@ mod tests {
             one_line("invalid table header\nexpected `.`, `]`\n"),
             "invalid table header; expected `.`, `]`"
         );
+        let message = format!("material \"{}\": Kd must be finite", text(&long));
+        assert!(one_line(&message).ends_with("\": Kd must be finite"));
+        assert_eq!(one_line(&long).chars().count(), MAX_MESSAGE_CHARS + 1);
     }
 }

@@ -885,3 +885,17 @@ fn diff_of_two_large_pngs_holds_27_bytes_a_pixel() {
     // 27 bytes a pixel and 40 MB for the process itself.
     assert!(peak < 27 * n + (40 << 20), "peak {peak} for {n} pixels");
 }
+
+/// A PNG's colour profile inflates within the image's own bound (issue 31,
+/// defect 9): tests/data/iccp-64mib.png is one pixel and a 64 KB iCCP
+/// chunk that inflates to 64 MiB. `diff` of it with itself peaked at 73 MB
+/// when the decoder's bound was 4 GiB whatever the image; now the profile
+/// is dropped at 16 MiB past the pixels, and `diff` peaks at 24 MB.
+#[test]
+fn a_colour_profile_inflates_within_the_images_bound() {
+    let png = common::repo().join("tests/data/iccp-64mib.png");
+    let png = png.to_str().unwrap();
+    let (o, peak) = peak_memory(&["diff", png, png]);
+    common::assert_ok(&o);
+    assert!(peak < 48 << 20, "diff peaked at {peak} bytes");
+}

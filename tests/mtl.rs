@@ -254,3 +254,30 @@ fn an_mtl_file_named_again_is_read_once() {
     let used: Vec<u32> = scene.prims.triangles.iter().map(|t| t.material).collect();
     assert_eq!(used, [1, 1, 2, 2, 3, 3]);
 }
+
+/// A long name or number does not push out what the error says is wrong:
+/// names are cut, numbers shown in exponent form, and the message whole
+/// (issue 31, defect 18: the line was cut at 200 characters as a whole).
+#[test]
+fn long_names_and_numbers_leave_the_reason_in_the_message() {
+    let dir = tempfile::tempdir().unwrap();
+    let name = "m".repeat(300);
+    let obj = OBJ.replace("usemtl red", &format!("usemtl {name}"));
+    let mtl = MTL.replace(
+        "newmtl red\nKa 0.1 0.02 0.02\nKd 0.8 0.1 0.1",
+        &format!("newmtl {name}\nKa 0.1 0.02 0.02\nKd 0.8 -0.1 0.1"),
+    );
+    write(dir.path(), &obj, Some(&mtl));
+    let msg = load(dir.path(), &scene_text("")).unwrap_err();
+    assert!(msg.contains("…\": Kd must be finite and >= 0"), "{msg}");
+    let obj = OBJ.replace(
+        "f 9 10 11 12",
+        "vt 1e300 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 9/1 10/2 11/3 12/4",
+    );
+    write(dir.path(), &obj, Some(MTL));
+    let msg = load(dir.path(), &scene_text("")).unwrap_err();
+    assert!(
+        msg.contains("texture coordinate 1e300 is not finite or beyond"),
+        "{msg}"
+    );
+}

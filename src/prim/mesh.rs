@@ -214,9 +214,12 @@ pub fn load(
                 return at.invalid(
                     "file",
                     format!(
-                        "{shown}: object \"{}\", face {face}: vertex {bad} is not finite \
-                         or beyond ±{:e} once scaled and translated",
+                        "{shown}: object \"{}\", face {face}: vertex [{:e}, {:e}, {:e}] is \
+                         not finite or beyond ±{:e} once scaled and translated",
                         crate::printable::text(&model.name),
+                        bad.x,
+                        bad.y,
+                        bad.z,
                         crate::input::field::MAX_COORDINATE
                     ),
                 );
@@ -243,7 +246,7 @@ pub fn load(
                     return at.invalid(
                         "file",
                         format!(
-                            "{shown}: object \"{}\", face {face}: texture coordinate {bad} is not \
+                            "{shown}: object \"{}\", face {face}: texture coordinate {bad:e} is not \
                              finite or beyond ±{MAX_UV:e}",
                             crate::printable::text(&model.name)
                         ),

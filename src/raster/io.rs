@@ -204,13 +204,14 @@ pub fn read(path: &Path) -> Result<Image, ImageIoError> {
             })
         }
         Format::Png | Format::Exr => {
-            // A FIFO would block the open, a device never end.
+            // The decoder's allocations are bounded by the image's own size
+            // (16 bytes a pixel, its widest form) and 16 MiB for the rest: a
+            // colour profile that inflates to gigabytes is dropped at that
+            // bound (issue 31, defect 9: it was read up to 4 GiB).
+            let (w, h) = dimensions(path)?;
             let mut reader = reader_of(path, format)?;
-            let mut limits = image::Limits::default();
-            limits.max_image_width = Some(MAX_SIDE);
-            limits.max_image_height = Some(MAX_SIDE);
-            limits.max_alloc = Some(MAX_PIXELS * 16);
-            reader.limits(limits);
+            let pixels = (u64::from(w) * u64::from(h)).min(MAX_PIXELS);
+            reader.limits(limits(pixels * 16 + HEADER_BYTES));
             let decoded = reader.decode().map_err(|cause| ImageIoError::Codec {
                 path: path.to_owned(),
                 cause,
@@ -280,6 +281,19 @@ fn pfm_header(bytes: &[u8]) -> Result<(u32, u32, bool, usize), String> {
     Ok((w, h, scale < 0.0, pos))
 }
 
+/// What a decoder may allocate besides the pixels: a header, chunks such as
+/// a colour profile.
+const HEADER_BYTES: u64 = 16 << 20;
+
+/// A decoder's limits: images up to `MAX_SIDE` a side, `max_alloc` bytes.
+fn limits(max_alloc: u64) -> image::Limits {
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_SIDE);
+    limits.max_image_height = Some(MAX_SIDE);
+    limits.max_alloc = Some(max_alloc);
+    limits
+}
+
 /// A decoder of the PNG or EXR at `path`, once its content is found to be
 /// the format its extension names (`format`).
 fn reader_of(
@@ -288,10 +302,12 @@ fn reader_of(
 ) -> Result<image::ImageReader<std::io::BufReader<std::fs::File>>, ImageIoError> {
     // A FIFO would block the open, a device never end.
     crate::input::check(path, crate::input::Kind::Image).map_err(io_err(path))?;
-    let reader = image::ImageReader::open(path)
+    let mut reader = image::ImageReader::open(path)
         .map_err(io_err(path))?
         .with_guessed_format()
         .map_err(io_err(path))?;
+    // Reading the header alone allocates no pixels.
+    reader.limits(limits(HEADER_BYTES));
     let (named, want) = match format {
         Format::Png => ("PNG", image::ImageFormat::Png),
         _ => ("OpenEXR", image::ImageFormat::OpenExr),
