@@ -899,3 +899,44 @@ fn a_colour_profile_inflates_within_the_images_bound() {
     common::assert_ok(&o);
     assert!(peak < 48 << 20, "diff peaked at {peak} bytes");
 }
+
+/// A scene so small that its squared lengths underflow f32 is refused,
+/// naming how far its objects reach and the bound (issue 31, defect 3: a
+/// valid scene scaled by 1e-25 rendered flat ambient on the GPU, exit 0).
+#[test]
+fn a_scene_too_small_for_f32_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = |s: f64| {
+        format!(
+            "[image]\nwidth = 8\nheight = 8\n[camera]\neye = [0, 0, {}]\nlook_at = [0, 0, 0]\n\
+             vfov = 40\n[materials.m]\ndiffuse = [1, 1, 1]\n[[spheres]]\ncenter = [0, 0, 0]\n\
+             radius = {}\nmaterial = \"m\"\n[[lights]]\ntype = \"point\"\n\
+             position = [{}, {}, {}]\ndiffuse = [1, 1, 1]\n",
+            5.0 * s,
+            s,
+            3.0 * s,
+            3.0 * s,
+            3.0 * s
+        )
+    };
+    let path = dir.path().join("tiny.toml");
+    let out = dir.path().join("x.png");
+    let render = |s: f64| {
+        std::fs::write(&path, scene(s)).unwrap();
+        glint(&[
+            "render",
+            path.to_str().unwrap(),
+            "--backend",
+            "cpu",
+            "-o",
+            out.to_str().unwrap(),
+        ])
+    };
+    let o = render(1e-25);
+    assert_user_error(
+        &o,
+        "camera.eye: every object lies within 6.0e-25 of the eye, under the 1e-18",
+    );
+    assert!(!out.exists());
+    common::assert_ok(&render(1e-17));
+}

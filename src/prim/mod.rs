@@ -323,6 +323,21 @@ macro_rules! generate {
                 self.relative_bounds(DVec3::ZERO)
             }
 
+            /// The farthest any bounded primitive's box reaches from
+            /// `origin` along an axis (0 without one), without a copy.
+            pub(crate) fn reach_from(&self, origin: DVec3) -> f64 {
+                let mut reach = 0.0f64;
+                $(
+                    for p in &self.$key {
+                        if let Some(b) = p.bounds() {
+                            let far = (b.lo - origin).abs().max((b.hi - origin).abs());
+                            reach = reach.max(far.max_element());
+                        }
+                    }
+                )*
+                reach
+            }
+
             /// The boxes of the primitives translated by `-origin` (those
             /// of `relative_to(origin)`, without holding that copy).
             pub(crate) fn relative_bounds(&self, origin: DVec3) -> Vec<(Aabb, PrimId)> {
