@@ -1,5 +1,6 @@
 //! A bounded fuzz harness (proptest) for what reads user bytes: the scene
-//! parser and the image readers. Every input must give a value or an error,
+//! parser, OBJ meshes' MTL files, the image readers (as files and as
+//! textures) and shader sources. Every input must give a value or an error,
 //! never a panic; a scene that parses must render on the CPU to finite
 //! pixels, with the same image through the BVH as without it. The corpus
 //! below holds the hostile cases of issue 10 as fixed seeds. Each property
@@ -127,6 +128,22 @@ fn hostile_number() -> impl Strategy<Value = String> {
         any::<f64>().prop_map(|x| format!("{x:e}")),
         (-1000i64..1000).prop_map(|x| x.to_string()),
     ]
+}
+
+/// A mesh whose faces take the materials of `MTL_BASE`.
+const OBJ_BASE: &str = "mtllib m.mtl\nv -1 -1 0\nv 1 -1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n\
+    usemtl a\nf 1/1 2/2 3/3\n";
+
+/// Two materials, one with a map: the lines the MTL property damages.
+const MTL_BASE: &str = "newmtl a\nKa 0.1 0.1 0.1\nKd 0.8 0.2 0.2\nKs 0.5 0.5 0.5\nNs 30\n\
+    Ni 1.5\nd 0.5\nillum 4\nmap_Kd t.pfm\nnewmtl b\nKd 0.1 0.9 0.1\nTr 0.25\n";
+
+/// A scene of `OBJ_BASE` in `dir`, which also holds `m.mtl` and `t.pfm`.
+fn mesh_scene(dir: &Path) -> Option<Scene> {
+    let text = "[image]\nwidth = 6\nheight = 4\n[camera]\neye = [0, 0, 4]\n\
+        look_at = [0, 0, 0]\nvfov = 45\n[[meshes]]\nfile = \"m.obj\"\n[[lights]]\n\
+        type = \"point\"\nposition = [1, 2, 4]\ndiffuse = [1, 1, 1]\n";
+    parse(text, &dir.join("s.toml"), &Overrides::default()).ok()
 }
 
 /// CI runs the same cases every time, so that a landing never hangs on
@@ -263,5 +280,90 @@ proptest! {
         bytes.extend(data);
         std::fs::write(&path, bytes).unwrap();
         let _ = io::read(&path);
+    }
+
+    /// The MTL file with one line replaced by any text, or a colour's
+    /// values cut short: materials or an error, never a panic (issue 31's
+    /// short colour lines panicked in the parser).
+    #[test]
+    fn a_damaged_mtl_file_is_refused_or_rendered(
+        line in 0usize..12,
+        junk in prop_oneof!["\\PC{0,30}", "(Ka|Kd|Ks|Ke|Ns|Ni|d|Tr|illum|map_Kd|newmtl)( [-0-9.e]{0,6}){0,4}"],
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        let mut lines: Vec<&str> = MTL_BASE.lines().collect();
+        lines[line] = &junk;
+        std::fs::write(dir.path().join("m.obj"), OBJ_BASE).unwrap();
+        std::fs::write(dir.path().join("m.mtl"), lines.join("\n")).unwrap();
+        let mut pfm = b"PF\n1 1\n-1.0\n".to_vec();
+        pfm.extend([0.5f32; 3].iter().flat_map(|c| c.to_le_bytes()));
+        std::fs::write(dir.path().join("t.pfm"), pfm).unwrap();
+        if let Some(scene) = mesh_scene(dir.path()) {
+            render_small(&scene);
+        }
+    }
+
+    /// An image texture of any bytes after a PNG's or an EXR's signature,
+    /// named .png or .exr whichever its content: the scene loads with
+    /// finite texels or is refused (issue 31: a PNG named .exr was read
+    /// with the wrong colour curve).
+    #[test]
+    fn any_image_texture_loads_or_is_refused(
+        data in proptest::collection::vec(any::<u8>(), 0..300),
+        exr_content in any::<bool>(),
+        exr_name in any::<bool>(),
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        let magic: &[u8] = if exr_content {
+            &[0x76, 0x2f, 0x31, 0x01]
+        } else {
+            &[0x89, b'P', b'N', b'G', 0x0d, 0x0a, 0x1a, 0x0a]
+        };
+        let name = if exr_name { "t.exr" } else { "t.png" };
+        let mut bytes = magic.to_vec();
+        bytes.extend(data);
+        std::fs::write(dir.path().join(name), bytes).unwrap();
+        std::fs::write(dir.path().join("m.obj"), OBJ_BASE).unwrap();
+        std::fs::write(dir.path().join("m.mtl"), MTL_BASE.replace("t.pfm", name)).unwrap();
+        if let Some(scene) = mesh_scene(dir.path()) {
+            prop_assert!(scene.texels.iter().flatten().all(|c| c.is_finite() && *c >= 0.0));
+            render_small(&scene);
+        }
+    }
+}
+
+#[cfg(feature = "gpu")]
+proptest! {
+    // glslang takes tens of milliseconds a compile: fewer cases.
+    #![proptest_config(ProptestConfig { cases: 24, ..config() })]
+
+    /// A shader include of glint's own text with a line replaced by any
+    /// text, defines and NUL bytes among it: compiled or one error, never
+    /// a panic or a hang (issue 31: a NUL byte panicked in the binding,
+    /// doubling defines never finished).
+    #[test]
+    fn a_damaged_shader_source_compiles_or_errs(
+        line in 0usize..200,
+        junk in prop_oneof![
+            "\\PC{0,40}",
+            "#define [A-C] [A-C] [A-C] [A-C]",
+            "[a-z ]{0,5}\u{0}[a-z ]{0,5}",
+            "#include \"[a-z.]{0,12}\"",
+        ],
+    ) {
+        use glint::gpu::compile::{compile, Sources};
+        let dir = tempfile::tempdir().unwrap();
+        let shade = include_str!("../shaders/shade.glsl");
+        let mut lines: Vec<&str> = shade.lines().collect();
+        let at = line % lines.len();
+        lines[at] = &junk;
+        std::fs::write(dir.path().join("shade.glsl"), lines.join("\n")).unwrap();
+        let sources = Sources {
+            dirs: vec![dir.path().to_owned()],
+            ..Sources::default()
+        };
+        if let Err(e) = compile(&sources, &[]) {
+            prop_assert!(!e.to_string().is_empty());
+        }
     }
 }
