@@ -49,6 +49,20 @@ pub enum ImageIoError {
         /// The format of its content.
         content: String,
     },
+    /// An EXR with more channels than glint decodes: each channel of a
+    /// block is inflated before the unused ones are dropped (issue 31,
+    /// defect 8: 4,000 channels took 48 s).
+    #[error(
+        "{}: has {count} channels, more than the {MAX_EXR_CHANNELS} glint decodes (it reads R, G \
+         and B): keep those in the file",
+        crate::printable::path(path)
+    )]
+    Channels {
+        /// The file.
+        path: PathBuf,
+        /// Its largest layer's channels.
+        count: usize,
+    },
     /// A PFM file that breaks the format.
     #[error("{}: not a valid PFM file: {reason}", crate::printable::path(path))]
     BadPfm {
@@ -281,6 +295,10 @@ fn pfm_header(bytes: &[u8]) -> Result<(u32, u32, bool, usize), String> {
     Ok((w, h, scale < 0.0, pos))
 }
 
+/// The most channels an EXR layer may have: RGBA and a few more (depth,
+/// normals, ids) that renderers write beside them.
+pub const MAX_EXR_CHANNELS: usize = 64;
+
 /// What a decoder may allocate besides the pixels: a header, chunks such as
 /// a colour profile.
 const HEADER_BYTES: u64 = 16 << 20;
@@ -315,13 +333,28 @@ fn reader_of(
     // Content the decoder does not know keeps the extension's format, and
     // its decode fails on its own.
     match reader.format() {
-        Some(found) if found != want => Err(ImageIoError::Mismatch {
-            path: path.to_owned(),
-            named,
-            content: format!("{found:?}"),
-        }),
-        _ => Ok(reader),
+        Some(found) if found != want => {
+            return Err(ImageIoError::Mismatch {
+                path: path.to_owned(),
+                named,
+                content: format!("{found:?}"),
+            })
+        }
+        // A header that does not read is the decoder's to report.
+        Some(image::ImageFormat::OpenExr) => {
+            if let Ok(meta) = exr::meta::MetaData::read_from_file(path, false) {
+                let count = meta.headers.iter().map(|h| h.channels.list.len()).max();
+                if let Some(count) = count.filter(|&c| c > MAX_EXR_CHANNELS) {
+                    return Err(ImageIoError::Channels {
+                        path: path.to_owned(),
+                        count,
+                    });
+                }
+            }
+        }
+        _ => {}
     }
+    Ok(reader)
 }
 
 /// An image file's width and height, from its header alone: `diff`
