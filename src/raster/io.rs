@@ -218,18 +218,23 @@ pub fn read(path: &Path) -> Result<Image, ImageIoError> {
             })
         }
         Format::Png | Format::Exr => {
-            // The decoder's allocations are bounded by the image's own size
-            // (16 bytes a pixel, its widest form) and 16 MiB for the rest: a
-            // colour profile that inflates to gigabytes is dropped at that
-            // bound (issue 31, defect 9: it was read up to 4 GiB).
-            let (w, h) = dimensions(path)?;
-            let mut reader = reader_of(path, format)?;
-            let pixels = (u64::from(w) * u64::from(h)).min(MAX_PIXELS);
-            reader.limits(limits(pixels * 16 + HEADER_BYTES));
-            let decoded = reader.decode().map_err(|cause| ImageIoError::Codec {
+            // The header is read once, within `HEADER_BYTES` (a colour
+            // profile that inflates to gigabytes is dropped there; issue 31,
+            // defect 9); the pixels may then take the image's own size, 16
+            // bytes a pixel (its widest form), and `HEADER_BYTES` more.
+            let codec = |cause| ImageIoError::Codec {
                 path: path.to_owned(),
                 cause,
-            })?;
+            };
+            let mut decoder = reader_of(path, format)?.into_decoder().map_err(codec)?;
+            let (w, h) = image::ImageDecoder::dimensions(&decoder);
+            let pixels = (u64::from(w) * u64::from(h)).min(MAX_PIXELS);
+            let mut bound = limits(pixels * 16 + HEADER_BYTES);
+            bound
+                .reserve(image::ImageDecoder::total_bytes(&decoder))
+                .map_err(codec)?;
+            image::ImageDecoder::set_limits(&mut decoder, bound).map_err(codec)?;
+            let decoded = image::DynamicImage::from_decoder(decoder).map_err(codec)?;
             // Straight into the image's pixels: a float copy of the whole
             // decode first would hold every pixel twice more (12 bytes each).
             let (w, h) = (decoded.width(), decoded.height());
