@@ -30,7 +30,7 @@ fn main() -> Result<()> {
         ..GpuOptions::from_env(None)
     })?;
 
-    let (variant, defines) = experiment.variant_for(&scene);
+    let (variant, defines) = experiment.variant(&scene, &experiment.settings());
     println!("variant {}:", variant.name());
     for (name, value) in &defines {
         println!(

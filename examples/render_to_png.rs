@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use glint::gpu::{GpuOptions, Renderer};
+use glint::gpu::{GpuOptions, Rendered, Renderer};
 use glint::raster::io;
 use glint::scene::{Overrides, Scene};
 
@@ -20,7 +20,10 @@ fn main() -> Result<()> {
     let scene = Scene::load(&scene_path, &Overrides::default())?;
     // GLINT_VALIDATION=1 turns the validation layer on, as the tests do.
     let mut gpu = Renderer::new(&GpuOptions::from_env(None)).context("opening a Vulkan device")?;
-    let (image, times) = gpu.render(&scene, &|_pixels| {})?;
+    // Two stages: the scene laid out, compiled and uploaded once, then
+    // rendered (any region of it, as often as asked).
+    let mut prepared = gpu.prepare(&scene, &gpu.settings())?;
+    let Rendered { image, times, .. } = prepared.render(None, &|_pixels| {})?;
     io::write(&out, &image, scene.srgb)?;
     println!(
         "{}: {}x{} on {} in {:.3} s",

@@ -17,8 +17,8 @@
 
 #ifdef WAVEFRONT
 #include "wavefront.glsl"
-#elif defined(ADAPTIVE_LEVELS)
-// Adaptive sampling's second pass: one invocation per pixel of the list.
+#elif defined(REFINE_POINTS)
+// A level of adaptive sampling's refinement: one invocation per listed point.
 #include "adaptive.glsl"
 
 void main() {
@@ -30,7 +30,7 @@ void main() {
     begin_counts();
     vec3r colour = vec3r(0.0);
     if (index < uint(refine_list.length())) {
-        colour = refine_pixel(refine_list[index]);
+        colour = trace_point(refine_list[index]);
     }
     pixels[local.y * tile.rect.z + local.x] = vec4(vec3(colour), loops_completed() ? 1.0 : 0.0);
     end_counts();

@@ -52,10 +52,11 @@ pub fn ceiling(options: &GpuOptions, size: u32, runs: usize) -> Result<Ceiling, 
         ..options.clone()
     };
     let mut renderer = Renderer::new(&options)?;
+    let mut prepared = renderer.prepare(&scene, &options.settings)?;
     let tests = u64::from(size) * u64::from(size) * CEILING_TESTS;
     let mut best = f64::INFINITY;
     for run in 0..=runs {
-        let (image, times) = renderer.render(&scene, &|_| {})?;
+        let crate::gpu::Rendered { image, times, .. } = prepared.render(None, &|_| {})?;
         // The sums are finite: a test that went wrong would show.
         if image.pixels.iter().flatten().any(|v| !v.is_finite()) {
             return Err(GpuError::Shader(

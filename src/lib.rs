@@ -4,22 +4,49 @@
 //! The library serves three uses, each shown by a program in examples/:
 //!
 //! - **Rendering** (`render_to_png.rs`): [`scene::Scene::load`] reads a
-//!   TOML or NFF scene; [`gpu::Renderer`] renders it on Vulkan (lavapipe
-//!   where there is no GPU); [`raster::io`] writes PNG, PFM or EXR.
+//!   TOML or NFF scene; [`gpu::Renderer::prepare`] lays it out, compiles
+//!   and uploads it for Vulkan (lavapipe where there is no GPU), and the
+//!   [`gpu::Prepared`] scene renders any region of it; [`raster::io`]
+//!   writes PNG, PFM or EXR.
 //! - **CPU-vs-GPU comparison tests** (`compare_gpu_cpu.rs`): [`cpu::render`]
 //!   is the reference, in f64 or f32; [`raster::diff::figures`] measures an
 //!   image against it and [`raster::diff::Tolerance`] judges it. The scene
 //!   is plain data, so a test can perturb it and see the check fail.
 //! - **Shader experiments** (`custom_shader.rs`): [`gpu::GpuOptions`] takes
 //!   directories searched before the built-in shader files, a replacement
-//!   main shader and defines; [`gpu::Renderer::variant_for`] shows what a
+//!   main shader and defines; [`gpu::Renderer::variant`] shows what a
 //!   scene compiles with.
 //!
-//! The other public modules are what glint's commands are built from:
-//! [`report`] (error against run time), [`stability`] and [`condition`]
-//! (the extreme scenes and the conditioning check), [`bench`](mod@bench), [`tiles`]
-//! (tiled renders and their assembly), [`stats`] (ray and test counts),
-//! [`files`] and [`printable`].
+//! [`settings`] names the choices both renderers take (precision, accel,
+//! intersection forms, schedule). The other public modules are what
+//! glint's commands are built from:
+#![cfg_attr(
+    feature = "gpu",
+    doc = "[`report`] (error against run time), [`stability`] and [`condition`]
+(the extreme scenes and the conditioning check), [`bench`](mod@bench),"
+)]
+#![cfg_attr(
+    not(feature = "gpu"),
+    doc = "[`condition`] (the conditioning check; `report`, `stability` and
+`bench` are the default build's),"
+)]
+//! [`tiles`] (tiled renders and their assembly), [`stats`] (ray and test
+//! counts), [`files`] and [`printable`].
+#![cfg_attr(
+    not(feature = "gpu"),
+    doc = r#"
+## Without the GPU renderer
+
+This build was made without the `gpu` feature (`--no-default-features`): it
+has no `gpu`, `report`, `stability` or `bench` module, and the items named
+above that live in them are in the default build alone.
+
+[`gpu::Renderer::prepare`]: #without-the-gpu-renderer
+[`gpu::Prepared`]: #without-the-gpu-renderer
+[`gpu::GpuOptions`]: #without-the-gpu-renderer
+[`gpu::Renderer::variant`]: #without-the-gpu-renderer
+"#
+)]
 
 #![warn(missing_docs)]
 #![warn(clippy::undocumented_unsafe_blocks, clippy::missing_safety_doc)]
@@ -48,6 +75,7 @@ pub mod raster;
 pub mod report;
 pub(crate) mod rng;
 pub mod scene;
+pub mod settings;
 #[cfg(feature = "gpu")]
 pub mod stability;
 pub mod stats;

@@ -43,7 +43,8 @@ pub fn evaluate(renderer: &mut Renderer, scene: &Scene) -> Result<SceneRows, Gpu
             intersect: form,
             ..renderer.settings()
         };
-        images.push((variant, renderer.render_with(scene, &how, &|_| {})?.0));
+        let rendered = renderer.prepare(scene, &how)?.render(None, &|_| {})?;
+        images.push((variant, rendered.image));
     }
     images.push(("cpu f32", cpu::render::<f32>(scene)));
     let tolerance = Tolerance::default();

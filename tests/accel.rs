@@ -69,7 +69,7 @@ fn gpu_images_do_not_depend_on_the_bvh() {
                 .render(&scene, &|_| {})
                 .unwrap_or_else(|e| panic!("{name}: {e}"));
             if scene.prims.bounded_count() > 0 {
-                assert!(bvh.variant_for(&scene).0.bvh_stack > 0, "{name}");
+                assert!(common::variant(&bvh, &scene).0.bvh_stack > 0, "{name}");
             }
             assert!(
                 a.0 == b.0,
@@ -95,8 +95,8 @@ fn cpu_images_do_not_depend_on_the_bvh() {
 #[cfg(feature = "gpu")]
 fn auto_takes_the_bvh_from_its_threshold_up() {
     let r = gpu(Accel::Auto, Intersect::Robust, Precision::F32);
-    assert!(r.variant_for(&crowd()).0.bvh_stack > 0);
+    assert!(common::variant(&r, &crowd()).0.bvh_stack > 0);
     let few = small(&common::repo().join("scenes/seed-fig3.toml"));
-    assert_eq!(r.variant_for(&few).0.bvh_stack, 0);
+    assert_eq!(common::variant(&r, &few).0.bvh_stack, 0);
     assert!(Accel::Auto.uses_bvh(&crowd().prims) && !Accel::Auto.uses_bvh(&few.prims));
 }

@@ -112,7 +112,7 @@ fn regions_are_the_whole_render_bit_for_bit() {
             let r = Region::tile(i, n, scene.width, scene.height).unwrap();
             let part = cpu::render_region::<f32>(&scene, Accel::Auto, r, &|_| {});
             #[cfg(feature = "gpu")]
-            let gpu_part = gpu.render_region(&scene, r, &|_| {}).unwrap().0;
+            let gpu_part = common::render_region(&mut gpu, &scene, r);
             for y in 0..r.height {
                 for x in 0..r.width {
                     let want = whole.get(r.x + x, r.y + y);
@@ -139,7 +139,7 @@ fn regions_are_the_whole_render_bit_for_bit() {
 fn the_refinement_is_counted_alike() {
     let scene = adaptive("scenes/whitted-1980.toml", 80, 60, 0.05, 2);
     let (_, cpu_counts) = cpu::render_counted::<f32>(&scene, Accel::Auto, &|_| {});
-    let (_, _, gpu_counts) = common::gpu().render_counted(&scene, &|_| {}).unwrap();
+    let (_, gpu_counts) = common::render_counted(&mut common::gpu(), &scene);
     let (c, g) = (cpu_counts.rays(), gpu_counts.rays());
     // More eye rays than the 81×61 corners: the refinement's.
     assert!(c.eye > 81 * 61, "{c:?}");

@@ -36,7 +36,7 @@ fn the_drivers_compile_is_not_timed_by_the_renders_watchdog() {
     })
     .expect("device");
     if !r.device_info().shader_float64 {
-        eprintln!("skipped: no shaderFloat64");
+        common::skip("the f64 generic shader's cold compile", "no shaderFloat64");
         return;
     }
     let scene = Scene::load(

@@ -70,7 +70,7 @@ fn gpu_counts_agree_with_the_cpu_within_a_thousandth() {
     let mut gpu = common::gpu();
     for (path, size) in scenes() {
         let scene = load(&path, size);
-        let (image, _, counts) = gpu.render_counted(&scene, &|_| {}).unwrap();
+        let (image, counts) = common::render_counted(&mut gpu, &scene);
         if size.is_some() {
             let (plain, _) = gpu.render(&scene, &|_| {}).unwrap();
             assert!(
@@ -100,7 +100,7 @@ fn a_moved_sphere_fails_the_count_check() {
     let first = &mut moved.prims.spheres[0];
     first.center.x += 0.05 * first.radius;
     let mut gpu = common::gpu();
-    let (_, _, counts) = gpu.render_counted(&scene, &|_| {}).unwrap();
+    let (_, counts) = common::render_counted(&mut gpu, &scene);
     assert!(disagreements(&counts, &cpu_counts::<f32>(&scene)).is_empty());
     assert!(!disagreements(&counts, &cpu_counts::<f32>(&moved)).is_empty());
 }

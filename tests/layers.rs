@@ -18,7 +18,7 @@ const LAYERS: &[&[&str]] = &[
     &["raster", "prim"],
     // Scene management over the kinds; the counters' slots, sized by them.
     &["accel", "stats"],
-    &["scene"],
+    &["scene", "settings"],
     // The two renderers.
     &["cpu", "gpu"],
     // What is built on both renderers.

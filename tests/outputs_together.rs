@@ -26,7 +26,10 @@ fn null_device(dir: &Path) -> Option<PathBuf> {
         .status()
         .is_ok_and(|s| s.success());
     if !made {
-        eprintln!("skipped: mknod is refused here (not root?)");
+        common::skip(
+            "a device node as an output",
+            "mknod is refused here (not root?)",
+        );
     }
     made.then_some(path)
 }

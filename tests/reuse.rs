@@ -1,11 +1,12 @@
-//! A renderer keeps the last render's buffers and uses them again for the
-//! next render of the same scene with the same pipeline (docs/performance.md,
-//! On a real GPU): renders in any order give the images of fresh renderers.
+//! A prepared scene keeps its buffers on the device and renders from them
+//! again (docs/performance.md, On a real GPU): renders in any order, of
+//! scenes prepared side by side, give the images of fresh renderers.
 
 #![cfg(feature = "gpu")]
 
 mod common;
 
+use glint::gpu::RenderSettings;
 use glint::scene::Scene;
 
 #[test]
@@ -16,18 +17,28 @@ fn reused_buffers_give_the_images_of_fresh_renders() {
     let fresh = |s: &Scene| common::render_gpu(s);
     let (fa, fb) = (fresh(&a), fresh(&b));
     assert_ne!(fa, fb, "the two scenes differ");
+    // Two scenes prepared on one renderer at once, with one pipeline: each
+    // binds its own buffers, so rendering one never disturbs the other.
     let mut r = common::gpu();
-    let mut render = |s: &Scene| r.render(s, &|_| {}).unwrap().0;
-    for (scene, want) in [(&a, &fa), (&a, &fa), (&b, &fb), (&a, &fa), (&a, &fa)] {
-        assert_eq!(&render(scene), want);
+    let settings = r.settings();
+    let mut pa = r.prepare(&a, &settings).unwrap();
+    let mut pb = r.prepare(&b, &settings).unwrap();
+    assert_eq!(pa.variant(), pb.variant(), "one variant, so one pipeline");
+    for _ in 0..2 {
+        assert_eq!(pa.render(None, &|_| {}).unwrap().image, fa);
+        assert_eq!(pb.render(None, &|_| {}).unwrap().image, fb);
     }
-    // A counting render between two plain ones: its counters start at zero
-    // each time it is reused.
-    let counted = r.render_counted(&a, &|_| {}).unwrap().2;
-    assert_eq!(r.render(&a, &|_| {}).unwrap().0, fa);
-    let again = r.render_counted(&a, &|_| {}).unwrap().2;
-    assert_eq!(counted, again);
-    assert_eq!(counted.rays().eye, 64 * 48);
+    // A counting scene rendered twice: its counters start at zero each time.
+    let counting = RenderSettings {
+        count: true,
+        ..settings
+    };
+    let mut counted = r.prepare(&a, &counting).unwrap();
+    let first = counted.render(None, &|_| {}).unwrap();
+    let again = counted.render(None, &|_| {}).unwrap();
+    assert_eq!(first.image, fa);
+    assert_eq!(first.counts, again.counts);
+    assert_eq!(first.counts.unwrap().rays().eye, 64 * 48);
 }
 
 /// Staged uploads (device-local scene buffers filled by a copy from a

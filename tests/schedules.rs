@@ -31,9 +31,9 @@ fn runs_the_wavefront(wave: &mut Renderer) -> bool {
     let scene = small(&common::repo().join("scenes/seed-fig4.toml"));
     let e = wave.render(&scene, &|_| {}).unwrap_err().to_string();
     assert!(e.contains("--schedule wavefront"), "{e}");
-    println!(
-        "{}: the wavefront is refused: {e}",
-        wave.device_info().driver
+    common::skip(
+        "the wavefront's half of this test",
+        &format!("{} refuses it: {e}", wave.device_info().driver),
     );
     false
 }
@@ -79,9 +79,9 @@ fn every_scene_renders_the_same_bits_on_both_schedules() {
     let scenes = every_scene();
     assert!(scenes.len() > 20, "found {} scenes", scenes.len());
     for (name, scene) in scenes {
-        assert!(!mega.variant_for(&scene).0.wavefront, "{name}");
+        assert!(!common::variant(&mega, &scene).0.wavefront, "{name}");
         assert_eq!(
-            wave.variant_for(&scene).0.wavefront,
+            common::variant(&wave, &scene).0.wavefront,
             !scene.prims.is_empty(),
             "{name}: the wavefront is the variant rendered"
         );
@@ -117,8 +117,8 @@ fn both_schedules_count_the_same_rays_and_tests() {
         "scenes/spd/gears.nff",
     ] {
         let scene = small(&common::repo().join(file));
-        let (a, _, ca) = mega.render_counted(&scene, &|_| {}).unwrap();
-        let (b, _, cb) = wave.render_counted(&scene, &|_| {}).unwrap();
+        let (a, ca) = common::render_counted(&mut mega, &scene);
+        let (b, cb) = common::render_counted(&mut wave, &scene);
         assert!(common::same_bits(&a, &b), "{file}: counted renders differ");
         assert_eq!(ca, cb, "{file}: the schedules count differently");
     }
@@ -168,7 +168,7 @@ fn a_wavefront_region_is_the_whole_renders_crop() {
     if !runs_the_wavefront(&mut wave) {
         return;
     }
-    let part = wave.render_region(&scene, r, &|_| {}).unwrap().0;
+    let part = common::render_region(&mut wave, &scene, r);
     for y in 0..r.height {
         for x in 0..r.width {
             let (p, q) = (part.get(x, y), whole.get(r.x + x, r.y + y));
@@ -182,16 +182,16 @@ fn a_wavefront_region_is_the_whole_renders_crop() {
 #[test]
 fn the_comparison_sees_one_bit() {
     let scene = small(&common::repo().join("scenes/seed-fig5.toml"));
-    let mut wave = gpu(Schedule::Wavefront, Intersect::Robust, Precision::F32);
-    if !runs_the_wavefront(&mut wave) {
+    let Some((mut mega, mut wave)) = both(Intersect::Robust, Precision::F32) else {
         return;
-    }
+    };
     let image = wave.render(&scene, &|_| {}).unwrap().0;
-    let mut perturbed = image.clone();
+    let other = mega.render(&scene, &|_| {}).unwrap().0;
+    let mut perturbed = other.clone();
     let p = &mut perturbed.pixels[scene.width as usize * 17 + 23];
     p[1] = f32::from_bits(p[1].to_bits() ^ 1);
-    assert!(common::same_bits(&image, &image));
-    assert!(!common::same_bits(&image, &perturbed));
+    assert!(common::same_bits(&image, &other), "the schedules agree");
+    assert!(!common::same_bits(&image, &perturbed), "one bit is seen");
 }
 
 /// A user's main shader knows nothing of the wavefront's stages: asking for

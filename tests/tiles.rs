@@ -53,7 +53,7 @@ fn gpu_tiles_are_the_whole_render_bit_for_bit() {
             let parts: Vec<(Region, Image)> = (0..n)
                 .map(|i| {
                     let r = Region::tile(i, n, scene.width, scene.height).unwrap();
-                    (r, gpu.render_region(&scene, r, &|_| {}).unwrap().0)
+                    (r, common::render_region(&mut gpu, &scene, r))
                 })
                 .collect();
             assert!(
@@ -68,7 +68,7 @@ fn gpu_tiles_are_the_whole_render_bit_for_bit() {
             width: 31,
             height: 17,
         };
-        let part = gpu.render_region(&scene, r, &|_| {}).unwrap().0;
+        let part = common::render_region(&mut gpu, &scene, r);
         for y in 0..r.height {
             for x in 0..r.width {
                 assert_eq!(part.get(x, y), whole.get(r.x + x, r.y + y), "{path}");

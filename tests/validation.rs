@@ -15,7 +15,7 @@ fn a_validation_message_fails_the_render() {
     // The interface glint generates for the scene, with binding 0 made a
     // storage buffer, given in its place (-I finds it first).
     let probe = Renderer::new(&GpuOptions::default()).expect("device");
-    let (variant, _) = probe.variant_for(&scene);
+    let (variant, _) = common::variant(&probe, &scene);
     let (name, interface) = variant.generated().remove(0);
     let wrong = interface.replace(
         "layout(std140, set = 0, binding = 0) uniform Globals {",

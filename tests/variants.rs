@@ -55,7 +55,7 @@ fn each_variant_equals_the_generic_shader() {
             ..Overrides::default()
         };
         let scene = Scene::load(&path, &o).unwrap();
-        let (variant, _) = own.variant_for(&scene);
+        let (variant, _) = common::variant(&own, &scene);
         assert!(variant.features.is_some());
         names.insert(variant.name());
         let a = own.render(&scene, &|_| {}).unwrap().0;
@@ -103,7 +103,7 @@ radius = 1.0
 material = "m"
 "#,
     );
-    let (variant, defines) = r.variant_for(&scene);
+    let (variant, defines) = common::variant(&r, &scene);
     let blocks: Vec<Block> = variant.blocks().iter().map(|(b, _)| *b).collect();
     // No planes, no lights, and the rest numbered without gaps.
     assert_eq!(
@@ -145,24 +145,25 @@ fn setup_times_are_those_of_the_call() {
         &Overrides::default(),
     )
     .unwrap();
-    let first = generic.prepare_for(&a).unwrap();
+    let settings = generic.settings();
+    // What preparing cost, as the first render of the prepared scene reports it.
+    let mut setup_of = |scene: &Scene, settings: &RenderSettings| {
+        let mut prepared = generic.prepare(scene, settings).unwrap();
+        prepared.render(None, &|_| {}).unwrap().times.setup
+    };
+    let first = setup_of(&a, &settings);
     assert!(first.compile_s > 0.0 && first.pipeline_s > 0.0, "{first:?}");
     let in_f64 = RenderSettings {
         precision: Precision::F64,
-        ..generic.settings()
+        ..settings
     };
-    let f64_setup = generic.prepare_with(&a, &in_f64).unwrap();
+    let f64_setup = setup_of(&a, &in_f64);
     assert!(f64_setup.compile_s > 0.0, "{f64_setup:?}");
     // The generic f32 shader again, for another scene: already built.
-    let again = generic.prepare_for(&b).unwrap();
+    let again = setup_of(&b, &settings);
     assert_eq!((again.compile_s, again.pipeline_s), (0.0, 0.0), "{again:?}");
-    let (_, times) = generic.render(&b, &|_| {}).unwrap();
-    assert_eq!(times.setup.compile_s, 0.0);
-    let (_, times) = generic.render_with(&a, &in_f64, &|_| {}).unwrap();
-    assert_eq!(
-        times.setup.compile_s, 0.0,
-        "built by prepare_with: {times:?}"
-    );
+    let again = setup_of(&a, &in_f64);
+    assert_eq!(again.compile_s, 0.0, "built before: {again:?}");
 }
 
 /// Every mix of primitive kinds and light types renders, in its own

@@ -30,14 +30,19 @@ fn a_tile_past_its_limit_is_an_error_and_the_renderer_is_retired() {
     })
     .expect("device");
     let scene = seed_fig5();
-    r.prepare_for(&scene).unwrap();
-    match r.render(&scene, &|_| {}) {
+    let settings = r.settings();
+    let mut prepared = r.prepare(&scene, &settings).unwrap();
+    match prepared.render(None, &|_| {}) {
         Err(GpuError::Timeout { x, y, w, h, .. }) => {
             assert_eq!((x, y), (0, 0));
             assert!(w > 0 && h > 0);
         }
         other => panic!("expected a timeout, got {:?}", other.map(|_| ())),
     }
+    assert!(matches!(
+        prepared.render(None, &|_| {}),
+        Err(GpuError::Lost)
+    ));
     assert!(matches!(r.render(&scene, &|_| {}), Err(GpuError::Lost)));
     // Dropping it waits for the dispatch that timed out, then frees.
     drop(r);

@@ -17,7 +17,7 @@ pub const AUTO_MIN_BOUNDED: usize = 16;
 
 /// Which primitives each ray tests (scene management). The image is the
 /// same either way, bit for bit; only the time differs.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Accel {
     /// The BVH from 16 bounded primitives up (`AUTO_MIN_BOUNDED`), else the linear scan.

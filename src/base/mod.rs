@@ -14,7 +14,7 @@ pub mod real;
 
 /// The arithmetic: the shader's, or the CPU reference's (`glint render
 /// --precision`).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Precision {
     /// Floats throughout, as the CPU reference's f32.

@@ -7,7 +7,7 @@ use serde_json::json;
 
 use glint::bench::{self, Ceiling};
 use glint::cpu;
-use glint::gpu::Renderer;
+use glint::gpu::{RenderSettings, Renderer};
 use glint::report::median;
 use glint::scene::{Overrides, Scene};
 use glint::stats::Counts;
@@ -68,13 +68,14 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
         let scene = Scene::load(path, &Overrides::default())?;
         cpu::bound::check(&scene)?;
         bar.set_message(path.display().to_string());
-        renderer.prepare_for(&scene)?;
-        renderer.render(&scene, &|_| {})?;
+        let settings = renderer.settings();
+        let mut prepared = renderer.prepare(&scene, &settings)?;
+        prepared.render(None, &|_| {})?;
         let mut gpu = Vec::new();
         let mut gpu_cpu = Vec::new();
         for _ in 0..a.runs {
             let before = bench::process_cpu_s();
-            gpu.push(renderer.render(&scene, &|_| {})?.1.total_s());
+            gpu.push(prepared.render(None, &|_| {})?.times.total_s());
             if let (Some(b), Some(a)) = (before, bench::process_cpu_s()) {
                 gpu_cpu.push(a - b);
             }
@@ -85,7 +86,15 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
             cpu::render_rows::<f32>(&scene, accel, &|_| {});
             cpu.push(t.elapsed().as_secs_f64());
         }
-        let counts = renderer.render_counted(&scene, &|_| {})?.2;
+        let counting = RenderSettings {
+            count: true,
+            ..settings
+        };
+        let counts = renderer
+            .prepare(&scene, &counting)?
+            .render(None, &|_| {})?
+            .counts
+            .expect("a counting render counts");
         rows.push(Row {
             scene: path.clone(),
             gpu_s: median(&mut gpu),

@@ -6,10 +6,11 @@ use serde_json::json;
 
 use glint::condition;
 use glint::output::Outputs;
-use glint::raster::diff::{self, ErrorFigures, Tolerance};
+use glint::raster::diff::{self, Tolerance};
 use glint::raster::io;
 
-use super::render::{render_cpu_timed, render_gpu_timed};
+use super::render::render_cpu_timed;
+use super::render_gpu;
 use super::{DeviceArgs, Precision, SceneArgs};
 
 #[derive(Args)]
@@ -26,23 +27,6 @@ pub struct CompareArgs {
     device: DeviceArgs,
 }
 
-pub fn format_figures(f: &ErrorFigures) -> String {
-    format!(
-        "max_abs {:.3e}  rmse {:.3e}  psnr {}  over 1/255 {:.4}%  nonfinite {}",
-        f.max_abs,
-        f.rmse,
-        if f.psnr_db.is_finite() {
-            format!("{:.1} dB", f.psnr_db)
-        } else if f.psnr_db > 0.0 {
-            "inf (identical)".to_owned()
-        } else {
-            "none (non-finite values)".to_owned()
-        },
-        100.0 * f.frac_over_1_255,
-        f.nonfinite
-    )
-}
-
 pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     if let Some(path) = &a.diff_out {
         io::Format::of_output(path)?;
@@ -57,10 +41,12 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     }
     // The first render pays for the driver's own compile of the shader (on
     // lavapipe, LLVM at the first dispatch); the timed one is the second.
-    let first = render_gpu_timed(&scene, &a.device, Precision::F32, false)?;
-    let (gpu_image, mut renderer, setup) = (first.image, first.renderer, first.setup);
+    let first = render_gpu::timed(&scene, &a.device, Precision::F32, false)?;
+    let setup = first.times.setup;
+    let (gpu_image, renderer, mut prepared) = (first.image, first.renderer, first.prepared);
     let first = first.times;
-    let (warm_image, gpu_times) = renderer.render(&scene, &|_| {})?;
+    let warm = prepared.render(None, &|_| {})?;
+    let (warm_image, gpu_times) = (warm.image, warm.times);
     anyhow::ensure!(
         warm_image == gpu_image,
         "two GPU renders of the same scene differ"
@@ -95,7 +81,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     }
     let threads = rayon::current_num_threads();
     let info = renderer.device_info();
-    let variant = renderer.variant_for(&scene).0.name();
+    let variant = prepared.variant().name();
     if a.json {
         let out = json!({
             "scene": a.scene.scene,
@@ -166,8 +152,8 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
                 "unit       {unit:.3e}: the reference's peak, which the errors are relative to"
             );
         }
-        println!("gpu error  {}", format_figures(&gpu_err));
-        println!("cpu32 err  {}", format_figures(&cpu32_err));
+        println!("gpu error  {}", super::diff::format_figures(&gpu_err));
+        println!("cpu32 err  {}", super::diff::format_figures(&cpu32_err));
         if let Some(c) = &conditioned {
             println!(
                 "condition  {:.4}% of pixels ill-conditioned at f32 ({} perturbed f64 renders and the f32 one), {:.4}% over 1/255 among them",
@@ -175,7 +161,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
                 condition::TRIALS,
                 100.0 * c.over_and_ill
             );
-            println!("well-cond  {}", format_figures(&c.error));
+            println!("well-cond  {}", super::diff::format_figures(&c.error));
         }
         println!(
             "tolerance  over 1/255 <= {:.2}%, rmse <= {:.1e}, no non-finite value{}: {}",

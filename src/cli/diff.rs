@@ -4,6 +4,7 @@ use std::process::ExitCode;
 use clap::Args;
 
 use glint::output::Outputs;
+use glint::raster::diff::ErrorFigures;
 use glint::raster::{diff, io};
 
 #[derive(Args)]
@@ -52,7 +53,25 @@ pub fn run(a: &DiffArgs) -> anyhow::Result<ExitCode> {
     if a.json {
         println!("{}", serde_json::to_string(&figures)?);
     } else {
-        println!("{}", super::compare::format_figures(&figures));
+        println!("{}", format_figures(&figures));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The error figures in one line, as `diff` and `compare` print them.
+pub fn format_figures(f: &ErrorFigures) -> String {
+    format!(
+        "max_abs {:.3e}  rmse {:.3e}  psnr {}  over 1/255 {:.4}%  nonfinite {}",
+        f.max_abs,
+        f.rmse,
+        if f.psnr_db.is_finite() {
+            format!("{:.1} dB", f.psnr_db)
+        } else if f.psnr_db > 0.0 {
+            "inf (identical)".to_owned()
+        } else {
+            "none (non-finite values)".to_owned()
+        },
+        100.0 * f.frac_over_1_255,
+        f.nonfinite
+    )
 }

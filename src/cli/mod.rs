@@ -2,27 +2,42 @@
 //! back as an error with context; `main` prints it and exits 2.
 
 mod assemble;
+#[cfg(feature = "gpu")]
 mod bench;
+mod choice;
+#[cfg(feature = "gpu")]
 mod compare;
 mod convert;
 mod diff;
+#[cfg(feature = "gpu")]
 mod info;
 mod progress;
 mod render;
+#[cfg(feature = "gpu")]
+mod render_gpu;
+#[cfg(feature = "gpu")]
 mod report;
+#[cfg(feature = "gpu")]
 mod shader;
+#[cfg(feature = "gpu")]
 mod stability;
 mod tile;
+#[cfg(feature = "gpu")]
 mod watch;
+#[cfg(not(feature = "gpu"))]
+mod without_gpu;
+#[cfg(not(feature = "gpu"))]
+use without_gpu::{bench, compare, info, render_gpu, report, shader, stability, watch};
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use glint::accel::Accel;
-use glint::gpu::{GpuOptions, Intersect};
+#[cfg(feature = "gpu")]
+use glint::gpu::GpuOptions;
 use glint::scene::{Overrides, Scene};
+use glint::settings::{Accel, Intersect, Schedule};
 
 #[derive(Parser)]
 #[command(
@@ -67,7 +82,7 @@ pub enum Backend {
     Cpu,
 }
 
-pub use glint::gpu::Precision;
+pub use glint::settings::Precision;
 
 /// The scene and the settings that override its own.
 #[derive(Args)]
@@ -110,7 +125,7 @@ pub struct DeviceArgs {
     #[arg(short = 'I', long = "include", value_name = "DIR")]
     pub include: Vec<PathBuf>,
     /// The GPU's intersection forms: robust, or the textbook ones for comparison.
-    #[arg(long, value_enum, default_value = "robust")]
+    #[arg(long, value_parser = choice::of::<Intersect>(), default_value = "robust")]
     intersect: Intersect,
     /// Use FILE as the main shader instead of the built-in main.comp.
     #[arg(long, value_name = "FILE")]
@@ -122,11 +137,11 @@ pub struct DeviceArgs {
     #[arg(long)]
     generic: bool,
     /// Scene management: a BVH over the bounded primitives (spheres and triangles; planes are scanned), none (every ray tests every object), or auto (by the count of bounded primitives). The CPU renderer follows it too.
-    #[arg(long, value_enum, default_value = "auto")]
+    #[arg(long, value_parser = choice::of::<Accel>(), default_value = "auto")]
     pub accel: Accel,
     /// How the GPU lays out the rays: one invocation per pixel tracing its whole ray tree (megakernel), a dispatch per ray segment over a compacted queue of live paths (wavefront), or auto (the one measured faster for scenes like this; docs/performance.md, Schedules). Both give the same image, bit for bit.
-    #[arg(long, value_enum, default_value = "auto")]
-    pub schedule: glint::gpu::Schedule,
+    #[arg(long, value_parser = choice::of::<Schedule>(), default_value = "auto")]
+    pub schedule: Schedule,
     /// Compile the shader afresh and keep no SPIR-V or pipeline cache.
     #[arg(long)]
     no_cache: bool,
@@ -169,6 +184,7 @@ impl DeviceArgs {
         Ok(())
     }
 
+    #[cfg(feature = "gpu")]
     pub fn options(&self) -> anyhow::Result<GpuOptions> {
         for dir in &self.include {
             anyhow::ensure!(dir.is_dir(), "-I {}: not a directory", dir.display());
@@ -230,6 +246,7 @@ pub fn inputs(path: &Path, scene: &Scene, device: &DeviceArgs) -> Vec<PathBuf> {
 
 /// The scene files (TOML or NFF) in `dir`, sorted; for commands that default to a
 /// directory of the repository.
+#[cfg(feature = "gpu")]
 pub fn scene_files(dir: &str) -> anyhow::Result<Vec<PathBuf>> {
     use anyhow::Context;
     glint::files::sorted(Path::new(dir), glint::scene::is_scene).with_context(|| {
@@ -238,6 +255,7 @@ pub fn scene_files(dir: &str) -> anyhow::Result<Vec<PathBuf>> {
 }
 
 /// NAME or NAME=VALUE, NAME a C identifier.
+#[cfg(feature = "gpu")]
 pub fn parse_define(d: &str) -> anyhow::Result<(String, Option<String>)> {
     let (name, value) = match d.split_once('=') {
         Some((n, v)) => (n, Some(v.to_owned())),

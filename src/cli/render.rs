@@ -7,13 +7,14 @@ use anyhow::Context;
 use clap::Args;
 
 use glint::accel::Accel;
+use glint::cpu;
 use glint::output::{self, Outputs};
 use glint::raster::{io, Image};
 use glint::scene::Scene;
 use glint::stats::{Counts, RayCounts, Work};
 use glint::tiles;
-use glint::{cpu, gpu};
 
+use super::render_gpu;
 use super::tile::{self, TileArgs};
 use super::{progress, Backend, DeviceArgs, Precision, SceneArgs};
 
@@ -24,10 +25,11 @@ pub struct RenderArgs {
     /// Output file: .png, .pfm or .exr [default: the scene's name with .png]
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Where to render: gpu (Vulkan), or cpu (the reference renderer).
     #[arg(long, value_enum, default_value = "gpu")]
     backend: Backend,
     /// Arithmetic precision [default: f32 on the GPU, f64 on the CPU]
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = super::choice::of::<Precision>())]
     precision: Option<Precision>,
     /// Replace a read-only output file too.
     #[arg(long)]
@@ -135,19 +137,11 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     let (image, label, seconds, stats) = match (a.backend, a.precision) {
         (Backend::Gpu, p) => {
             let precision = p.unwrap_or(Precision::F32);
-            let r = render_gpu_timed(&scene, &a.device, precision, count)?;
-            let label = format!(
-                "GPU {} on {}",
-                format!("{precision:?}").to_lowercase(),
-                r.renderer.device_info().name
-            );
-            let seconds = r.times.total_s();
-            let setup = r.setup.device_s
-                + r.times.setup.compile_s
-                + r.times.setup.pipeline_s
-                + r.times.bvh_s;
-            let stats = r.counts.map(|c| Stats::new(&c, input_s, setup, seconds));
-            (r.image, label, seconds, stats)
+            let r = render_gpu::whole(&scene, &a.device, precision, count)?;
+            let stats = r
+                .counts
+                .map(|c| Stats::new(&c, input_s, r.setup_s, r.seconds));
+            (r.image, r.label, r.seconds, stats)
         }
         (Backend::Cpu, p) => {
             let precision = p.unwrap_or(Precision::F64);
@@ -213,22 +207,7 @@ fn render_tile(
     let (image, label, sidecar) = match a.backend {
         Backend::Gpu => {
             let precision = a.precision.unwrap_or(Precision::F32);
-            let options = gpu_options(&a.device, precision)?;
-            let mut renderer = gpu::Renderer::new(&options)?;
-            let bar = progress::bar(region.pixel_count(), "gpu tile");
-            let (image, _) = renderer.render_region(scene, region, &|n| bar.inc(n))?;
-            bar.finish_and_clear();
-            let device = renderer.device_info().name.clone();
-            let name = format!("{precision:?}").to_lowercase();
-            let sidecar = tile::sidecar(
-                &a.scene.scene,
-                scene,
-                &name,
-                Some((&options, &device)),
-                region,
-                tile,
-            );
-            (image, format!("GPU {name} on {device}"), sidecar)
+            render_gpu::tile(&a.scene.scene, scene, &a.device, precision, region, tile)?
         }
         Backend::Cpu => {
             let precision = a.precision.unwrap_or(Precision::F64);
@@ -266,61 +245,15 @@ fn render_tile(
     Ok(ExitCode::SUCCESS)
 }
 
-/// The GPU options of `device` for a render in `precision`.
-fn gpu_options(device: &DeviceArgs, precision: Precision) -> anyhow::Result<gpu::GpuOptions> {
-    let mut options = device.options()?;
-    options.settings.precision = precision;
-    Ok(options)
-}
-
-/// A GPU render, with the renderer (for its device) and the setup times
-/// of the scene's variant.
-pub struct GpuRender {
+/// What `render` reports of a whole render.
+pub struct Whole {
     pub image: Image,
-    pub renderer: gpu::Renderer,
-    pub times: gpu::RenderTimes,
-    pub setup: gpu::SetupTimes,
-    /// Where the render counted (the counting variant: its times include
-    /// the counting).
+    pub label: String,
+    /// The render's seconds, without its setup.
+    pub seconds: f64,
+    /// Opening the device, compiling, and the BVH.
+    pub setup_s: f64,
     pub counts: Option<Counts>,
-}
-
-pub fn render_gpu_timed(
-    scene: &Scene,
-    device: &DeviceArgs,
-    precision: Precision,
-    count: bool,
-) -> anyhow::Result<GpuRender> {
-    let options = gpu_options(device, precision)?;
-    let mut renderer = gpu::Renderer::new(&options)?;
-    let setup = if count {
-        gpu::SetupTimes {
-            device_s: renderer.device_s(),
-            ..gpu::SetupTimes::default()
-        }
-    } else {
-        renderer.prepare_for(scene)?
-    };
-    let bar = progress::bar(
-        scene.pixel_count(),
-        &format!("gpu {precision:?}").to_lowercase(),
-    );
-    let progress = |n| bar.inc(n);
-    let (image, times, counts) = if count {
-        let (image, times, counts) = renderer.render_counted(scene, &progress)?;
-        (image, times, Some(counts))
-    } else {
-        let (image, times) = renderer.render(scene, &progress)?;
-        (image, times, None)
-    };
-    bar.finish_and_clear();
-    Ok(GpuRender {
-        image,
-        renderer,
-        times,
-        setup,
-        counts,
-    })
 }
 
 /// The CPU's setup (the scene in its precision, the BVH) and render times.

@@ -89,7 +89,7 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
             let scene = scene_args.load()?;
             let options = device.options()?;
             let renderer = Renderer::new(&options)?;
-            let (variant, defines) = renderer.variant_for(&scene);
+            let (variant, defines) = renderer.variant(&scene, &options.settings);
             let sources = compile::Sources {
                 dirs: options.include_dirs.clone(),
                 main: options.main_shader.clone(),

@@ -3,8 +3,6 @@
 
 use clap::Args;
 
-use glint::gpu::compile::{cache_key, Sources};
-use glint::gpu::GpuOptions;
 use glint::raster::region::Region;
 use glint::scene::Scene;
 use glint::tiles::{scene_hash, GpuKey, RenderKey, Sidecar};
@@ -84,31 +82,16 @@ fn engine_index() -> Result<u32, String> {
     ))
 }
 
-/// The sidecar of a tile of `scene` rendered on the GPU with `options`
-/// (None: on the CPU) in `precision`.
+/// The sidecar of a tile of `scene` rendered on the GPU with what `gpu`
+/// says of it (None: on the CPU) in `precision`.
 pub fn sidecar(
     scene_arg: &std::path::Path,
     scene: &Scene,
     precision: &str,
-    gpu: Option<(&GpuOptions, &str)>,
+    gpu: Option<GpuKey>,
     region: Region,
     tile: Option<String>,
 ) -> Sidecar {
-    let gpu = gpu.map(|(o, device)| {
-        // The user's shader files (the built-in ones come with the version)
-        // and defines: anything that can change the shader's bits.
-        let sources = Sources {
-            dirs: o.include_dirs.clone(),
-            main: o.main_shader.clone(),
-            ..Sources::default()
-        };
-        GpuKey {
-            intersect: format!("{:?}", o.settings.intersect).to_lowercase(),
-            generic: o.settings.generic,
-            shader: cache_key(sources.fingerprint(), &o.defines),
-            device: device.to_owned(),
-        }
-    });
     Sidecar {
         glint: env!("CARGO_PKG_VERSION").to_owned(),
         scene: scene_arg.display().to_string(),

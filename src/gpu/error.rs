@@ -30,7 +30,7 @@ pub enum GpuError {
         /// The Vulkan call.
         what: &'static str,
         /// What it returned.
-        result: vk::Result,
+        result: VkCode,
     },
     /// The device has no memory of the kind one buffer (named) needs.
     #[error("no memory type for {0} on this device")]
@@ -88,6 +88,50 @@ pub enum GpuError {
     },
 }
 
+/// A Vulkan result code, by its name and number, so that no type of the
+/// Vulkan bindings shows in glint's API.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct VkCode {
+    /// VkResult's value: negative for an error, 2 (`VK_TIMEOUT`) for a wait
+    /// that ran out.
+    pub code: i32,
+    /// Its name without the `VK_` prefix (`ERROR_DEVICE_LOST`).
+    pub name: String,
+    /// What the specification says it means, where it says; else the name.
+    pub meaning: String,
+}
+
+impl std::fmt::Display for VkCode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.meaning)
+    }
+}
+
+impl From<vk::Result> for VkCode {
+    fn from(result: vk::Result) -> Self {
+        Self {
+            code: result.as_raw(),
+            name: format!("{result:?}"),
+            meaning: format!("{result}"),
+        }
+    }
+}
+
+impl GpuError {
+    /// The error of the Vulkan call `what`, which returned `result`.
+    pub(crate) fn vk(what: &'static str, result: vk::Result) -> Self {
+        GpuError::Vk {
+            what,
+            result: result.into(),
+        }
+    }
+
+    /// Whether this is a wait that ran out (`VK_TIMEOUT`).
+    pub(crate) fn timed_out(&self) -> bool {
+        matches!(self, GpuError::Vk { result, .. } if result.code == vk::Result::TIMEOUT.as_raw())
+    }
+}
+
 /// Attaches what was being done to a raw Vulkan result.
 pub(crate) trait VkContext<T> {
     /// The error of the call `what`, where the result is one.
@@ -96,7 +140,7 @@ pub(crate) trait VkContext<T> {
 
 impl<T> VkContext<T> for Result<T, vk::Result> {
     fn doing(self, what: &'static str) -> Result<T, GpuError> {
-        self.map_err(|result| GpuError::Vk { what, result })
+        self.map_err(|result| GpuError::vk(what, result))
     }
 }
 

@@ -48,21 +48,10 @@ crate::base::interface::gpu_struct!(
 );
 
 crate::base::interface::gpu_struct!(
-    /// A pixel adaptive sampling refines: f32 in both precisions, as the
-    /// corner image it comes from.
+    /// A point adaptive sampling's refinement traces (scene::refine::Point).
     pub mod refine: "Refine" {
-        /// rgb the top-left corner; x the pixel's column
-        c00: float3,
-        x: uint,
-        /// rgb the top-right corner; y the pixel's row
-        c10: float3,
-        y: uint,
-        /// rgb the bottom-left corner
-        c01: float3,
-        pad0: uint,
-        /// rgb the bottom-right corner
-        c11: float3,
-        pad1: uint,
+        /// x, y the point in 2^-level pixels of the whole image; z the level
+        point: uvec4,
     }
 );
 

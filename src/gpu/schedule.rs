@@ -16,20 +16,7 @@ use super::vk::pipeline::ComputePipeline;
 use super::vk::query::Timestamps;
 use super::{GpuError, WORKGROUP};
 use crate::scene::Scene;
-
-/// The schedule a render asks for.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize, clap::ValueEnum)]
-#[serde(rename_all = "lowercase")]
-pub enum Schedule {
-    /// The one that measured faster for scenes like this one: today the
-    /// megakernel for every scene (`auto_picks_wavefront`).
-    #[default]
-    Auto,
-    /// One invocation per pixel, each tracing its whole ray tree.
-    Megakernel,
-    /// A dispatch per ray segment over a compacted queue of live paths.
-    Wavefront,
-}
+pub use crate::settings::Schedule;
 
 impl Schedule {
     /// Whether `scene` renders with the wavefront under this schedule. A
@@ -69,15 +56,10 @@ pub(crate) fn live_paths(header: &[u32], queue: u32) -> u32 {
     header[4 * queue as usize + 3]
 }
 
-/// Segments a submission advances every path by: a pixel's whole tree
-/// where it is a reflection chain, so that most tiles take one submission.
-pub(crate) fn rounds_per_submit(scene: &Scene) -> u32 {
-    (scene.samples * scene.samples * scene.max_depth).clamp(1, 256)
-}
-
 /// One submission of a tile's wavefront.
 pub(crate) struct Wave<'a> {
     pub pipeline: &'a ComputePipeline,
+    pub set: raw::DescriptorSet,
     pub rect: UVec4,
     pub queues: raw::Buffer,
     /// The first submission of the tile: it also fills the output with
@@ -123,7 +105,7 @@ pub(crate) fn submit<'c>(
     // render pass.
     let done = commands.run(timeout, |dev, cb| unsafe {
         if let Some((out, counters)) = wave.first {
-            dev.cmd_fill_buffer(cb, out, 0, raw::WHOLE_SIZE, super::UNWRITTEN);
+            dev.cmd_fill_buffer(cb, out, 0, raw::WHOLE_SIZE, super::passes::UNWRITTEN);
             if let Some(counters) = counters {
                 dev.cmd_fill_buffer(cb, counters, 0, raw::WHOLE_SIZE, 0);
             }
@@ -138,7 +120,7 @@ pub(crate) fn submit<'c>(
                 (compute, shader_rw),
             );
         }
-        p.record_bind(dev, cb);
+        p.record_bind(dev, cb, wave.set);
         if let Some(t) = timestamps {
             t.begin(cb, raw::PipelineStageFlags::TRANSFER);
         }

@@ -6,20 +6,14 @@
 use ash::vk;
 
 use super::access::Form;
+pub use super::features::Features;
+use super::features::{reads, Experiment};
 use super::layout::Uploads;
 use super::vk::device::DeviceInfo;
 use super::Intersect;
 use crate::base::Precision;
 use crate::prim::KINDS;
-use crate::scene::{LightKind, Scene};
-
-/// Unrolling the scene loops is worth its compile time up to this many
-/// primitives (each loop body is copied once per object, at every
-/// place the shader walks the scene). Also, lavapipe (Mesa 22.3) was seen to
-/// miscompile the unrolled shadow loop of a scene with 103 objects; 60 were
-/// right; `glint compare` and the tests catch such a thing.
-const UNROLL_OBJECTS: usize = 64;
-const UNROLL_LIGHTS: usize = 16;
+use crate::scene::Scene;
 
 /// The shader's blocks, in binding order (src/gpu/generated.rs declares them).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -42,7 +36,7 @@ pub enum Block {
     Nodes,
     /// The counters of `--stats` (src/stats.rs), where the variant counts.
     Counts,
-    /// The pixels adaptive sampling refines, with their corners.
+    /// The points of a level of adaptive sampling's refinement.
     Refine,
     /// The wavefront's paths: their rays, weights, colours and sums, and
     /// their waiting refraction rays (shaders/wavefront.glsl).
@@ -69,7 +63,7 @@ impl Block {
             Block::Uvs => "uvs",
             Block::Nodes => "BVH nodes",
             Block::Counts => "the counters",
-            Block::Refine => "the pixels to refine",
+            Block::Refine => "the points to refine",
             Block::PathReals => "the paths",
             Block::PathWords => "the paths' words",
             Block::Queues => "the path queues",
@@ -97,10 +91,9 @@ pub struct Variant {
     /// The robust forms' cheap filter (`power()` in shaders/exact.glsl),
     /// taken where the device skips a branch no invocation takes.
     pub power_filter: bool,
-    /// Adaptive sampling's second pass (shaders/adaptive.glsl): the bits of
-    /// the threshold in steps of 1/255, and the levels; None: a render of
-    /// pixels.
-    pub refine: Option<(u64, u32)>,
+    /// Adaptive sampling's refinement (shaders/adaptive.glsl): one
+    /// invocation a listed point of a level; false: one a pixel.
+    pub refine: bool,
     /// The wavefront schedule (shaders/wavefront.glsl) rather than one
     /// invocation for each pixel's whole ray tree.
     pub wavefront: bool,
@@ -109,247 +102,9 @@ pub struct Variant {
     pub reads: Form,
 }
 
-/// The width of the list of pixels adaptive sampling refines, as its
-/// second pass dispatches it: entry i at (i % width, i / width).
+/// The width of the list of points adaptive sampling's refinement traces,
+/// as each level dispatches it: entry i at (i % width, i / width).
 pub const REFINE_WIDTH: u32 = 64;
-
-/// What one scene needs of the shader.
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
-pub struct Features {
-    /// Primitives of each kind (`prim::KINDS`).
-    pub kinds: Vec<usize>,
-    /// Lights.
-    pub lights: usize,
-    /// Whether a point light is among them.
-    pub point: bool,
-    /// Whether a directional light is among them.
-    pub directional: bool,
-    /// Whether a spot light is among them.
-    pub spot: bool,
-    /// A point or spot light whose falloff is not [1, 0, 0].
-    pub attenuation: bool,
-    /// Shadows on, with lights and objects to cast them.
-    pub shadows: bool,
-    /// A material transmits: the shader keeps a stack of refraction rays.
-    pub transmits: bool,
-    /// The SPD's ray tree (`Scene::spd_rays`).
-    pub spd_rays: bool,
-    /// A material of the scene has a texture.
-    pub textures: bool,
-    /// One of them is an image.
-    pub images: bool,
-    /// And a triangle has uvs.
-    pub uvs: bool,
-    /// Ray segments traced: 1 where no material reflects or transmits.
-    pub max_depth: u32,
-    /// Samples a side of each pixel.
-    pub samples: u32,
-    /// The scene's arrays as uniform buffers of these lengths (each kind's,
-    /// then materials, lights) where they fit; else storage buffers.
-    pub uniform_slots: Option<Vec<usize>>,
-    /// Whether the scene loops are unrolled (few objects and lights, all
-    /// in uniform blocks).
-    pub unroll: bool,
-    /// Where the scene's arrays are not all uniform blocks: the materials,
-    /// the lights and the textures in uniform blocks of these lengths, where
-    /// each fits.
-    pub table_slots: Option<[usize; 3]>,
-    /// Whether the lights' loop alone is unrolled (few lights, in a
-    /// uniform block).
-    pub unroll_lights: bool,
-    /// Whether the shader carries the loop-budget canary
-    /// (`DeviceInfo::loop_budget`).
-    pub canary: bool,
-    /// BVH nodes; 0 without a BVH.
-    pub nodes: usize,
-}
-
-/// Overrides of the variant choice, for measuring it on a driver
-/// (docs/performance.md, Two lavapipes): `GLINT_EXPERIMENT` holds a
-/// comma-separated list of `storage` (never uniform buffers),
-/// `uniforms-always` (uniform buffers for the scenes that take storage
-/// buffers to dodge Mesa 22.3's crash), `no-unroll` and `unroll-all` (no
-/// cap on the objects and lights unrolled), `canary` (the loop-budget
-/// canary on a driver that needs none), `no-filter` (the robust forms'
-/// exact power everywhere, also where the device skips untaken branches),
-/// `no-uniform-tables` (the small tables read as the large arrays where
-/// these are no uniform blocks), `storage-reads`, `texel-reads`,
-/// `address-reads` (the arrays outside
-/// uniform blocks read that way, where the device can). Not for
-/// rendering: a name it does not know is ignored.
-#[derive(Debug, Default, Clone, Copy)]
-struct Experiment {
-    storage: bool,
-    uniforms_always: bool,
-    no_unroll: bool,
-    unroll_all: bool,
-    canary: bool,
-    no_filter: bool,
-    no_uniform_tables: bool,
-    reads: Option<Form>,
-}
-
-impl Experiment {
-    fn from_env() -> Self {
-        let v = std::env::var("GLINT_EXPERIMENT").unwrap_or_default();
-        let has = |name: &str| v.split(',').any(|f| f.trim() == name);
-        Self {
-            storage: has("storage"),
-            uniforms_always: has("uniforms-always"),
-            no_unroll: has("no-unroll"),
-            unroll_all: has("unroll-all"),
-            canary: has("canary"),
-            no_filter: has("no-filter"),
-            no_uniform_tables: has("no-uniform-tables"),
-            reads: if has("storage-reads") {
-                Some(Form::Storage)
-            } else if has("texel-reads") {
-                Some(Form::Texels)
-            } else if has("address-reads") {
-                Some(Form::Address)
-            } else {
-                None
-            },
-        }
-    }
-}
-
-impl Features {
-    /// What `scene`, laid out as `uploads`, needs on `device`.
-    pub(crate) fn of(scene: &Scene, uploads: &Uploads, device: &DeviceInfo) -> Self {
-        let has = |k: LightKind| scene.lights.iter().any(|l| l.kind == k);
-        let kinds = scene.prims.counts();
-        let objects = !scene.prims.is_empty();
-        let lights = scene.lights.len();
-        let reflects = scene.materials.iter().any(|m| m.reflectivity > 0.0);
-        let transmits = scene.materials.iter().any(|m| m.transmittance > 0.0);
-        // Lavapipe (Mesa 22.3) crashes in a worker thread rendering the
-        // uniform-buffer variant of two kinds of scene: without spheres
-        // (planes and lights only), and with spheres as the only primitives
-        // and directional lights as the only lights (tests/variants.rs
-        // renders every mix of kinds and light types). Those take storage
-        // buffers.
-        let range = device.max_uniform_buffer_range as usize;
-        let spheres = scene.prims.spheres.len();
-        let spheres_only = spheres == scene.prims.len();
-        let positioned = has(LightKind::Point) || has(LightKind::Spot);
-        let experiment = Experiment::from_env();
-        let images = objects && scene.has_image_textures();
-        let uniforms = (experiment.uniforms_always
-            || spheres > 0 && !(spheres_only && lights > 0 && !positioned))
-            && !experiment.storage;
-        let fits = uniforms
-            && uploads.array_bytes().iter().all(|b| *b <= range)
-            && uploads
-                .nodes
-                .as_ref()
-                .is_none_or(|n| n.bytes.len() <= range);
-        // Where the arrays do not all fit, the small tables still do: each
-        // read in uniform blocks, and the lights' loop unrolled, so that a
-        // light is read at a constant offset (docs/performance.md, Reading
-        // the scene).
-        let tables = [&uploads.materials, &uploads.lights, &uploads.textures];
-        let table_slots = (uniforms
-            && !fits
-            && !experiment.no_uniform_tables
-            && tables.iter().all(|t| t.bytes.len() <= range))
-        .then(|| tables.map(|t| t.len));
-        Self {
-            unroll: fits
-                && !experiment.no_unroll
-                && (experiment.unroll_all
-                    || scene.prims.len() <= UNROLL_OBJECTS && lights <= UNROLL_LIGHTS),
-            unroll_lights: table_slots.is_some()
-                && !experiment.no_unroll
-                && lights <= UNROLL_LIGHTS,
-            table_slots,
-            canary: device.loop_budget || experiment.canary,
-            kinds,
-            lights,
-            point: has(LightKind::Point),
-            directional: has(LightKind::Directional),
-            spot: has(LightKind::Spot),
-            attenuation: scene.lights.iter().any(|l| {
-                l.kind != LightKind::Directional && l.attenuation != glam::DVec3::new(1.0, 0.0, 0.0)
-            }),
-            shadows: scene.shadows && objects && lights > 0,
-            transmits: transmits && scene.max_depth > 1,
-            spd_rays: scene.spd_rays,
-            textures: objects
-                && scene
-                    .materials
-                    .iter()
-                    .any(|m| m.texture.is_some() || m.ambient_texture.is_some()),
-            images,
-            uvs: images && scene.prims.triangles.iter().any(|t| t.uvs.is_some()),
-            max_depth: if reflects || transmits {
-                scene.max_depth
-            } else {
-                1
-            },
-            samples: scene.samples,
-            uniform_slots: fits.then(|| uploads.array_lengths()),
-            nodes: uploads.nodes.as_ref().map_or(0, |n| n.len),
-        }
-    }
-
-    fn defines(&self, d: &mut Vec<(String, Option<String>)>) {
-        let mut def = |name: &str, value: String| d.push((name.to_owned(), Some(value)));
-        let flag = |b: bool| u8::from(b).to_string();
-        for (kind, n) in KINDS.iter().zip(&self.kinds) {
-            def(&format!("HAS_{}", kind.upper()), flag(*n > 0));
-            def(&format!("{}_COUNT", kind.upper()), format!("{n}u"));
-        }
-        def("HAS_POINT", flag(self.point));
-        def("HAS_DIRECTIONAL", flag(self.directional));
-        def("HAS_SPOT", flag(self.spot));
-        def("HAS_ATTENUATION", flag(self.attenuation));
-        def("HAS_SHADOWS", flag(self.shadows));
-        def("HAS_TRANSMISSION", flag(self.transmits));
-        def("SHADOWS_ON", "true".to_owned());
-        def("SPD_RAYS", self.spd_rays.to_string());
-        def("HAS_TEXTURES", flag(self.textures));
-        def("HAS_IMAGES", flag(self.images));
-        def("HAS_UVS", flag(self.uvs));
-        def("MAX_DEPTH", format!("{}u", self.max_depth));
-        def("SAMPLES", format!("{}u", self.samples));
-        def("LIGHT_COUNT", format!("{}u", self.lights));
-        if let Some(slots) = &self.uniform_slots {
-            d.push(("SCENE_IN_UNIFORMS".to_owned(), None));
-            let names = KINDS
-                .iter()
-                .map(|k| k.upper())
-                .chain(["MATERIALS", "LIGHTS", "TEXTURES"].map(String::from));
-            for (name, n) in names.zip(slots) {
-                d.push((format!("{name}_SLOTS"), Some(format!("{n}u"))));
-            }
-        }
-        if self.unroll {
-            d.push(("UNROLL_LOOPS".to_owned(), None));
-        }
-        if self.unroll_lights {
-            d.push(("UNROLL_LIGHTS".to_owned(), None));
-        }
-        if !self.canary {
-            d.push(("NO_LOOP_CANARY".to_owned(), None));
-        }
-    }
-}
-
-/// How `device` reads the scene's arrays that are no uniform blocks
-/// (docs/performance.md, Reading the scene): through texel buffers where
-/// every array fits one, else as storage buffers. (Device addresses, an
-/// experiment, measured slower on llvmpipe where LLVM turns their gathers
-/// into a branch a lane.)
-fn reads(uploads: &Uploads, device: &DeviceInfo) -> Form {
-    let texels = uploads.fit_texels(device.max_texel_buffer_elements);
-    let wanted = Experiment::from_env().reads.unwrap_or(Form::Texels);
-    match wanted {
-        Form::Address if device.buffer_device_address => Form::Address,
-        Form::Address | Form::Texels if texels => Form::Texels,
-        _ => Form::Storage,
-    }
-}
 
 impl Variant {
     /// The variant of `scene`, laid out as `uploads`, with these settings:
@@ -375,7 +130,7 @@ impl Variant {
             power_filter: intersect == Intersect::Robust
                 && device.skips_untaken_branches
                 && !Experiment::from_env().no_filter,
-            refine: None,
+            refine: false,
             wavefront: false,
             reads: reads(uploads, device),
         }
@@ -391,7 +146,7 @@ impl Variant {
             features: None,
             count: false,
             power_filter: false,
-            refine: None,
+            refine: false,
             wavefront: false,
             reads: Form::Storage,
         }
@@ -416,17 +171,8 @@ impl Variant {
         if self.count {
             d.push(("COUNT_RAYS".to_owned(), None));
         }
-        if let Some((bits, levels)) = self.refine {
-            // Shortest digits that give the f64 back: f32 rounds them as the
-            // CPU's f32 does, and `lf` keeps all of them in f64.
-            let suffix = if self.precision == Precision::F64 {
-                "lf"
-            } else {
-                ""
-            };
-            let threshold = format!("{:e}{suffix}", f64::from_bits(bits));
-            d.push(("ADAPTIVE_LEVELS".to_owned(), Some(format!("{levels}u"))));
-            d.push(("ADAPTIVE_THRESHOLD".to_owned(), Some(threshold)));
+        if self.refine {
+            d.push(("REFINE_POINTS".to_owned(), None));
             d.push(("REFINE_WIDTH".to_owned(), Some(format!("{REFINE_WIDTH}u"))));
         }
         if self.wavefront {
@@ -513,7 +259,7 @@ impl Variant {
             ),
             (
                 Block::Refine,
-                self.refine.is_some(),
+                self.refine,
                 vk::DescriptorType::STORAGE_BUFFER,
             ),
             (
@@ -611,8 +357,8 @@ impl Variant {
         if self.count {
             parts.push("counted".to_owned());
         }
-        if let Some((_, levels)) = self.refine {
-            parts.push(format!("refine{levels}"));
+        if self.refine {
+            parts.push("refine".to_owned());
         }
         if self.wavefront {
             parts.push("wavefront".to_owned());

@@ -450,11 +450,13 @@ fn measure_one(
                 generic: variant == Variant::GpuGeneric,
                 ..renderer.settings()
             };
-            let setup = renderer.prepare_with(&s, &how)?;
-            let (image, _) = renderer.render_with(&s, &how, &|_| {})?; // warm-up, untimed
+            let mut prepared = renderer.prepare(&s, &how)?;
+            // The warm-up, untimed: its times carry the setup.
+            let warm = prepared.render(None, &|_| {})?;
+            let (image, setup) = (warm.image, warm.times.setup);
             let mut timed: Vec<(f64, crate::gpu::RenderTimes)> = Vec::new();
             for _ in 0..runs {
-                let t = renderer.render_with(&s, &how, &|_| {})?.1;
+                let t = prepared.render(None, &|_| {})?.times;
                 timed.push((t.total_s(), t));
             }
             timed.sort_by(|a, b| a.0.total_cmp(&b.0));

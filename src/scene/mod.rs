@@ -7,6 +7,7 @@ mod file;
 pub mod images;
 pub mod nff;
 mod rebase;
+pub mod refine;
 mod split;
 pub mod texture;
 mod validate;

@@ -11,9 +11,15 @@ use predicates::prelude::*;
 use predicates::str::{contains, starts_with};
 
 #[cfg(feature = "gpu")]
+use glint::gpu::variant::Variant;
+#[cfg(feature = "gpu")]
 use glint::gpu::{GpuOptions, RenderSettings, Renderer};
+#[cfg(feature = "gpu")]
+use glint::raster::region::Region;
 use glint::raster::Image;
 use glint::scene::{parse, Overrides, Scene};
+#[cfg(feature = "gpu")]
+use glint::stats::Counts;
 
 #[cfg(feature = "gpu")]
 pub fn gpu() -> Renderer {
@@ -40,8 +46,41 @@ pub fn gpu_from(options: GpuOptions) -> Renderer {
         .unwrap_or_else(|e| panic!("cannot open the Vulkan device with validation: {e}"))
 }
 
-/// The glint binary with validation on, as a user runs it.
+/// `region` of `scene` rendered by `r` with its own settings.
 #[cfg(feature = "gpu")]
+pub fn render_region(r: &mut Renderer, scene: &Scene, region: Region) -> Image {
+    let settings = r.settings();
+    r.prepare(scene, &settings)
+        .and_then(|mut p| p.render(Some(region), &|_| {}))
+        .unwrap_or_else(|e| panic!("GPU render of {region:?} failed: {e}"))
+        .image
+}
+
+/// The whole of `scene` rendered by `r` with its own settings and the
+/// counting variant: the image and the counts.
+#[cfg(feature = "gpu")]
+pub fn render_counted(r: &mut Renderer, scene: &Scene) -> (Image, Counts) {
+    let settings = RenderSettings {
+        count: true,
+        ..r.settings()
+    };
+    let rendered = r
+        .prepare(scene, &settings)
+        .and_then(|mut p| p.render(None, &|_| {}))
+        .unwrap_or_else(|e| panic!("counted GPU render failed: {e}"));
+    (
+        rendered.image,
+        rendered.counts.expect("a counting render counts"),
+    )
+}
+
+/// The variant `r` compiles `scene` with under its own settings.
+#[cfg(feature = "gpu")]
+pub fn variant(r: &Renderer, scene: &Scene) -> (Variant, Vec<(String, Option<String>)>) {
+    r.variant(scene, &r.settings())
+}
+
+/// The glint binary with validation on, as a user runs it.
 pub fn cmd() -> assert_cmd::Command {
     let mut c = assert_cmd::Command::new(env!("CARGO_BIN_EXE_glint"));
     c.env("GLINT_VALIDATION", "1");
@@ -49,14 +88,12 @@ pub fn cmd() -> assert_cmd::Command {
 }
 
 /// Runs the glint binary with validation on, as a user would.
-#[cfg(feature = "gpu")]
 pub fn glint(args: &[&str]) -> Output {
     cmd().args(args).output().expect("run glint")
 }
 
 /// A 40x30 CPU render of seed-fig3 to `out`, with `extra` arguments: a
 /// quick run for tests of what happens to the files around it.
-#[cfg(feature = "gpu")]
 pub fn small_cpu_render(out: &Path, extra: &[&str]) -> Output {
     let scene = repo().join("scenes/seed-fig3.toml");
     let mut args = vec![
@@ -73,6 +110,14 @@ pub fn small_cpu_render(out: &Path, extra: &[&str]) -> Output {
     ];
     args.extend_from_slice(extra);
     glint(&args)
+}
+
+/// Says in the test log why a test (or a part of one) does not run on
+/// this machine. Written to stderr directly, past the harness's capture,
+/// so that a skip shows in a passing run's log and is never silent.
+pub fn skip(what: &str, why: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "skipped: {what}: {why}");
 }
 
 /// A run that succeeded (its stderr shown where not).

@@ -94,10 +94,7 @@ impl Buffer {
             Err(result) => {
                 // SAFETY: unused, unbound, and not handed out.
                 unsafe { raw_device.destroy_buffer(raw, None) };
-                return Err(GpuError::Vk {
-                    what: "vkAllocateMemory",
-                    result,
-                });
+                return Err(GpuError::vk("vkAllocateMemory", result));
             }
         };
         // SAFETY: fresh memory of the size and type the buffer needs, bound
@@ -125,10 +122,7 @@ impl Buffer {
                     raw_device.destroy_buffer(raw, None);
                     raw_device.free_memory(memory, None);
                 }
-                Err(GpuError::Vk {
-                    what: "vkMapMemory",
-                    result,
-                })
+                Err(GpuError::vk("vkMapMemory", result))
             }
         }
     }
@@ -248,10 +242,15 @@ impl Buffer {
 
 impl Drop for Buffer {
     fn drop(&mut self) {
+        // A hung device's work may still read and write it: leaked, as the
+        // device is.
+        if self.device.hung() {
+            return;
+        }
         let d = &self.device.raw;
         // SAFETY: the device is alive (this holds it); no submission uses
-        // the buffer: each `OneShot::run` waits, and a buffer whose work
-        // timed out is leaked, never dropped.
+        // the buffer: each `OneShot::run` waits, and a wait that timed out
+        // marked the device hung.
         unsafe {
             if !self.mapped.is_null() {
                 d.unmap_memory(self.memory);

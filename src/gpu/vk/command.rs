@@ -100,10 +100,7 @@ impl OneShot {
             if let Err(result) = d.wait_for_fences(&[self.fence], true, nanos) {
                 // Timed out, lost or out of memory: the work may still run.
                 self.device.mark_hung();
-                return Err(GpuError::Vk {
-                    what: "vkWaitForFences",
-                    result,
-                });
+                return Err(GpuError::vk("vkWaitForFences", result));
             }
             d.reset_fences(&[self.fence]).doing("vkResetFences")?;
         }

@@ -120,12 +120,7 @@ impl Instance {
             Ok(raw) => raw,
             // The loader's answer when it finds no driver at all.
             Err(vk::Result::ERROR_INCOMPATIBLE_DRIVER) => return Err(GpuError::NoDevice),
-            Err(result) => {
-                return Err(GpuError::Vk {
-                    what: "vkCreateInstance",
-                    result,
-                })
-            }
+            Err(result) => return Err(GpuError::vk("vkCreateInstance", result)),
         };
 
         let messenger = if validate {
@@ -141,10 +136,7 @@ impl Instance {
                 Err(result) => {
                     // SAFETY: the instance was just made and has no children.
                     unsafe { raw.destroy_instance(None) };
-                    return Err(GpuError::Vk {
-                        what: "vkCreateDebugUtilsMessengerEXT",
-                        result,
-                    });
+                    return Err(GpuError::vk("vkCreateDebugUtilsMessengerEXT", result));
                 }
             }
         } else {

@@ -1,6 +1,6 @@
-//! The compute pipeline: shader module, descriptor layout, pipeline layout,
-//! pipeline, and the descriptor set that binds the scene's buffers and
-//! texel buffers.
+//! The compute pipeline: shader module, descriptor set layout, pipeline
+//! layout and pipeline. The sets that bind buffers to it are each
+//! prepared scene's own (descriptor.rs).
 
 use std::sync::Arc;
 
@@ -9,25 +9,29 @@ use ash::vk;
 use super::device::Device;
 use crate::gpu::error::{GpuError, VkContext};
 
-/// One descriptor set of buffers and texel buffers, at the given bindings
-/// and types.
+/// A pipeline of one descriptor set of buffers and texel buffers, at the
+/// given bindings and types.
 pub struct ComputePipeline {
     pub pipeline: vk::Pipeline,
     pub layout: vk::PipelineLayout,
     pub set_layout: vk::DescriptorSetLayout,
-    pub pool: vk::DescriptorPool,
-    pub set: vk::DescriptorSet,
-    bindings: Vec<(u32, vk::DescriptorType)>,
+    /// The set layout's bindings and types, in order.
+    pub bindings: Vec<(u32, vk::DescriptorType)>,
     device: Arc<Device>,
 }
 
 impl ComputePipeline {
-    /// Binds the pipeline and its descriptor set for the dispatches after.
+    /// Binds the pipeline and `set` for the dispatches after.
     ///
     /// # Safety
     /// `cb` is a command buffer of `dev` (this pipeline's device) in the
-    /// recording state.
-    pub unsafe fn record_bind(&self, dev: &ash::Device, cb: vk::CommandBuffer) {
+    /// recording state; `set` was made for this pipeline's set layout.
+    pub unsafe fn record_bind(
+        &self,
+        dev: &ash::Device,
+        cb: vk::CommandBuffer,
+        set: vk::DescriptorSet,
+    ) {
         // SAFETY: the caller's contract; the pipeline, layout and set are live.
         unsafe {
             dev.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, self.pipeline);
@@ -36,7 +40,7 @@ impl ComputePipeline {
                 vk::PipelineBindPoint::COMPUTE,
                 self.layout,
                 0,
-                &[self.set],
+                &[set],
                 &[],
             );
         }
@@ -55,8 +59,6 @@ impl ComputePipeline {
             pipeline: vk::Pipeline::null(),
             layout: vk::PipelineLayout::null(),
             set_layout: vk::DescriptorSetLayout::null(),
-            pool: vk::DescriptorPool::null(),
-            set: vk::DescriptorSet::null(),
             bindings: bindings.to_vec(),
             device: device.clone(),
         };
@@ -108,99 +110,11 @@ impl ComputePipeline {
         let created = unsafe { device.create_compute_pipelines(cache, &[info], None) };
         // SAFETY: as above.
         unsafe { device.destroy_shader_module(module, None) };
-        p.pipeline = created.map_err(|(_, result)| GpuError::Vk {
-            what: "vkCreateComputePipelines",
-            result,
-        })?[0];
+        p.pipeline =
+            created.map_err(|(_, result)| GpuError::vk("vkCreateComputePipelines", result))?[0];
 
-        let count = |t| bindings.iter().filter(|(_, x)| *x == t).count() as u32;
-        let sizes: Vec<_> = [
-            vk::DescriptorType::UNIFORM_BUFFER,
-            vk::DescriptorType::STORAGE_BUFFER,
-            vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
-        ]
-        .into_iter()
-        .filter(|t| count(*t) > 0)
-        .map(|t| {
-            vk::DescriptorPoolSize::default()
-                .ty(t)
-                .descriptor_count(count(t))
-        })
-        .collect();
-        let pool_info = vk::DescriptorPoolCreateInfo::default()
-            .max_sets(1)
-            .pool_sizes(&sizes);
-        // SAFETY: a live device; the sizes cover the set's bindings.
-        p.pool = unsafe { device.create_descriptor_pool(&pool_info, None) }
-            .doing("vkCreateDescriptorPool")?;
-        let alloc = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(p.pool)
-            .set_layouts(&set_layouts);
-        // SAFETY: the pool was sized for this one set.
-        p.set = unsafe { device.allocate_descriptor_sets(&alloc) }
-            .doing("vkAllocateDescriptorSets")?[0];
         Ok(p)
     }
-
-    /// Points each binding at what it sees; `resources` follows the order
-    /// of the bindings given to `new`.
-    ///
-    /// # Safety
-    /// The set is not in use by a pending submission, and the buffers and
-    /// views outlive every submission that uses the set until it is bound
-    /// again (the set refers to them by handle, not by Rust borrow).
-    pub unsafe fn bind(&self, resources: &[Resource]) {
-        assert_eq!(
-            resources.len(),
-            self.bindings.len(),
-            "one resource per binding"
-        );
-        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = resources
-            .iter()
-            .map(|r| {
-                [vk::DescriptorBufferInfo::default()
-                    .buffer(match r {
-                        Resource::Buffer(b) => *b,
-                        Resource::Texels(_) => vk::Buffer::null(),
-                    })
-                    .offset(0)
-                    .range(vk::WHOLE_SIZE)]
-            })
-            .collect();
-        let views: Vec<[vk::BufferView; 1]> = resources
-            .iter()
-            .map(|r| match r {
-                Resource::Texels(v) => [*v],
-                Resource::Buffer(_) => [vk::BufferView::null()],
-            })
-            .collect();
-        let writes: Vec<_> = resources
-            .iter()
-            .zip(infos.iter().zip(&views))
-            .zip(&self.bindings)
-            .map(|((r, (info, view)), (binding, ty))| {
-                let write = vk::WriteDescriptorSet::default()
-                    .dst_set(self.set)
-                    .dst_binding(*binding)
-                    .descriptor_type(*ty);
-                match r {
-                    Resource::Buffer(_) => write.buffer_info(info),
-                    Resource::Texels(_) => write.texel_buffer_view(view),
-                }
-            })
-            .collect();
-        // SAFETY: the caller's contract above; the set, buffers and views
-        // are live handles of this device.
-        unsafe { self.device.raw.update_descriptor_sets(&writes, &[]) };
-    }
-}
-
-/// What one binding of the set sees: a whole buffer, or a texel buffer's
-/// view.
-#[derive(Debug, Clone, Copy)]
-pub enum Resource {
-    Buffer(vk::Buffer),
-    Texels(vk::BufferView),
 }
 
 impl Drop for ComputePipeline {
@@ -214,7 +128,6 @@ impl Drop for ComputePipeline {
         // and a wait that timed out marked the device hung). Null handles
         // are ignored by vkDestroy*, so a half-built pipeline frees cleanly.
         unsafe {
-            d.destroy_descriptor_pool(self.pool, None);
             d.destroy_pipeline(self.pipeline, None);
             d.destroy_pipeline_layout(self.layout, None);
             d.destroy_descriptor_set_layout(self.set_layout, None);

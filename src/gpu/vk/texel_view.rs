@@ -46,6 +46,9 @@ impl TexelBuffer {
 
 impl Drop for TexelBuffer {
     fn drop(&mut self) {
+        if self.buffer.device().hung() {
+            return;
+        }
         // SAFETY: no submission uses the view (as for its buffer: each
         // `OneShot::run` waits, and one that timed out leaks both); the
         // buffer is freed after this, by its own Drop.

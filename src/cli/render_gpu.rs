@@ -1,0 +1,131 @@
+//! Renders on the GPU for `render`, `compare` and tiles: the renderer made
+//! from the command line's options, the scene prepared and rendered.
+
+use std::path::Path;
+
+use glint::gpu;
+use glint::raster::region::Region;
+use glint::raster::Image;
+use glint::scene::Scene;
+use glint::stats::Counts;
+use glint::tiles::{GpuKey, Sidecar};
+
+use super::tile;
+use super::{progress, DeviceArgs, Precision};
+
+/// The GPU options of `device` for a render in `precision`.
+fn options(device: &DeviceArgs, precision: Precision) -> anyhow::Result<gpu::GpuOptions> {
+    let mut options = device.options()?;
+    options.settings.precision = precision;
+    Ok(options)
+}
+
+/// A GPU render, with the renderer (for its device), the prepared scene
+/// (to render again warm) and the setup times of the scene's variant.
+pub struct GpuRender {
+    pub image: Image,
+    pub renderer: gpu::Renderer,
+    pub prepared: gpu::Prepared,
+    pub times: gpu::RenderTimes,
+    /// Where the render counted (the counting variant: its times include
+    /// the counting).
+    pub counts: Option<Counts>,
+}
+
+impl GpuRender {
+    /// `GPU f32 on <device>`.
+    pub fn label(&self, precision: Precision) -> String {
+        format!(
+            "GPU {} on {}",
+            format!("{precision:?}").to_lowercase(),
+            self.renderer.device_info().name
+        )
+    }
+}
+
+/// Renders the whole of `scene` in `precision`, counting where `count`.
+pub fn timed(
+    scene: &Scene,
+    device: &DeviceArgs,
+    precision: Precision,
+    count: bool,
+) -> anyhow::Result<GpuRender> {
+    let mut options = options(device, precision)?;
+    options.settings.count = count;
+    let mut renderer = gpu::Renderer::new(&options)?;
+    let mut prepared = renderer.prepare(scene, &options.settings)?;
+    let bar = progress::bar(
+        scene.pixel_count(),
+        &format!("gpu {precision:?}").to_lowercase(),
+    );
+    let rendered = prepared.render(None, &|n| bar.inc(n))?;
+    bar.finish_and_clear();
+    Ok(GpuRender {
+        image: rendered.image,
+        renderer,
+        prepared,
+        times: rendered.times,
+        counts: rendered.counts,
+    })
+}
+
+/// `render`'s GPU render of the whole of `scene`.
+pub fn whole(
+    scene: &Scene,
+    device: &DeviceArgs,
+    precision: Precision,
+    count: bool,
+) -> anyhow::Result<super::render::Whole> {
+    let r = timed(scene, device, precision, count)?;
+    let setup = r.times.setup;
+    Ok(super::render::Whole {
+        label: r.label(precision),
+        seconds: r.times.total_s(),
+        setup_s: setup.device_s + setup.compile_s + setup.pipeline_s + r.times.bvh_s,
+        image: r.image,
+        counts: r.counts,
+    })
+}
+
+/// `region` of `scene` rendered in `precision`: its pixels, bit for bit
+/// those of the whole render; a label; the tile's sidecar.
+pub fn tile(
+    scene_arg: &Path,
+    scene: &Scene,
+    device: &DeviceArgs,
+    precision: Precision,
+    region: Region,
+    tile: Option<String>,
+) -> anyhow::Result<(Image, String, Sidecar)> {
+    let options = options(device, precision)?;
+    let mut renderer = gpu::Renderer::new(&options)?;
+    let bar = progress::bar(region.pixel_count(), "gpu tile");
+    let image = renderer
+        .prepare(scene, &options.settings)?
+        .render(Some(region), &|n| bar.inc(n))?
+        .image;
+    bar.finish_and_clear();
+    let device = renderer.device_info().name.clone();
+    let name = format!("{precision:?}").to_lowercase();
+    let key = gpu_key(&options, &device);
+    let sidecar = tile::sidecar(scene_arg, scene, &name, Some(key), region, tile);
+    Ok((image, format!("GPU {name} on {device}"), sidecar))
+}
+
+/// What of a GPU render can change a tile's bits: the intersection forms,
+/// the generic shader, the user's shader files (the built-in ones come
+/// with the version) and defines, and the device.
+fn gpu_key(o: &gpu::GpuOptions, device: &str) -> GpuKey {
+    use glint::gpu::compile::{cache_key, Sources};
+    let sources = Sources {
+        dirs: o.include_dirs.clone(),
+        main: o.main_shader.clone(),
+        ..Sources::default()
+    };
+    GpuKey {
+        intersect: format!("{:?}", o.settings.intersect).to_lowercase(),
+        generic: o.settings.generic,
+        shader: cache_key(sources.fingerprint(), &o.defines),
+        device: device.to_owned(),
+    }
+}

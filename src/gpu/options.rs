@@ -1,0 +1,83 @@
+//! How a renderer is made and how a scene is rendered: the options of the
+//! device and the shader, and the settings a scene is prepared with.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+#[cfg(doc)]
+use super::Renderer;
+use crate::accel::Accel;
+use crate::base::Precision;
+use crate::settings::{Intersect, Schedule};
+
+/// How a [`Renderer`] is made: the device, validation, the shader files and
+/// defines, the caches, and the settings of [`Renderer::render`].
+#[derive(Debug, Clone, Default)]
+pub struct GpuOptions {
+    /// Pick the first device whose name contains this.
+    pub device: Option<String>,
+    /// Enable the Khronos validation layer and fail on any message.
+    pub validate: bool,
+    /// Directories searched for shader files ahead of the built-in ones.
+    pub include_dirs: Vec<PathBuf>,
+    /// A main shader to use instead of main.comp.
+    pub main_shader: Option<PathBuf>,
+    /// A built-in shader to use instead of main.comp (`glint bench` runs
+    /// `ceiling.comp`).
+    pub main_builtin: Option<String>,
+    /// Defines added after the variant's own (-D NAME=VALUE).
+    pub defines: Vec<(String, Option<String>)>,
+    /// The settings of `Renderer::render`; `Renderer::prepare` takes any.
+    pub settings: RenderSettings,
+    /// Where compiled SPIR-V and the Vulkan pipeline cache are kept between
+    /// runs; None: compile every time.
+    pub cache_dir: Option<PathBuf>,
+    /// The longest wait for one tile; None: derived from the tile's work
+    /// (`tile_timeout`).
+    pub timeout: Option<Duration>,
+    /// Upload the scene through a staging buffer into device-local memory
+    /// the host does not map. None: where the device has such memory (a
+    /// discrete GPU); GLINT_STAGE_UPLOADS=1 or 0 sets it.
+    pub stage_uploads: Option<bool>,
+}
+
+impl GpuOptions {
+    /// Validation is also switched on by GLINT_VALIDATION=1 (the tests set it).
+    pub fn from_env(device: Option<String>) -> Self {
+        let validate = std::env::var("GLINT_VALIDATION").is_ok_and(|v| v == "1");
+        let stage_uploads = std::env::var("GLINT_STAGE_UPLOADS").ok().map(|v| v == "1");
+        Self {
+            device,
+            stage_uploads,
+            validate,
+            ..Self::default()
+        }
+    }
+
+    /// The platform's cache directory with `glint` in it: on Linux
+    /// $XDG_CACHE_HOME/glint, or ~/.cache/glint.
+    pub fn default_cache_dir() -> Option<PathBuf> {
+        directories::BaseDirs::new().map(|d| d.cache_dir().join("glint"))
+    }
+}
+
+/// How a scene is rendered: what [`Renderer::prepare`] compiles it and lays
+/// it out for. [`Renderer::render`] takes the renderer's own
+/// (`GpuOptions::settings`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
+pub struct RenderSettings {
+    /// The intersection forms.
+    pub intersect: Intersect,
+    /// The shader's arithmetic.
+    pub precision: Precision,
+    /// Which primitives each ray tests: every one, or through a BVH.
+    pub accel: Accel,
+    /// Render with the one shader that handles every feature.
+    pub generic: bool,
+    /// How the rays are laid on the device.
+    pub schedule: Schedule,
+    /// Compile the counting variant: each render also returns the shader's
+    /// counts of rays, tests and BVH nodes (src/stats.rs), at some cost in
+    /// speed.
+    pub count: bool,
+}

@@ -1,0 +1,509 @@
+//! A scene prepared for the GPU: laid out, compiled and uploaded once by
+//! [`Renderer::prepare`], then rendered region by region as a list of
+//! passes (megakernel or wavefront tiles; adaptive sampling's refinement
+//! after the corners), each run by the executor under its watchdog.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::UVec4;
+
+use super::access::Form;
+use super::layout::Uploads;
+use super::options::RenderSettings;
+use super::passes::{Executor, Pass, Target};
+use super::refine;
+use super::renderer::{Pipeline, Shared};
+use super::resident::{scene_blocks, stage_blocks, Blocks};
+use super::times::{RenderTimes, SetupTimes};
+use super::variant::{self, Block, Variant};
+use super::vk::buffer::Buffer;
+use super::vk::command::Completed;
+use super::vk::descriptor::{DescriptorSet, Resource};
+use super::work::{Work, COMPILE_TIMEOUT, RAYS_PER_DISPATCH};
+#[cfg(doc)]
+use super::Renderer;
+use super::{GpuError, Precision};
+use crate::base::real::{Real, Vec3};
+use crate::raster::region::Region;
+use crate::raster::Image;
+use crate::scene::refine::Point;
+use crate::scene::{Adaptive, Scene};
+use crate::stats::{Counter, Counts, Tally};
+
+/// A scene on the device: its variant's pipeline, its buffers and its own
+/// descriptor sets. It holds no copy of the scene.
+///
+/// Field order is drop order: the stages (their sets, then their
+/// buffers) before the scene's buffers, before the commands, before the
+/// renderer's device.
+pub struct Prepared {
+    main: Stage,
+    /// Adaptive sampling's second pass, made at the first render that
+    /// splits a pixel.
+    refine: Option<Stage>,
+    scene: Blocks,
+    executor: Executor,
+    shared: Arc<Shared>,
+    /// What the traced image (the corner grid, where the scene samples
+    /// corners) asks of a pixel.
+    work: Work,
+    /// The image's size: the scene's, not its corner grid's.
+    size: (u32, u32),
+    sampling: Sampling,
+    /// The shader's arithmetic, in which the refinement sums its squares.
+    precision: Precision,
+    /// What preparing cost, reported by the first render.
+    pending: Option<RenderTimes>,
+}
+
+/// How a pixel's colour comes from what the shader traces.
+#[derive(Clone, Copy)]
+enum Sampling {
+    /// The traced pixels are the image's.
+    Pixels,
+    /// The traced pixels are the image's corners, averaged.
+    Corners,
+    /// Corners, and pixels whose corners differ split (`Variant::refine`).
+    Adaptive(Adaptive),
+}
+
+/// A render of a prepared scene.
+#[derive(Debug, Clone)]
+pub struct Rendered {
+    /// The region's pixels.
+    pub image: Image,
+    /// What the render cost.
+    pub times: RenderTimes,
+    /// The shader's counts of rays, tests and BVH nodes, where the scene
+    /// was prepared to count (`RenderSettings::count`).
+    pub counts: Option<Counts>,
+}
+
+/// One pipeline and the buffers bound to it through a set of its own.
+/// Field order is drop order: the set before the buffers it names.
+struct Stage {
+    set: DescriptorSet,
+    own: Blocks,
+    pipeline: Arc<Pipeline>,
+    variant: Variant,
+    /// Its output tile, in pixels.
+    tile: (u32, u32),
+}
+
+impl Prepared {
+    pub(crate) fn new(
+        shared: &Arc<Shared>,
+        scene: &Scene,
+        settings: &RenderSettings,
+    ) -> Result<Self, GpuError> {
+        shared.check_can_render(settings)?;
+        let grid = scene.corner_grid();
+        let traced = grid.as_ref().unwrap_or(scene);
+        let sampling = match (grid.is_some(), scene.adaptive_sampling()) {
+            (false, _) => Sampling::Pixels,
+            (true, None) => Sampling::Corners,
+            (true, Some(a)) => Sampling::Adaptive(a),
+        };
+        let t0 = Instant::now();
+        let up = Uploads::new(
+            traced,
+            settings.intersect,
+            settings.precision,
+            settings.accel,
+        );
+        let layout_s = t0.elapsed().as_secs_f64() - up.bvh_s;
+        let (variant, defines) = shared.variant(traced, settings, &up, settings.count);
+        let (pipeline, setup) = shared.pipeline(&variant, &defines)?;
+        let t1 = Instant::now();
+        let info = &shared.device.info;
+        if variant.reads == Form::Storage {
+            up.check_storage_range(
+                info.max_storage_buffer_range,
+                info.max_texel_buffer_elements,
+            )
+            .map_err(GpuError::Unsupported)?;
+        }
+        let mut executor = Executor::new(&shared.device)?;
+        let blocks = scene_blocks(
+            &shared.device,
+            &mut executor.commands,
+            shared.stage_uploads,
+            &variant,
+            &up,
+        )?;
+        let work = Work::of(traced);
+        let tile = work.tile_size(&variant, info.max_storage_buffer_range);
+        let main = Stage::new(shared, pipeline, variant, &blocks, tile, None)?;
+        let upload_s = layout_s + t1.elapsed().as_secs_f64();
+        let mut prepared = Self {
+            main,
+            refine: None,
+            scene: blocks,
+            executor,
+            shared: shared.clone(),
+            work,
+            size: (scene.width, scene.height),
+            sampling,
+            precision: settings.precision,
+            pending: None,
+        };
+        let driver_compile_s = prepared.compile_on_driver(false)?;
+        prepared.pending = Some(RenderTimes {
+            setup: SetupTimes {
+                driver_compile_s,
+                ..setup
+            },
+            bvh_s: up.bvh_s,
+            upload_s,
+            ..RenderTimes::default()
+        });
+        Ok(prepared)
+    }
+
+    /// The variant the scene was compiled with (docs/shaders.md, Variants).
+    pub fn variant(&self) -> &Variant {
+        &self.main.variant
+    }
+
+    /// Renders `region` of the image (None: the whole image), calling
+    /// `progress(pixels)` as tiles finish. A region's pixels are bit for
+    /// bit those of the whole render (docs/scale-out.md).
+    pub fn render(
+        &mut self,
+        region: Option<Region>,
+        progress: &dyn Fn(u64),
+    ) -> Result<Rendered, GpuError> {
+        if self.shared.device.hung() {
+            return Err(GpuError::Lost);
+        }
+        let (width, height) = self.size;
+        let region = match region {
+            None => Region::whole(width, height),
+            Some(r) => r
+                .within(width, height)
+                .map_err(|e| GpuError::Unsupported(e.to_string()))?,
+        };
+        let mut times = self.pending.take().unwrap_or_else(|| RenderTimes {
+            setup: SetupTimes {
+                device_s: self.shared.device_s(),
+                ..SetupTimes::default()
+            },
+            ..RenderTimes::default()
+        });
+        if self.executor.timed() {
+            times.device_dispatch_s.get_or_insert(0.0);
+        }
+        let rendered = match self.sampling {
+            Sampling::Pixels => {
+                let (pixels, counts) = self.tiles(false, region, 1.0, &mut times, progress)?;
+                Rendered {
+                    image: Image::new(region.width, region.height, pixels),
+                    times,
+                    counts,
+                }
+            }
+            Sampling::Corners | Sampling::Adaptive(_) => {
+                let traced = region.corners();
+                let (pixels, counts) = self.tiles(false, traced, 1.0, &mut times, progress)?;
+                let corners = Image::new(traced.width, traced.height, pixels);
+                let mut rendered = Rendered {
+                    image: corners.corner_mean(),
+                    times,
+                    counts,
+                };
+                if let Sampling::Adaptive(a) = self.sampling {
+                    match self.precision {
+                        Precision::F32 => {
+                            self.refine::<f32>(&a, &corners, region, &mut rendered)?
+                        }
+                        Precision::F64 => {
+                            self.refine::<f64>(&a, &corners, region, &mut rendered)?
+                        }
+                    }
+                }
+                rendered
+            }
+        };
+        self.shared.check_validation()?;
+        Ok(rendered)
+    }
+
+    /// Adaptive sampling's refinement of `region`, whose corners are
+    /// `corners`: level by level (`scene::refine`), each level's points one
+    /// list dispatched on the refinement's stage. The refined colours
+    /// replace those pixels' corner means in `rendered`; the times and
+    /// counts join the first pass's.
+    fn refine<R: Real>(
+        &mut self,
+        adaptive: &Adaptive,
+        corners: &Image,
+        region: Region,
+        rendered: &mut Rendered,
+    ) -> Result<(), GpuError> {
+        let t0 = Instant::now();
+        let before = rendered.times.total_s();
+        let (split, places) = refine::split::<R>(corners, region, adaptive);
+        if split.is_empty() {
+            rendered.times.refine_s += t0.elapsed().as_secs_f64();
+            return Ok(());
+        }
+        let threshold = R::of(adaptive.threshold_steps());
+        let (times, counts) = (&mut rendered.times, &mut rendered.counts);
+        let colours = crate::scene::refine::refine(&split, threshold, adaptive.levels, |points| {
+            self.trace_points::<R>(points, times, counts)
+        })?;
+        for (p, v) in places.into_iter().zip(colours) {
+            rendered.image.pixels[p] = [v.x.to_f32(), v.y.to_f32(), v.z.to_f32()];
+        }
+        // What the levels' dispatches, readbacks and uploads did not take.
+        let times = &mut rendered.times;
+        let spent = times.total_s() - before;
+        times.refine_s += (t0.elapsed().as_secs_f64() - spent).max(0.0);
+        Ok(())
+    }
+
+    /// One level of the refinement: the colours of `points`, traced on the
+    /// refinement's stage, made for this list (one invocation a point,
+    /// laid out `REFINE_WIDTH` wide).
+    fn trace_points<R: Real>(
+        &mut self,
+        points: &[Point],
+        times: &mut RenderTimes,
+        counts: &mut Option<Counts>,
+    ) -> Result<Vec<Vec3<R>>, GpuError> {
+        let n = points.len() as u32;
+        let width = variant::REFINE_WIDTH.min(n);
+        let entries = Region::whole(width, n.div_ceil(width));
+        let rows = (RAYS_PER_DISPATCH / u64::from(width)) as u32;
+        let tile = (width, rows.clamp(1, entries.height));
+        let t0 = Instant::now();
+        // The list is this level's alone: the stage binds it anew.
+        self.refine = None;
+        let mut variant = self.main.variant.clone();
+        variant.refine = true;
+        variant.wavefront = false;
+        let defines = self.shared.defines_of(&variant);
+        let (pipeline, setup) = self.shared.pipeline(&variant, &defines)?;
+        times.setup.compile_s += setup.compile_s;
+        times.setup.pipeline_s += setup.pipeline_s;
+        let list = refine::list(points);
+        let stage = Stage::new(
+            &self.shared,
+            pipeline,
+            variant,
+            &self.scene,
+            tile,
+            Some(&list),
+        )?;
+        self.refine = Some(stage);
+        times.upload_s += t0.elapsed().as_secs_f64();
+        times.setup.driver_compile_s += self.compile_on_driver(true)?;
+        let (pixels, more) = self.tiles(true, entries, 1.0, times, &|_| {})?;
+        *counts = match (counts.take(), more) {
+            (Some(a), Some(b)) => Some(Tally::merge(a, b)),
+            (a, _) => a,
+        };
+        Ok(pixels[..n as usize]
+            .iter()
+            .map(|c| {
+                Vec3::new(
+                    R::of(f64::from(c[0])),
+                    R::of(f64::from(c[1])),
+                    R::of(f64::from(c[2])),
+                )
+            })
+            .collect())
+    }
+
+    /// The first dispatch of the main stage's pipeline (or the refinement's,
+    /// where `refine`), where the driver compiles its shader: one workgroup
+    /// over an empty tile, under `COMPILE_TIMEOUT`, so that the render's own
+    /// watchdog times shading alone. Its seconds; 0 for a pipeline the
+    /// driver has compiled already.
+    fn compile_on_driver(&mut self, refine: bool) -> Result<f64, GpuError> {
+        let stage = if refine {
+            self.refine
+                .as_ref()
+                .expect("the refinement's stage is made first")
+        } else {
+            &self.main
+        };
+        if !stage.pipeline.first_dispatch() {
+            return Ok(0.0);
+        }
+        let t = Instant::now();
+        let mut empty = stage.target();
+        empty.rect = UVec4::ZERO;
+        if let Err(e) = self.executor.run(&Pass::Compile(empty), COMPILE_TIMEOUT) {
+            stage.pipeline.undo_first_dispatch();
+            return Err(e);
+        }
+        Ok(t.elapsed().as_secs_f64())
+    }
+
+    /// Dispatches `region` on the main stage (or the refinement's) in tiles,
+    /// in the image's own pixel coordinates, each under its watchdog (for
+    /// `work` times a pixel's rays); the region's pixels, and the counts
+    /// where the stage counts.
+    fn tiles(
+        &mut self,
+        refine: bool,
+        region: Region,
+        work: f64,
+        times: &mut RenderTimes,
+        progress: &dyn Fn(u64),
+    ) -> Result<(Vec<[f32; 3]>, Option<Counts>), GpuError> {
+        let stage = if refine {
+            self.refine
+                .as_ref()
+                .expect("the refinement's stage is made first")
+        } else {
+            &self.main
+        };
+        let (tile_w, tile_h) = stage.tile;
+        let bvh = stage.variant.bvh_stack > 0;
+        let out = stage.buffer(Block::Pixels).expect("a stage has its output");
+        // The counters start at zero on the device, in the first dispatch.
+        let mut zero = stage.buffer(Block::Counts).map(|b| b.raw);
+        let queues = stage.buffer(Block::Queues);
+        let mut last = None;
+        let (x_end, y_end) = (region.x + region.width, region.y + region.height);
+        let mut pixels = vec![[0.0f32; 3]; region.pixel_count() as usize];
+        for y0 in (region.y..y_end).step_by(tile_h as usize) {
+            for x0 in (region.x..x_end).step_by(tile_w as usize) {
+                let (w, h) = (tile_w.min(x_end - x0), tile_h.min(y_end - y0));
+                let t1 = Instant::now();
+                // `work`: a pixel's rays, in pixels of the scene's (the
+                // refinement's list entries trace up to many a pixel's).
+                let timeout = self.shared.timeout.unwrap_or_else(|| {
+                    let pixels = (work * f64::from(w) * f64::from(h)).ceil() as u64;
+                    self.work.timeout(pixels, bvh)
+                });
+                let target = Target {
+                    zero: zero.take(),
+                    rect: UVec4::new(x0, y0, w, h),
+                    ..stage.target()
+                };
+                let pass = match queues {
+                    Some(queues) => Pass::Wave {
+                        target,
+                        queues,
+                        rounds: self.work.rounds_per_submit(),
+                    },
+                    None => Pass::Tile(target),
+                };
+                let (done, on_device) = self.executor.run(&pass, timeout)?;
+                if let (Some(total), Some(s)) = (&mut times.device_dispatch_s, on_device) {
+                    *total += s;
+                }
+                let t2 = Instant::now();
+                let tile: &[[f32; 4]] = out.read(&done, w as usize * h as usize);
+                if let Some(e) = unfinished(tile, (x0, y0, w), &self.shared.device.info.name) {
+                    return Err(e);
+                }
+                for (row, src) in tile.chunks_exact(w as usize).enumerate() {
+                    let start = ((y0 - region.y) as usize + row) * region.width as usize
+                        + (x0 - region.x) as usize;
+                    for (dst, s) in pixels[start..start + w as usize].iter_mut().zip(src) {
+                        *dst = [s[0], s[1], s[2]];
+                    }
+                }
+                times.dispatch_s += (t2 - t1).as_secs_f64();
+                times.readback_s += t2.elapsed().as_secs_f64();
+                progress(u64::from(w) * u64::from(h));
+                last = Some(done);
+            }
+        }
+        let counts = stage.buffer(Block::Counts).map(|counters| {
+            let done = last.as_ref().expect("a region has at least one tile");
+            read_counts(counters, done)
+        });
+        Ok((pixels, counts))
+    }
+}
+
+impl Stage {
+    /// `pipeline` (of `variant`) with a set of its own, bound to the scene's
+    /// buffers (`scene`) and to its own, made here: an output tile of
+    /// `tile` pixels and what else the variant declares.
+    fn new(
+        shared: &Shared,
+        pipeline: Arc<Pipeline>,
+        variant: Variant,
+        scene: &Blocks,
+        tile: (u32, u32),
+        refine: Option<&crate::base::interface::Array>,
+    ) -> Result<Self, GpuError> {
+        let device = &shared.device;
+        let own = stage_blocks(device, &variant, tile, refine)?;
+        let set = DescriptorSet::new(device, &pipeline.raw)?;
+        let resources: Vec<Resource> = variant
+            .bindings()
+            .into_iter()
+            .map(|(block, _, _)| {
+                own.get(block)
+                    .or_else(|| scene.get(block))
+                    .expect("every binding has its buffer")
+                    .resource()
+            })
+            .collect();
+        // SAFETY: the set is new, so no submission uses it; the buffers it
+        // names live in this stage (its own) or in the prepared scene,
+        // which drops its stages first, and are leaked where a wait timed
+        // out.
+        unsafe { set.write(&resources) };
+        Ok(Self {
+            set,
+            own,
+            pipeline,
+            variant,
+            tile,
+        })
+    }
+
+    /// The stage's buffer at `block`, where it has one of its own.
+    fn buffer(&self, block: Block) -> Option<&Buffer> {
+        self.own.get(block).map(|b| b.buffer())
+    }
+
+    /// A dispatch of this stage over no pixels, counters untouched.
+    fn target(&self) -> Target<'_> {
+        Target {
+            pipeline: &self.pipeline.raw,
+            set: self.set.set,
+            out: self
+                .buffer(Block::Pixels)
+                .expect("a stage has its output")
+                .raw,
+            zero: None,
+            rect: UVec4::ZERO,
+        }
+    }
+}
+
+/// The counters' buffer as the counts, read once `done` has completed.
+fn read_counts(buffer: &Buffer, done: &Completed) -> Counts {
+    let words: &[[u32; 2]] = buffer.read(done, Counter::SLOTS);
+    Counts::from_slots(std::array::from_fn(|i| {
+        u64::from(words[i][1]) << 32 | u64::from(words[i][0])
+    }))
+}
+
+/// The error of a tile whose pixel was not finished: alpha 1 means every
+/// loop of the invocation ran to its end (shaders/budget.glsl), 0 that
+/// they were cut short, NaN (the fill before each dispatch) that the
+/// shader wrote nothing there. `(x0, y0, w)`: the tile's corner and width.
+fn unfinished(tile: &[[f32; 4]], (x0, y0, w): (u32, u32, u32), device: &str) -> Option<GpuError> {
+    let i = tile.iter().position(|s| s[3] != 1.0)?;
+    let (x, y) = (x0 + i as u32 % w, y0 + i as u32 / w);
+    Some(if tile[i][3].is_nan() {
+        GpuError::Unwritten { x, y }
+    } else {
+        GpuError::LoopBudget {
+            x,
+            y,
+            device: device.to_owned(),
+        }
+    })
+}

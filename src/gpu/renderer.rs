@@ -1,0 +1,341 @@
+//! The renderer: a Vulkan device, and the shader sources, SPIR-V and
+//! pipelines its scenes were compiled with. It keeps nothing of a scene:
+//! `prepare` turns one into a [`Prepared`] that owns its buffers.
+
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use super::compile;
+use super::layout::{TileRect, Uploads};
+use super::options::{GpuOptions, RenderSettings};
+use super::prepared::Prepared;
+use super::schedule::Schedule;
+use super::times::{RenderTimes, SetupTimes};
+use super::variant::Variant;
+use super::vk::device::{Device, DeviceInfo};
+use super::vk::instance::Instance;
+use super::vk::pipeline::ComputePipeline;
+use super::vk::pipeline_cache::PipelineCache;
+use super::{GpuError, Precision};
+use crate::raster::Image;
+use crate::scene::Scene;
+
+/// The GPU renderer: a Vulkan device, and the pipelines of the shader
+/// variants its scenes needed so far.
+///
+/// ```no_run
+/// use glint::gpu::{GpuOptions, Renderer};
+/// use glint::raster::{diff, io};
+/// use glint::scene::{Overrides, Scene};
+///
+/// let scene = Scene::load("scenes/seed-fig5.toml".as_ref(), &Overrides::default())?;
+/// let mut gpu = Renderer::new(&GpuOptions::from_env(None))?;
+/// // Compile and upload once; render as often as needed.
+/// let mut prepared = gpu.prepare(&scene, &gpu.settings())?;
+/// let (image, times) = prepared.render(None, &|_pixels| {})?;
+/// let reference = glint::cpu::render::<f64>(&scene);
+/// let error = diff::figures(&image, &reference)?;
+/// println!("rmse {:.2e} in {:.3} s", error.rmse, times.total_s());
+/// io::write("out.png".as_ref(), &image, scene.srgb)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct Renderer {
+    shared: Arc<Shared>,
+}
+
+/// What the renderer and every scene it prepared share. Field order is
+/// drop order: the pipelines and the pipeline cache go before the device
+/// (each holds its own `Arc` of it as well).
+pub(crate) struct Shared {
+    /// Keyed by the variant and the fingerprint of the shader sources, so
+    /// that an edited shader file makes a new pipeline (`glint watch`),
+    /// which replaces the variant's old one here; a scene prepared with
+    /// the old one keeps it.
+    pipelines: Mutex<HashMap<PipelineKey, Arc<Pipeline>>>,
+    pipeline_cache: PipelineCache,
+    pub device: Arc<Device>,
+    sources: compile::Sources,
+    defines: Vec<(String, Option<String>)>,
+    cache_dir: Option<PathBuf>,
+    /// The settings of `Renderer::render`.
+    settings: RenderSettings,
+    /// Seconds spent opening the device.
+    device_s: f64,
+    /// The longest wait for one tile; None: from the tile's work.
+    pub timeout: Option<std::time::Duration>,
+    /// Whether scene buffers are device-local, filled through staging.
+    pub stage_uploads: bool,
+}
+
+/// A pipeline: its variant, and the hash of its shader's sources and defines.
+type PipelineKey = (Variant, u64);
+
+/// A compiled variant's pipeline, and whether the driver has compiled its
+/// shader to machine code yet (its first dispatch).
+pub(crate) struct Pipeline {
+    pub raw: ComputePipeline,
+    pub driver_compiled: AtomicBool,
+}
+
+impl Renderer {
+    /// Opens the device `opts` names (or the best one) and prepares to
+    /// render; no shader is compiled until a scene needs one.
+    pub fn new(opts: &GpuOptions) -> Result<Self, GpuError> {
+        if let Some((name, _)) = opts
+            .defines
+            .iter()
+            .find(|(n, _)| compile::reserved_define(n))
+        {
+            return Err(GpuError::Unsupported(format!(
+                "-D {name}: glint defines {name} itself for each scene (docs/shaders.md, Variants); \
+                 choose another name"
+            )));
+        }
+        let t0 = Instant::now();
+        let instance = Instance::new(opts.validate)?;
+        let device = Device::open(instance, opts.device.as_deref())?;
+        let cache_file = opts
+            .cache_dir
+            .as_ref()
+            .map(|d| d.join(format!("pipelines-{}.bin", device.info.cache_id())));
+        let pipeline_cache = PipelineCache::new(&device, cache_file.as_deref())?;
+        let stage_uploads = opts
+            .stage_uploads
+            .unwrap_or_else(|| device.has_private_memory());
+        let shared = Shared {
+            pipelines: Mutex::default(),
+            pipeline_cache,
+            sources: compile::Sources {
+                dirs: opts.include_dirs.clone(),
+                main: opts.main_shader.clone(),
+                main_builtin: opts.main_builtin.clone(),
+                generated: Vec::new(),
+            },
+            defines: opts.defines.clone(),
+            cache_dir: opts.cache_dir.as_ref().map(|d| d.join("spirv")),
+            settings: opts.settings,
+            device_s: t0.elapsed().as_secs_f64(),
+            timeout: opts.timeout,
+            stage_uploads,
+            device,
+        };
+        shared.check_validation()?;
+        Ok(Self {
+            shared: Arc::new(shared),
+        })
+    }
+
+    /// What the renderer's device is and supports.
+    pub fn device_info(&self) -> &DeviceInfo {
+        &self.shared.device.info
+    }
+
+    /// The settings `render` uses (`GpuOptions::settings`).
+    pub fn settings(&self) -> RenderSettings {
+        self.shared.settings
+    }
+
+    /// Seconds spent opening the device, once.
+    pub fn device_s(&self) -> f64 {
+        self.shared.device_s
+    }
+
+    /// Lays `scene` out for the device under `settings`, compiles the
+    /// shader variant it needs (once per variant) and uploads it: a
+    /// prepared scene, which renders any region of the image as often as
+    /// asked.
+    pub fn prepare(
+        &mut self,
+        scene: &Scene,
+        settings: &RenderSettings,
+    ) -> Result<Prepared, GpuError> {
+        Prepared::new(&self.shared, scene, settings)
+    }
+
+    /// Renders the whole of `scene` with the renderer's settings, calling
+    /// `progress(pixels)` as tiles finish: `prepare`, then one render.
+    pub fn render(
+        &mut self,
+        scene: &Scene,
+        progress: &dyn Fn(u64),
+    ) -> Result<(Image, RenderTimes), GpuError> {
+        let settings = self.settings();
+        let rendered = self.prepare(scene, &settings)?.render(None, progress)?;
+        Ok((rendered.image, rendered.times))
+    }
+
+    /// The variant `prepare` would compile `scene` with under `settings`,
+    /// and its defines (the user's last), without compiling it: `glint
+    /// shader dump`'s source.
+    pub fn variant(
+        &self,
+        scene: &Scene,
+        settings: &RenderSettings,
+    ) -> (Variant, Vec<(String, Option<String>)>) {
+        let traced = scene.corner_grid();
+        let scene = traced.as_ref().unwrap_or(scene);
+        let up = Uploads::new(
+            scene,
+            settings.intersect,
+            settings.precision,
+            settings.accel,
+        );
+        self.shared.variant(scene, settings, &up, settings.count)
+    }
+}
+
+#[cfg(test)]
+impl Renderer {
+    /// How many pipelines the renderer keeps.
+    pub(crate) fn pipelines(&self) -> usize {
+        self.shared.pipelines.lock().unwrap().len()
+    }
+}
+
+impl Shared {
+    /// The validation layer's messages since the last call, as an error.
+    pub fn check_validation(&self) -> Result<(), GpuError> {
+        let messages = self.device.instance().take_messages();
+        if messages.is_empty() {
+            Ok(())
+        } else {
+            Err(GpuError::Validation(messages))
+        }
+    }
+
+    /// The variant of `scene` laid out as `up`, counting where `count`.
+    pub fn variant(
+        &self,
+        scene: &Scene,
+        settings: &RenderSettings,
+        up: &Uploads,
+        count: bool,
+    ) -> (Variant, Vec<(String, Option<String>)>) {
+        let mut variant = Variant::for_scene(
+            scene,
+            up,
+            settings.intersect,
+            settings.precision,
+            &self.device.info,
+            settings.generic,
+            count,
+        );
+        // A shader of the user's knows nothing of the wavefront's stages.
+        variant.wavefront = self.sources.main_is_glints() && settings.schedule.wavefront_for(scene);
+        let defines = self.defines_of(&variant);
+        (variant, defines)
+    }
+
+    /// `variant`'s defines, then the user's.
+    pub fn defines_of(&self, variant: &Variant) -> Vec<(String, Option<String>)> {
+        let mut defines = variant.defines();
+        defines.extend(self.defines.iter().cloned());
+        defines
+    }
+
+    /// Seconds the renderer spent opening the device.
+    pub fn device_s(&self) -> f64 {
+        self.device_s
+    }
+
+    /// The pipeline of `variant`, compiled and created once per variant and
+    /// version of the sources, and what this call cost (nothing where it
+    /// was built before).
+    pub fn pipeline(
+        &self,
+        variant: &Variant,
+        defines: &[(String, Option<String>)],
+    ) -> Result<(Arc<Pipeline>, SetupTimes), GpuError> {
+        let sources = self.sources.for_variant(variant);
+        let fingerprint = sources.fingerprint();
+        let key = (variant.clone(), fingerprint);
+        let mut setup = SetupTimes {
+            device_s: self.device_s,
+            ..SetupTimes::default()
+        };
+        let mut pipelines = self.pipelines.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(p) = pipelines.get(&key) {
+            return Ok((p.clone(), setup));
+        }
+        let t0 = Instant::now();
+        let (spirv, cached) =
+            compile::compile_cached(&sources, fingerprint, defines, self.cache_dir.as_deref())?;
+        let t1 = Instant::now();
+        let push_bytes = std::mem::size_of::<TileRect>() as u32;
+        let raw = ComputePipeline::new(
+            &self.device,
+            &spirv,
+            &variant.descriptor_layout(),
+            push_bytes,
+            self.pipeline_cache.raw,
+        )?;
+        setup.compile_s = (t1 - t0).as_secs_f64();
+        setup.pipeline_s = t1.elapsed().as_secs_f64();
+        setup.spirv_cached = cached;
+        // An edit's pipeline replaces the variant's old one.
+        pipelines.retain(|(v, _), _| *v != key.0);
+        let pipeline = Arc::new(Pipeline {
+            raw,
+            driver_compiled: AtomicBool::new(false),
+        });
+        pipelines.insert(key, pipeline.clone());
+        drop(pipelines);
+        self.check_validation()?;
+        Ok((pipeline, setup))
+    }
+
+    /// Refuses a render this renderer cannot do: on a lost device, a
+    /// wavefront it cannot run, or f64 on a device without doubles.
+    pub fn check_can_render(&self, settings: &RenderSettings) -> Result<(), GpuError> {
+        if self.device.hung() {
+            return Err(GpuError::Lost);
+        }
+        let info = &self.device.info;
+        if settings.schedule == Schedule::Wavefront {
+            if !self.sources.main_is_glints() {
+                return Err(GpuError::Unsupported(
+                    "--schedule wavefront runs glint's own main.comp (shaders/wavefront.glsl); \
+                     a --shader of your own renders with the megakernel (--schedule megakernel)"
+                        .to_owned(),
+                ));
+            }
+            if !info.runs_the_wavefront {
+                return Err(GpuError::Unsupported(format!(
+                    "--schedule wavefront: the driver {} is known to crash running it; render \
+                     with --schedule megakernel, or with lavapipe from Mesa 25 (ci/setup \
+                     installs it)",
+                    info.driver
+                )));
+            }
+            if !info.subgroup_ballot {
+                return Err(GpuError::Unsupported(format!(
+                    "--schedule wavefront: {} has no subgroup ballot in compute shaders, with \
+                     which the wavefront compacts its queues; render with --schedule megakernel",
+                    info.name
+                )));
+            }
+        }
+        if settings.precision == Precision::F64 && !info.shader_float64 {
+            return Err(GpuError::Unsupported(format!(
+                "{} has no shaderFloat64: render in f32, or on the CPU in f64",
+                info.name
+            )));
+        }
+        Ok(())
+    }
+}
+
+impl Pipeline {
+    /// Whether this is the pipeline's first dispatch; marks it made.
+    pub fn first_dispatch(&self) -> bool {
+        !self.driver_compiled.swap(true, Ordering::Relaxed)
+    }
+
+    /// Undoes `first_dispatch` where that dispatch failed.
+    pub fn undo_first_dispatch(&self) {
+        self.driver_compiled.store(false, Ordering::Relaxed);
+    }
+}

@@ -1,0 +1,182 @@
+//! The buffers a prepared scene keeps on the device: the scene's read-only
+//! arrays, made once and bound by each of its stages, and each stage's own
+//! (its output tile, counters, wavefront paths and refinement list).
+
+use std::sync::Arc;
+
+use ash::vk as raw;
+
+use super::access::{self, Form};
+use super::layout::Uploads;
+use super::variant::{Block, Variant};
+use super::vk::buffer::Buffer;
+use super::vk::command::OneShot;
+use super::vk::descriptor::Resource;
+use super::vk::device::Device;
+use super::vk::texel_view::TexelBuffer;
+use super::GpuError;
+use crate::base::interface::Array;
+use crate::stats::Counter;
+
+/// What one binding holds: a buffer, a texel buffer (a buffer seen
+/// through its view), or a buffer read through its address (the binding's
+/// uniform block holds the address).
+pub(crate) enum Bound {
+    Buffer(Buffer),
+    Texels(TexelBuffer),
+    Address { data: Buffer, address: Buffer },
+}
+
+impl Bound {
+    pub fn buffer(&self) -> &Buffer {
+        match self {
+            Bound::Buffer(b) => b,
+            Bound::Texels(t) => &t.buffer,
+            Bound::Address { data, .. } => data,
+        }
+    }
+
+    pub fn resource(&self) -> Resource {
+        match self {
+            Bound::Buffer(b) => Resource::Buffer(b.raw),
+            Bound::Texels(t) => Resource::Texels(t.view),
+            Bound::Address { address, .. } => Resource::Buffer(address.raw),
+        }
+    }
+}
+
+/// Buffers by the block they are bound at.
+#[derive(Default)]
+pub(crate) struct Blocks(Vec<(Block, Bound)>);
+
+impl Blocks {
+    pub fn get(&self, block: Block) -> Option<&Bound> {
+        self.0.iter().find(|(b, _)| *b == block).map(|(_, x)| x)
+    }
+}
+
+/// The scene's read-only arrays of `variant`'s bindings, holding `up`:
+/// device-local through staging where `staged`, else mapped.
+pub(crate) fn scene_blocks(
+    device: &Arc<Device>,
+    commands: &mut OneShot,
+    staged: bool,
+    variant: &Variant,
+    up: &Uploads,
+) -> Result<Blocks, GpuError> {
+    let mut blocks = Vec::new();
+    for (block, _, ty) in variant.bindings() {
+        let bytes: &[u8] = match block {
+            Block::Globals => bytemuck::cast_slice(&up.globals),
+            Block::Kind(k) => &up.kinds[k].bytes,
+            Block::Materials => &up.materials.bytes,
+            Block::Lights => &up.lights.bytes,
+            Block::Textures => &up.textures.bytes,
+            Block::Texels => &up.texels.bytes,
+            Block::Uvs => &up.uvs.bytes,
+            Block::Nodes => &up.nodes.as_ref().expect("a BVH variant has nodes").bytes,
+            _ => continue,
+        };
+        let form = access::ArrayDecl::of(block).map(|_| variant.form(block));
+        let usage = usage(form, ty);
+        let what = if block == Block::Globals {
+            "the uniform block"
+        } else {
+            block.name()
+        };
+        let buffer = if staged {
+            Buffer::staged(device, commands, bytes, usage, what)?
+        } else {
+            Buffer::with_data(device, bytes, usage, what)?
+        };
+        blocks.push((block, bind_as(device, form, buffer)?));
+    }
+    Ok(Blocks(blocks))
+}
+
+/// A stage's own buffers among `variant`'s bindings: its output tile of
+/// `tile` pixels, its counters, its wavefront paths and queues, and the
+/// list it refines (`refine`).
+pub(crate) fn stage_blocks(
+    device: &Arc<Device>,
+    variant: &Variant,
+    tile: (u32, u32),
+    refine: Option<&Array>,
+) -> Result<Blocks, GpuError> {
+    let pixels = u64::from(tile.0) * u64::from(tile.1);
+    let storage = raw::BufferUsageFlags::STORAGE_BUFFER;
+    let filled = storage | raw::BufferUsageFlags::TRANSFER_DST;
+    let mut blocks = Vec::new();
+    for (block, _, _) in variant.bindings() {
+        let buffer = match block {
+            Block::Counts => Buffer::new(
+                device,
+                (2 * Counter::SLOTS * std::mem::size_of::<u32>()) as u64,
+                filled,
+                block.name(),
+            )?,
+            Block::Refine => Buffer::with_data(
+                device,
+                &refine.expect("a refining variant has its list").bytes,
+                storage,
+                block.name(),
+            )?,
+            Block::PathReals | Block::PathWords => {
+                let (reals, words) = variant.path_bytes();
+                let size = if block == Block::PathReals {
+                    reals
+                } else {
+                    words
+                };
+                Buffer::device_local(device, pixels * size, storage, block.name())?
+            }
+            Block::Queues => Buffer::new(
+                device,
+                32 + 2 * 4 * pixels,
+                filled | raw::BufferUsageFlags::INDIRECT_BUFFER,
+                block.name(),
+            )?,
+            Block::Pixels => Buffer::new(device, pixels * 16, filled, block.name())?,
+            _ => continue,
+        };
+        blocks.push((block, Bound::Buffer(buffer)));
+    }
+    Ok(Blocks(blocks))
+}
+
+/// The usage of a scene array's buffer read in `form` through a binding of
+/// type `ty`.
+fn usage(form: Option<Form>, ty: raw::DescriptorType) -> raw::BufferUsageFlags {
+    match (form, ty) {
+        (Some(Form::Address), _) => {
+            raw::BufferUsageFlags::STORAGE_BUFFER | raw::BufferUsageFlags::SHADER_DEVICE_ADDRESS
+        }
+        (_, raw::DescriptorType::UNIFORM_BUFFER) => raw::BufferUsageFlags::UNIFORM_BUFFER,
+        (_, raw::DescriptorType::UNIFORM_TEXEL_BUFFER) => {
+            raw::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
+        }
+        _ => raw::BufferUsageFlags::STORAGE_BUFFER,
+    }
+}
+
+/// `buffer` as its binding sees it: through a texel view, through its
+/// address, or whole.
+fn bind_as(device: &Arc<Device>, form: Option<Form>, buffer: Buffer) -> Result<Bound, GpuError> {
+    Ok(match form {
+        Some(Form::Texels) => Bound::Texels(TexelBuffer::new(device, buffer)?),
+        Some(Form::Address) => {
+            let at = [buffer.address(), 0u64];
+            let address = Buffer::with_data(
+                device,
+                &at,
+                raw::BufferUsageFlags::UNIFORM_BUFFER,
+                "an array's address",
+            )?;
+            Bound::Address {
+                data: buffer,
+                address,
+            }
+        }
+        _ => Bound::Buffer(buffer),
+    })
+}

@@ -1,0 +1,67 @@
+//! The CPU-only build's binary (`--no-default-features`): what needs no
+//! device works, and what needs one says so in one line, exit status 2.
+
+#![cfg(not(feature = "gpu"))]
+
+mod common;
+
+use assert_cmd::assert::OutputAssertExt;
+
+/// Renders on the CPU, whole and as a tile, then assembles, diffs and
+/// converts: the commands that need no device.
+#[test]
+fn the_cpu_commands_work_without_the_gpu() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("a.png");
+    common::assert_ok(&common::small_cpu_render(&png, &[]));
+    assert!(png.is_file());
+    let tile = dir.path().join("t0.pfm");
+    common::assert_ok(&common::small_cpu_render(&tile, &["--tile", "0/1"]));
+    let whole = dir.path().join("whole.pfm");
+    common::assert_ok(&common::glint(&[
+        "assemble",
+        tile.to_str().unwrap(),
+        "-o",
+        whole.to_str().unwrap(),
+    ]));
+    let direct = dir.path().join("direct.pfm");
+    common::assert_ok(&common::small_cpu_render(&direct, &[]));
+    let same = common::glint(&["diff", whole.to_str().unwrap(), direct.to_str().unwrap()]);
+    common::assert_ok(&same);
+    assert!(String::from_utf8_lossy(&same.stdout).contains("identical"));
+    let nff = common::repo().join("scenes/spd/balls.nff");
+    let toml = dir.path().join("balls.toml");
+    common::assert_ok(&common::glint(&[
+        "convert",
+        nff.to_str().unwrap(),
+        "-o",
+        toml.to_str().unwrap(),
+    ]));
+}
+
+/// Each command that needs the GPU, and a render on it (the default
+/// backend), is one error line naming the missing renderer, and writes
+/// nothing.
+#[test]
+fn what_needs_the_gpu_says_so_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let scene = common::repo().join("scenes/seed-fig3.toml");
+    let scene = scene.to_str().unwrap();
+    let runs: [&[&str]; 8] = [
+        &["render", scene, "-o", out.to_str().unwrap()],
+        &["compare", scene],
+        &["info"],
+        &["stability"],
+        &["report", "--quick"],
+        &["shader", "check", "x.glsl"],
+        &["watch", scene, "-o", out.to_str().unwrap()],
+        &["bench"],
+    ];
+    for args in runs {
+        let o = common::glint(args);
+        common::assert_user_error(&o, "built without it");
+        o.clone().assert().stderr(common::one_line());
+        assert!(!out.exists(), "{args:?} wrote its output");
+    }
+}
