@@ -18,7 +18,8 @@
 #ifdef WAVEFRONT
 #include "wavefront.glsl"
 #elif defined(REFINE_POINTS)
-// A level of adaptive sampling's refinement: one invocation per listed point.
+// A level of adaptive sampling's refinement: each invocation traces
+// REFINE_POINTS listed points, one after another.
 #include "adaptive.glsl"
 
 void main() {
@@ -26,13 +27,20 @@ void main() {
     if (local.x >= tile.rect.z || local.y >= tile.rect.w) {
         return;
     }
-    uint index = (tile.rect.y + local.y) * REFINE_WIDTH + tile.rect.x + local.x;
+    uint first = ((tile.rect.y + local.y) * REFINE_WIDTH + tile.rect.x + local.x) * REFINE_POINTS;
+    uint out_at = (local.y * tile.rect.z + local.x) * REFINE_POINTS;
     begin_counts();
-    vec3r colour = vec3r(0.0);
-    if (index < uint(refine_list.length())) {
-        colour = trace_point(refine_list[index]);
+    vec3r colours[REFINE_POINTS];
+    [[dont_unroll]] for (uint j = 0u; j < REFINE_POINTS; j++) {
+        colours[j] = vec3r(0.0);
+        if (first + j < uint(refine_list.length())) {
+            colours[j] = trace_point(refine_list[first + j]);
+        }
     }
-    pixels[local.y * tile.rect.z + local.x] = vec4(vec3(colour), loops_completed() ? 1.0 : 0.0);
+    float done = loops_completed() ? 1.0 : 0.0;
+    [[unroll]] for (uint j = 0u; j < REFINE_POINTS; j++) {
+        pixels[out_at + j] = vec4(vec3(colours[j]), done);
+    }
     end_counts();
 }
 #else

@@ -47,7 +47,6 @@ above that live in them are in the default build alone.
 [`gpu::Renderer::variant`]: #without-the-gpu-renderer
 "#
 )]
-
 #![warn(missing_docs)]
 #![warn(clippy::undocumented_unsafe_blocks, clippy::missing_safety_doc)]
 // Without the GPU renderer the kinds' GPU structs and GLSL names, and the

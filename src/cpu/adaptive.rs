@@ -69,21 +69,27 @@ pub fn resolve<R: Real, T: Tally>(
 /// traced over the threads, and what they cost.
 fn trace_points<R: Real, T: Tally>(w: &World<R>, points: &[Point]) -> (Vec<Vec3<R>>, T) {
     let half = R::of(0.5);
-    points
-        .par_iter()
-        .map(|p| {
+    // In chunks, each with one tally: a tally a point would cost more to
+    // merge than some points cost to trace.
+    let chunks: Vec<(Vec<Vec3<R>>, T)> = points
+        .par_chunks(256)
+        .map(|chunk| {
             let mut tally = T::default();
-            let (px, py) = p.at::<R>();
-            let colour = trace(w, ray_through(w, px + half, py + half), &mut tally);
-            (colour, tally)
+            let colours = chunk
+                .iter()
+                .map(|p| {
+                    let (px, py) = p.at::<R>();
+                    trace(w, ray_through(w, px + half, py + half), &mut tally)
+                })
+                .collect();
+            (colours, tally)
         })
-        .collect::<Vec<_>>()
-        .into_iter()
-        .fold(
-            (Vec::with_capacity(points.len()), T::default()),
-            |(mut colours, tally), (c, t)| {
-                colours.push(c);
-                (colours, tally.merge(t))
-            },
-        )
+        .collect();
+    let mut colours = Vec::with_capacity(points.len());
+    let mut tally = T::default();
+    for (c, t) in chunks {
+        colours.extend(c);
+        tally = tally.merge(t);
+    }
+    (colours, tally)
 }

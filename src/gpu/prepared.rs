@@ -242,7 +242,12 @@ impl Prepared {
         rendered: &mut Rendered,
     ) -> Result<(), GpuError> {
         let t0 = Instant::now();
-        let before = rendered.times.total_s();
+        // What the levels' dispatches, readbacks, uploads and compiles take,
+        // so far: the rest of this call is the refinement's host work.
+        let accounted = |t: &RenderTimes| {
+            t.total_s() + t.setup.compile_s + t.setup.pipeline_s + t.setup.driver_compile_s
+        };
+        let before = accounted(&rendered.times);
         let (split, places) = refine::split::<R>(corners, region, adaptive);
         if split.is_empty() {
             rendered.times.refine_s += t0.elapsed().as_secs_f64();
@@ -256,10 +261,8 @@ impl Prepared {
         for (p, v) in places.into_iter().zip(colours) {
             rendered.image.pixels[p] = [v.x.to_f32(), v.y.to_f32(), v.z.to_f32()];
         }
-        // What the levels' dispatches, readbacks and uploads did not take.
-        let times = &mut rendered.times;
-        let spent = times.total_s() - before;
-        times.refine_s += (t0.elapsed().as_secs_f64() - spent).max(0.0);
+        let spent = accounted(&rendered.times) - before;
+        rendered.times.refine_s += (t0.elapsed().as_secs_f64() - spent).max(0.0);
         Ok(())
     }
 
@@ -273,11 +276,12 @@ impl Prepared {
         counts: &mut Option<Counts>,
     ) -> Result<Vec<Vec3<R>>, GpuError> {
         let n = points.len() as u32;
-        let width = variant::REFINE_WIDTH.min(n);
-        let entries = Region::whole(width, n.div_ceil(width));
-        let rows = (RAYS_PER_DISPATCH / u64::from(width)) as u32;
+        let per = variant::REFINE_POINTS;
+        let invocations = n.div_ceil(per);
+        let width = variant::REFINE_WIDTH.min(invocations);
+        let entries = Region::whole(width, invocations.div_ceil(width));
+        let rows = (RAYS_PER_DISPATCH / u64::from(width * per)) as u32;
         let tile = (width, rows.clamp(1, entries.height));
-        let t0 = Instant::now();
         // The list is this level's alone: the stage binds it anew.
         self.refine = None;
         let mut variant = self.main.variant.clone();
@@ -287,6 +291,7 @@ impl Prepared {
         let (pipeline, setup) = self.shared.pipeline(&variant, &defines)?;
         times.setup.compile_s += setup.compile_s;
         times.setup.pipeline_s += setup.pipeline_s;
+        let t0 = Instant::now();
         let list = refine::list(points);
         let stage = Stage::new(
             &self.shared,
@@ -299,7 +304,7 @@ impl Prepared {
         self.refine = Some(stage);
         times.upload_s += t0.elapsed().as_secs_f64();
         times.setup.driver_compile_s += self.compile_on_driver(true)?;
-        let (pixels, more) = self.tiles(true, entries, 1.0, times, &|_| {})?;
+        let (pixels, more) = self.tiles(true, entries, f64::from(per), times, &|_| {})?;
         *counts = match (counts.take(), more) {
             (Some(a), Some(b)) => Some(Tally::merge(a, b)),
             (a, _) => a,
@@ -363,13 +368,15 @@ impl Prepared {
         };
         let (tile_w, tile_h) = stage.tile;
         let bvh = stage.variant.bvh_stack > 0;
+        // Colours an invocation writes, one after another.
+        let per = stage.variant.outputs_per_invocation() as usize;
         let out = stage.buffer(Block::Pixels).expect("a stage has its output");
         // The counters start at zero on the device, in the first dispatch.
         let mut zero = stage.buffer(Block::Counts).map(|b| b.raw);
         let queues = stage.buffer(Block::Queues);
         let mut last = None;
         let (x_end, y_end) = (region.x + region.width, region.y + region.height);
-        let mut pixels = vec![[0.0f32; 3]; region.pixel_count() as usize];
+        let mut pixels = vec![[0.0f32; 3]; region.pixel_count() as usize * per];
         for y0 in (region.y..y_end).step_by(tile_h as usize) {
             for x0 in (region.x..x_end).step_by(tile_w as usize) {
                 let (w, h) = (tile_w.min(x_end - x0), tile_h.min(y_end - y0));
@@ -398,14 +405,17 @@ impl Prepared {
                     *total += s;
                 }
                 let t2 = Instant::now();
-                let tile: &[[f32; 4]] = out.read(&done, w as usize * h as usize);
-                if let Some(e) = unfinished(tile, (x0, y0, w), &self.shared.device.info.name) {
+                let tile: &[[f32; 4]] = out.read(&done, w as usize * h as usize * per);
+                let device = &self.shared.device.info.name;
+                if let Some(e) = unfinished(tile, per, (x0, y0, w), device) {
                     return Err(e);
                 }
-                for (row, src) in tile.chunks_exact(w as usize).enumerate() {
-                    let start = ((y0 - region.y) as usize + row) * region.width as usize
-                        + (x0 - region.x) as usize;
-                    for (dst, s) in pixels[start..start + w as usize].iter_mut().zip(src) {
+                let row_len = w as usize * per;
+                for (row, src) in tile.chunks_exact(row_len).enumerate() {
+                    let start = (((y0 - region.y) as usize + row) * region.width as usize
+                        + (x0 - region.x) as usize)
+                        * per;
+                    for (dst, s) in pixels[start..start + row_len].iter_mut().zip(src) {
                         *dst = [s[0], s[1], s[2]];
                     }
                 }
@@ -493,11 +503,18 @@ fn read_counts(buffer: &Buffer, done: &Completed) -> Counts {
 /// The error of a tile whose pixel was not finished: alpha 1 means every
 /// loop of the invocation ran to its end (shaders/budget.glsl), 0 that
 /// they were cut short, NaN (the fill before each dispatch) that the
-/// shader wrote nothing there. `(x0, y0, w)`: the tile's corner and width.
-fn unfinished(tile: &[[f32; 4]], (x0, y0, w): (u32, u32, u32), device: &str) -> Option<GpuError> {
-    let i = tile.iter().position(|s| s[3] != 1.0)?;
-    let (x, y) = (x0 + i as u32 % w, y0 + i as u32 / w);
-    Some(if tile[i][3].is_nan() {
+/// shader wrote nothing there. `per`: the colours an invocation writes;
+/// `(x0, y0, w)`: the tile's corner and width, in invocations.
+fn unfinished(
+    tile: &[[f32; 4]],
+    per: usize,
+    (x0, y0, w): (u32, u32, u32),
+    device: &str,
+) -> Option<GpuError> {
+    let at = tile.iter().position(|s| s[3] != 1.0)?;
+    let i = (at / per) as u32;
+    let (x, y) = (x0 + i % w, y0 + i / w);
+    Some(if tile[at][3].is_nan() {
         GpuError::Unwritten { x, y }
     } else {
         GpuError::LoopBudget {

@@ -27,7 +27,7 @@ use crate::scene::Scene;
 /// variants its scenes needed so far.
 ///
 /// ```no_run
-/// use glint::gpu::{GpuOptions, Renderer};
+/// use glint::gpu::{GpuOptions, Rendered, Renderer};
 /// use glint::raster::{diff, io};
 /// use glint::scene::{Overrides, Scene};
 ///
@@ -35,7 +35,7 @@ use crate::scene::Scene;
 /// let mut gpu = Renderer::new(&GpuOptions::from_env(None))?;
 /// // Compile and upload once; render as often as needed.
 /// let mut prepared = gpu.prepare(&scene, &gpu.settings())?;
-/// let (image, times) = prepared.render(None, &|_pixels| {})?;
+/// let Rendered { image, times, .. } = prepared.render(None, &|_pixels| {})?;
 /// let reference = glint::cpu::render::<f64>(&scene);
 /// let error = diff::figures(&image, &reference)?;
 /// println!("rmse {:.2e} in {:.3} s", error.rmse, times.total_s());

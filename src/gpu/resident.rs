@@ -136,7 +136,12 @@ pub(crate) fn stage_blocks(
                 filled | raw::BufferUsageFlags::INDIRECT_BUFFER,
                 block.name(),
             )?,
-            Block::Pixels => Buffer::new(device, pixels * 16, filled, block.name())?,
+            Block::Pixels => Buffer::new(
+                device,
+                pixels * 16 * u64::from(variant.outputs_per_invocation()),
+                filled,
+                block.name(),
+            )?,
             _ => continue,
         };
         blocks.push((block, Bound::Buffer(buffer)));

@@ -103,8 +103,14 @@ pub struct Variant {
 }
 
 /// The width of the list of points adaptive sampling's refinement traces,
-/// as each level dispatches it: entry i at (i % width, i / width).
+/// as each level dispatches it: invocation (i % width, i / width) traces
+/// points `REFINE_POINTS`·i onwards.
 pub const REFINE_WIDTH: u32 = 64;
+
+/// The points one invocation of the refinement traces, one after another:
+/// an invocation's fixed costs (and, counting, its atomic adds) are shared
+/// by four ray trees, as a pixel's samples share them.
+pub const REFINE_POINTS: u32 = 4;
 
 impl Variant {
     /// The variant of `scene`, laid out as `uploads`, with these settings:
@@ -172,7 +178,10 @@ impl Variant {
             d.push(("COUNT_RAYS".to_owned(), None));
         }
         if self.refine {
-            d.push(("REFINE_POINTS".to_owned(), None));
+            d.push((
+                "REFINE_POINTS".to_owned(),
+                Some(format!("{REFINE_POINTS}u")),
+            ));
             d.push(("REFINE_WIDTH".to_owned(), Some(format!("{REFINE_WIDTH}u"))));
         }
         if self.wavefront {
@@ -207,6 +216,16 @@ impl Variant {
             Precision::F64 => 32,
         };
         (reals * real, words * 16)
+    }
+
+    /// The colours one invocation writes: `REFINE_POINTS` for the
+    /// refinement, else one (its pixel's).
+    pub fn outputs_per_invocation(&self) -> u32 {
+        if self.refine {
+            REFINE_POINTS
+        } else {
+            1
+        }
     }
 
     /// The blocks the shader declares, with their binding numbers (dense

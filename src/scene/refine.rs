@@ -6,7 +6,7 @@
 //! point). So they split the same squares and sum each pixel in the same
 //! order: depth first, the top-left quarter first.
 
-use std::collections::HashMap;
+use rayon::prelude::*;
 
 use super::Adaptive;
 use crate::base::real::{Real, Vec3};
@@ -37,6 +37,13 @@ impl Point {
 /// A pixel to split: its column and row in the image, and its corners'
 /// colours (top-left, top-right, bottom-left, bottom-right).
 pub type Pixel<R> = ((u32, u32), [Vec3<R>; 4]);
+
+/// A square resolved: its pixel and path, as one key (the pixel above 8
+/// bits of path), and its share of the pixel's colour.
+type Leaf<R> = (u64, Vec3<R>);
+
+/// What a run of squares became: the quarters split again, and the leaves.
+type Quartered<R> = (Vec<Square<R>>, Vec<Leaf<R>>);
 
 /// A square waiting to be resolved: the pixel it belongs to (its place in
 /// the list), its corner on its level's lattice, its level, its place in
@@ -73,74 +80,139 @@ pub fn refine<R: Real, E>(
             corners,
         })
         .collect();
-    // Each leaf: its pixel, its path, and its share of the pixel's colour.
-    let mut leaves: Vec<(usize, u32, Vec3<R>)> = Vec::new();
+    let mut leaves: Vec<Leaf<R>> = Vec::new();
     let quarter = R::of(0.25);
     while let Some(first) = splitting.first() {
         let k = first.level + 1;
-        // The level's points, each once, in the order first asked for.
-        let mut index: HashMap<(u32, u32), usize> = HashMap::new();
-        let mut points = Vec::new();
-        let mut point = |x: u32, y: u32| {
-            *index.entry((x, y)).or_insert_with(|| {
-                points.push(Point { x, y, level: k });
-                points.len() - 1
-            })
-        };
-        // Top, left, middle, right, bottom of each square.
-        let five: Vec<[usize; 5]> = splitting
-            .iter()
-            .map(|s| {
-                let (x, y) = (2 * s.x, 2 * s.y);
-                [
-                    point(x + 1, y),
-                    point(x, y + 1),
-                    point(x + 1, y + 1),
-                    point(x + 2, y + 1),
-                    point(x + 1, y + 2),
-                ]
-            })
-            .collect();
+        let (points, five) = level_points(&mut splitting, k);
         let colours = trace(&points)?;
         let side = R::one() / R::of(f64::from(1u32 << k));
         let shift = 2 * (Adaptive::MAX_LEVELS - k);
-        let mut next = Vec::new();
-        for (s, five) in splitting.iter().zip(five) {
-            let [t, l, m, r, b] = five.map(|i| colours[i]);
-            let [tl, tr, bl, br] = s.corners;
-            let (x, y) = (2 * s.x, 2 * s.y);
-            let quarters = [
-                (x, y, [tl, t, l, m]),
-                (x + 1, y, [t, tr, m, r]),
-                (x, y + 1, [l, m, bl, b]),
-                (x + 1, y + 1, [m, r, b, br]),
-            ];
-            for (q, (x, y, corners)) in quarters.into_iter().enumerate() {
-                let path = s.path | (q as u32) << shift;
-                if k < levels && Adaptive::contrast(&corners) > threshold {
-                    next.push(Square {
-                        pixel: s.pixel,
-                        x,
-                        y,
-                        level: k,
-                        path,
-                        corners,
-                    });
-                } else {
-                    let [a, b, c, d] = corners;
-                    leaves.push((s.pixel, path, (a + b + c + d) * (side * side * quarter)));
+        // The four quarters of each square: split again, or leaves. In
+        // chunks over the threads, kept in order.
+        let chunk = 1024;
+        let parts: Vec<Quartered<R>> = splitting
+            .par_chunks(chunk)
+            .zip(five.par_chunks(chunk))
+            .map(|(squares, fives)| {
+                let (mut next, mut shares) = (Vec::new(), Vec::new());
+                for (s, five) in squares.iter().zip(fives) {
+                    let [t, l, m, r, b] = five.map(|i| colours[i]);
+                    let [tl, tr, bl, br] = s.corners;
+                    let (x, y) = (2 * s.x, 2 * s.y);
+                    let quarters = [
+                        (x, y, [tl, t, l, m]),
+                        (x + 1, y, [t, tr, m, r]),
+                        (x, y + 1, [l, m, bl, b]),
+                        (x + 1, y + 1, [m, r, b, br]),
+                    ];
+                    for (q, (x, y, corners)) in quarters.into_iter().enumerate() {
+                        let path = s.path | (q as u32) << shift;
+                        if k < levels && Adaptive::contrast(&corners) > threshold {
+                            next.push(Square {
+                                pixel: s.pixel,
+                                x,
+                                y,
+                                level: k,
+                                path,
+                                corners,
+                            });
+                        } else {
+                            let [a, b, c, d] = corners;
+                            let share = (a + b + c + d) * (side * side * quarter);
+                            shares.push(((s.pixel as u64) << 8 | u64::from(path), share));
+                        }
+                    }
                 }
-            }
+                (next, shares)
+            })
+            .collect();
+        let mut next = Vec::new();
+        for (squares, shares) in parts {
+            next.extend(squares);
+            leaves.extend(shares);
         }
         splitting = next;
     }
-    // Depth first, the top-left quarter first: the order of the paths.
-    leaves.sort_unstable_by_key(|&(pixel, path, _)| (pixel, path));
-    let mut sums = vec![Vec3::zero(); pixels.len()];
-    for (pixel, _, share) in leaves {
-        sums[pixel] += share;
+    Ok(sums_in_order(leaves, pixels.len()))
+}
+
+/// The points of level `k` that `squares` (of level k - 1) split into:
+/// each square's top, left, middle, right and bottom, by their places in
+/// the list, which holds each point once. A square's top is the bottom of
+/// the square above it, its left the right of the square to its left, where
+/// those split too; no other point is shared. The squares are put in rows
+/// first, so that both neighbours are found in one walk.
+fn level_points<R>(squares: &mut [Square<R>], k: u32) -> (Vec<Point>, Vec<[usize; 5]>) {
+    let key = |x: u32, y: u32| u64::from(y) << 32 | u64::from(x);
+    squares.sort_unstable_by_key(|s| key(s.x, s.y));
+    let mut points = Vec::with_capacity(4 * squares.len());
+    let mut five: Vec<[usize; 5]> = Vec::with_capacity(squares.len());
+    // The first square at or after the one above the current square.
+    let mut up = 0;
+    for (i, s) in squares.iter().enumerate() {
+        let mut point = |x: u32, y: u32| {
+            points.push(Point { x, y, level: k });
+            points.len() - 1
+        };
+        let (x, y) = (2 * s.x, 2 * s.y);
+        let top = match s.y.checked_sub(1) {
+            Some(above) => {
+                let wanted = key(s.x, above);
+                while up < i && key(squares[up].x, squares[up].y) < wanted {
+                    up += 1;
+                }
+                let found = up < i && key(squares[up].x, squares[up].y) == wanted;
+                if found {
+                    five[up][4]
+                } else {
+                    point(x + 1, y)
+                }
+            }
+            None => point(x + 1, y),
+        };
+        let left = match i.checked_sub(1) {
+            Some(p) if squares[p].y == s.y && squares[p].x + 1 == s.x => five[p][3],
+            _ => point(x, y + 1),
+        };
+        let middle = point(x + 1, y + 1);
+        let right = point(x + 2, y + 1);
+        let bottom = point(x + 1, y + 2);
+        five.push([top, left, middle, right, bottom]);
     }
-    Ok(sums)
+    (points, five)
+}
+
+/// Each pixel's sum of its leaves' shares, in the order of their keys
+/// (pixel, then path: depth first, the top-left quarter first): the leaves
+/// bucketed by pixel, then each pixel's few sorted by path.
+fn sums_in_order<R: Real>(leaves: Vec<Leaf<R>>, pixels: usize) -> Vec<Vec3<R>> {
+    let pixel_of = |key: u64| (key >> 8) as usize;
+    let mut start = vec![0usize; pixels + 1];
+    for (key, _) in &leaves {
+        start[pixel_of(*key) + 1] += 1;
+    }
+    for p in 0..pixels {
+        start[p + 1] += start[p];
+    }
+    let mut placed = vec![(0u64, Vec3::zero()); leaves.len()];
+    let mut next = start.clone();
+    for leaf in leaves {
+        let p = pixel_of(leaf.0);
+        placed[next[p]] = leaf;
+        next[p] += 1;
+    }
+    (0..pixels)
+        .into_par_iter()
+        .map(|p| {
+            let mut own = placed[start[p]..start[p + 1]].to_vec();
+            own.sort_unstable_by_key(|(key, _)| *key);
+            own.iter().fold(Vec3::zero(), |mut sum, (_, share)| {
+                sum += *share;
+                sum
+            })
+        })
+        .collect()
 }
 
 #[cfg(test)]
