@@ -14,7 +14,7 @@ use super::world::World;
 use crate::base::real::{Real, Vec3};
 use crate::raster::region::Region;
 use crate::raster::Image;
-use crate::scene::refine::{refine, Point};
+use crate::scene::refine::{refine_image, Point};
 use crate::scene::Adaptive;
 use crate::stats::Tally;
 
@@ -34,33 +34,16 @@ pub fn resolve<R: Real, T: Tally>(
         levels,
     };
     let mut image = grid.corner_mean();
-    let (mut split, mut places) = (Vec::new(), Vec::new());
-    for y in 0..image.height {
-        for x in 0..image.width {
-            let c = grid.corners_of(x, y);
-            if choice.splits(&c) {
-                let corners = c.map(|p| {
-                    Vec3::new(
-                        R::of(f64::from(p[0])),
-                        R::of(f64::from(p[1])),
-                        R::of(f64::from(p[2])),
-                    )
-                });
-                split.push(((traced.x + x, traced.y + y), corners));
-                places.push((y * image.width + x) as usize);
-            }
-        }
-    }
     let mut counts = T::default();
-    let colours = refine(&split, threshold, levels, |points| {
+    let trace = |points: &[Point]| {
         let (colours, tally) = trace_points(w, points);
         counts = std::mem::take(&mut counts).merge(tally);
         Ok::<_, std::convert::Infallible>(colours)
-    });
-    let Ok(colours) = colours;
-    for (p, v) in places.into_iter().zip(colours) {
-        image.pixels[p] = [v.x.to_f32(), v.y.to_f32(), v.z.to_f32()];
-    }
+    };
+    let put = |place: usize, v: Vec3<R>| {
+        image.pixels[place] = [v.x.to_f32(), v.y.to_f32(), v.z.to_f32()];
+    };
+    let Ok(()) = refine_image(grid, (traced.x, traced.y), &choice, threshold, trace, put);
     (image, counts)
 }
 

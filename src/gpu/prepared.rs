@@ -248,27 +248,25 @@ impl Prepared {
             t.total_s() + t.setup.compile_s + t.setup.pipeline_s + t.setup.driver_compile_s
         };
         let before = accounted(&rendered.times);
-        let (split, places) = refine::split::<R>(corners, region, adaptive);
-        if split.is_empty() {
-            rendered.times.refine_s += t0.elapsed().as_secs_f64();
-            return Ok(());
-        }
         let threshold = R::of(adaptive.threshold_steps());
         let (times, counts) = (&mut rendered.times, &mut rendered.counts);
-        let colours = crate::scene::refine::refine(&split, threshold, adaptive.levels, |points| {
-            self.trace_points::<R>(points, times, counts)
-        })?;
-        for (p, v) in places.into_iter().zip(colours) {
-            rendered.image.pixels[p] = [v.x.to_f32(), v.y.to_f32(), v.z.to_f32()];
-        }
+        let image = &mut rendered.image;
+        crate::scene::refine::refine_image(
+            corners,
+            (region.x, region.y),
+            adaptive,
+            threshold,
+            |points| self.trace_points::<R>(points, times, counts),
+            |place, v| image.pixels[place] = [v.x.to_f32(), v.y.to_f32(), v.z.to_f32()],
+        )?;
         let spent = accounted(&rendered.times) - before;
         rendered.times.refine_s += (t0.elapsed().as_secs_f64() - spent).max(0.0);
         Ok(())
     }
 
     /// One level of the refinement: the colours of `points`, traced on the
-    /// refinement's stage, made for this list (one invocation a point,
-    /// laid out `REFINE_WIDTH` wide).
+    /// refinement's stage, made for this list (`REFINE_POINTS` an
+    /// invocation, the invocations laid out `REFINE_WIDTH` wide).
     fn trace_points<R: Real>(
         &mut self,
         points: &[Point],

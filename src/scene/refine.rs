@@ -10,6 +10,13 @@ use rayon::prelude::*;
 
 use super::Adaptive;
 use crate::base::real::{Real, Vec3};
+use crate::raster::Image;
+
+/// The most pixels refined together: the lists of points, squares and
+/// leaves are bounded by these, not by the image (at most 4^levels leaves
+/// a pixel). Both renderers take the same runs, so they trace the same
+/// points; a point two runs share is traced by each.
+pub const RUN_PIXELS: usize = 1 << 16;
 
 /// A point of the image to trace: (x, y) on the lattice of side 2^-level
 /// pixels, in the whole image's coordinates.
@@ -56,6 +63,63 @@ struct Square<R> {
     level: u32,
     path: u32,
     corners: [Vec3<R>; 4],
+}
+
+/// Refines the pixels of a region whose corners are `corners` (the image
+/// of the region's corners, its top-left at `origin` in the whole image):
+/// those `adaptive` splits (`Adaptive::splits`, on the f32 corners), in
+/// the image's order, in runs of at most `RUN_PIXELS`. `put(place,
+/// colour)` receives each refined pixel's colour and its place in the
+/// region's pixels.
+pub fn refine_image<R: Real, E>(
+    corners: &Image,
+    origin: (u32, u32),
+    adaptive: &Adaptive,
+    threshold: R,
+    trace: impl FnMut(&[Point]) -> Result<Vec<Vec3<R>>, E>,
+    put: impl FnMut(usize, Vec3<R>),
+) -> Result<(), E> {
+    refine_in_runs(corners, origin, adaptive, threshold, RUN_PIXELS, trace, put)
+}
+
+/// `refine_image`, in runs of at most `run_pixels`.
+fn refine_in_runs<R: Real, E>(
+    corners: &Image,
+    origin: (u32, u32),
+    adaptive: &Adaptive,
+    threshold: R,
+    run_pixels: usize,
+    mut trace: impl FnMut(&[Point]) -> Result<Vec<Vec3<R>>, E>,
+    mut put: impl FnMut(usize, Vec3<R>),
+) -> Result<(), E> {
+    let (w, h) = (corners.width - 1, corners.height - 1);
+    let (mut run, mut places) = (Vec::new(), Vec::new());
+    for y in 0..h {
+        for x in 0..w {
+            let c = corners.corners_of(x, y);
+            if adaptive.splits(&c) {
+                let c = c.map(|p| {
+                    Vec3::new(
+                        R::of(f64::from(p[0])),
+                        R::of(f64::from(p[1])),
+                        R::of(f64::from(p[2])),
+                    )
+                });
+                run.push(((origin.0 + x, origin.1 + y), c));
+                places.push((y * w + x) as usize);
+            }
+            let last = y + 1 == h && x + 1 == w;
+            if run.len() == run_pixels || last && !run.is_empty() {
+                let colours = refine(&run, threshold, adaptive.levels, &mut trace)?;
+                for (&place, colour) in places.iter().zip(colours) {
+                    put(place, colour);
+                }
+                run.clear();
+                places.clear();
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The colours of `pixels`, every one split, its squares split again where
@@ -247,6 +311,45 @@ mod tests {
             }
         );
         assert_eq!(traced[3].at::<f64>(), (4.0, 2.5));
+    }
+
+    /// Runs of any length give the same colours; a point two runs share is
+    /// traced by each.
+    #[test]
+    fn runs_give_the_same_colours() {
+        // A checker of corners: every pixel splits.
+        let corners = Image::new(5, 4, (0..20).map(|i| [((i % 2) as f32); 3]).collect());
+        let adaptive = Adaptive {
+            threshold: 0.1,
+            levels: 2,
+        };
+        let colour_at = |p: &Point| {
+            let (x, y) = p.at::<f64>();
+            grey((x * 0.37 + y * 0.11).fract())
+        };
+        let mut results = Vec::new();
+        for run in [1, 3, 1000] {
+            let mut traced = 0;
+            let mut image = vec![grey(-1.0); 12];
+            refine_in_runs(
+                &corners,
+                (10, 20),
+                &adaptive,
+                adaptive.threshold_steps(),
+                run,
+                |points| {
+                    traced += points.len();
+                    Ok::<_, ()>(points.iter().map(colour_at).collect())
+                },
+                |place, v| image[place] = v,
+            )
+            .unwrap();
+            assert!(image.iter().all(|v| v.x >= 0.0), "every pixel refined");
+            results.push((image, traced));
+        }
+        assert_eq!(results[0].0, results[2].0);
+        assert_eq!(results[1].0, results[2].0);
+        assert!(results[0].1 > results[1].1 && results[1].1 > results[2].1);
     }
 
     /// A square splits again where its corners differ, down to the levels
