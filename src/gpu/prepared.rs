@@ -325,13 +325,7 @@ impl Prepared {
     /// watchdog times shading alone. Its seconds; 0 for a pipeline the
     /// driver has compiled already.
     fn compile_on_driver(&mut self, refine: bool) -> Result<f64, GpuError> {
-        let stage = if refine {
-            self.refine
-                .as_ref()
-                .expect("the refinement's stage is made first")
-        } else {
-            &self.main
-        };
+        let stage = pick(&self.main, &self.refine, refine);
         if !stage.pipeline.first_dispatch() {
             return Ok(0.0);
         }
@@ -357,13 +351,7 @@ impl Prepared {
         times: &mut RenderTimes,
         progress: &dyn Fn(u64),
     ) -> Result<(Vec<[f32; 3]>, Option<Counts>), GpuError> {
-        let stage = if refine {
-            self.refine
-                .as_ref()
-                .expect("the refinement's stage is made first")
-        } else {
-            &self.main
-        };
+        let stage = pick(&self.main, &self.refine, refine);
         let (tile_w, tile_h) = stage.tile;
         let bvh = stage.variant.bvh_stack > 0;
         // Colours an invocation writes, one after another.
@@ -428,6 +416,18 @@ impl Prepared {
             read_counts(counters, done)
         });
         Ok((pixels, counts))
+    }
+}
+
+/// The main stage, or the refinement's where `refine` (a free function,
+/// so that the executor stays free to borrow).
+fn pick<'a>(main: &'a Stage, refinement: &'a Option<Stage>, refine: bool) -> &'a Stage {
+    if refine {
+        refinement
+            .as_ref()
+            .expect("the refinement's stage is made first")
+    } else {
+        main
     }
 }
 
