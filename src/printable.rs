@@ -22,13 +22,21 @@ fn cut(s: &str, max: usize) -> String {
             out.push('…');
             break;
         }
-        if c.is_control() {
+        if c.is_control() || reorders(c) {
             out.extend(c.escape_default());
         } else {
             out.push(c);
         }
     }
     out
+}
+
+/// Whether `c` is one of Unicode's invisible direction marks and
+/// overrides (U+061C, U+200E–U+200F, U+202A–U+202E, U+2066–U+2069), which
+/// a terminal obeys: a name holding U+202E would print the rest of the
+/// message backwards.
+fn reorders(c: char) -> bool {
+    matches!(c, '\u{061c}' | '\u{200e}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
 }
 
 /// A path as `text` shows it.
@@ -58,6 +66,9 @@ mod tests {
     #[test]
     fn control_characters_are_escaped_and_long_text_is_cut() {
         assert_eq!(text("a\nb\u{1b}[31m"), "a\\nb\\u{1b}[31m");
+        assert_eq!(text("ab\u{202e}cd"), "ab\\u{202e}cd");
+        assert_eq!(text("\u{2066}x\u{200f}"), "\\u{2066}x\\u{200f}");
+        assert_eq!(text("résumé ✓"), "résumé ✓");
         let long = "x".repeat(1_000_000);
         let shown = text(&long);
         assert_eq!(shown.chars().count(), MAX_CHARS + 1);

@@ -213,6 +213,8 @@ fn bad_images_and_missing_uvs_are_named() {
     });
     write_png(&d.join("wide.png"), 8193, 1, |_, _| [0, 0, 0]);
     write_pfm(&d.join("negative.pfm"), 2, 2, -1.0);
+    // A texel of 1e38 once blamed lights[0] (issue 31).
+    write_pfm(&d.join("huge.pfm"), 1, 1, 1e38);
     std::fs::write(d.join("flat.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     std::fs::write(
         d.join("bad-vt.obj"),
@@ -229,6 +231,7 @@ fn bad_images_and_missing_uvs_are_named() {
         ("image = \"ok.txt\"", SPHERE.to_owned(), "unsupported image type"),
         ("image = \"wide.png\"", SPHERE.to_owned(), "is 8193x1: an image texture may be at most 8192 a side"),
         ("image = \"negative.pfm\"", SPHERE.to_owned(), "texel (0, 0) has the value -1: texels must be finite and >= 0"),
+        ("image = \"huge.pfm\"", SPHERE.to_owned(), "materials.m: its texture's brightest value, 1.000e38, makes the brightest pixel"),
         ("image = \"ok.png\"\npattern = \"checker\"", SPHERE.to_owned(), "a pattern or an image, not both"),
         ("image = \"ok.png\"\ncolors = [[1, 1, 1], [0, 0, 0]]", SPHERE.to_owned(), "an image has no colors"),
         ("size = 1.0", SPHERE.to_owned(), "needs a pattern (checker, solid_checker) or an image"),

@@ -86,6 +86,9 @@ fn the_binary_stops_at_once_and_writes_nothing() {
     assert!(start.elapsed() < Duration::from_secs(60));
     let o = common::glint(&["render", scene.to_str().unwrap(), "--timeout", "-1"]);
     assert_eq!(o.status.code(), Some(2));
+    // A huge limit is named as given, not in 301 digits (issue 31).
+    let o = common::glint(&["render", scene.to_str().unwrap(), "--timeout", "1e300"]);
+    common::assert_user_error(&o, "--timeout 1e300: must be in (0, 1e6] seconds");
 }
 
 #[test]

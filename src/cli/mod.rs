@@ -213,7 +213,7 @@ impl DeviceArgs {
         if let Some(t) = self.timeout {
             anyhow::ensure!(
                 t.is_finite() && t > 0.0 && t <= 1e6,
-                "--timeout {t}: must be in (0, 1e6] seconds"
+                "--timeout {t:?}: must be in (0, 1e6] seconds"
             );
             options.timeout = Some(std::time::Duration::from_secs_f64(t));
         }

@@ -211,11 +211,31 @@ pub fn read(path: &Path) -> Result<Image, ImageIoError> {
     let format = Format::of(path)?;
     match format {
         Format::Pfm => {
-            let bytes = crate::input::read(path, crate::input::Kind::Pfm).map_err(io_err(path))?;
-            read_pfm(&bytes).map_err(|reason| ImageIoError::BadPfm {
+            let bad = |reason| ImageIoError::BadPfm {
                 path: path.to_owned(),
                 reason,
-            })
+            };
+            let mut file =
+                crate::input::open(path, crate::input::Kind::Pfm).map_err(io_err(path))?;
+            let mut bytes = Vec::new();
+            (&mut file)
+                .take(128)
+                .read_to_end(&mut bytes)
+                .map_err(io_err(path))?;
+            let (w, h, _, pos) = pfm_header(&bytes).map_err(bad)?;
+            // The pixels the header promises and one byte more, which shows
+            // any excess: a 1x1 header over a gigabyte is refused once 14
+            // bytes are read, not the gigabyte (issue 31).
+            let want = pos as u64 + u64::from(w) * u64::from(h) * 12;
+            file.take((want + 1).saturating_sub(bytes.len() as u64))
+                .read_to_end(&mut bytes)
+                .map_err(io_err(path))?;
+            if bytes.len() as u64 > want {
+                return Err(bad(format!(
+                    "the file is longer than the {w}x{h} pixels its header promises ({want} bytes)"
+                )));
+            }
+            read_pfm(&bytes).map_err(bad)
         }
         Format::Png | Format::Exr => {
             // The header is read once, within `HEADER_BYTES` (a colour
@@ -453,6 +473,35 @@ mod tests {
             bytes.extend_from_slice(&v.to_be_bytes());
         }
         assert_eq!(read_pfm(&bytes).unwrap().pixels, vec![[0.5, 1.5, 2.5]]);
+    }
+
+    /// A PFM's header is checked before its pixels are read: a 1x1 header
+    /// over a gigabyte (sparse) is refused after a few bytes.
+    #[test]
+    fn a_pfm_longer_than_its_header_is_refused_unread() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("long.pfm");
+        std::fs::write(&path, b"PF\n1 1\n-1\n").unwrap();
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open(&path)
+            .unwrap()
+            .set_len(1 << 30)
+            .unwrap();
+        let start = std::time::Instant::now();
+        let err = read(&path).unwrap_err().to_string();
+        assert!(err.contains("longer than the 1x1 pixels"), "{err}");
+        assert!(start.elapsed() < std::time::Duration::from_secs(1));
+        // One whole pixel, and one short of it, as before.
+        let mut whole = b"PF\n1 1\n-1\n".to_vec();
+        whole.extend([0u8; 12]);
+        std::fs::write(&path, &whole).unwrap();
+        assert_eq!(read(&path).unwrap().pixels, vec![[0.0; 3]]);
+        std::fs::write(&path, &whole[..whole.len() - 1]).unwrap();
+        assert!(read(&path)
+            .unwrap_err()
+            .to_string()
+            .contains("expected 12 bytes"));
     }
 
     #[test]

@@ -220,9 +220,34 @@ impl Check<'_> {
                 (None, 0.0f64),
                 |(w, m), (i, b)| if *b > m { (Some(i), *b) } else { (w, m) },
             );
-        let path = match worst {
-            Some(i) => root().key("lights").index(i),
-            None => root().key("render").key("background"),
+        // A texture far brighter than every material colour (a texel of
+        // 1e38) is named itself, through the material that takes it, rather
+        // than the light that lights it (issue 31).
+        let textured = scene
+            .materials
+            .iter()
+            .filter_map(|m| {
+                let peak = [m.texture, m.ambient_texture]
+                    .into_iter()
+                    .flatten()
+                    .map(|t| max(scene.textures[t as usize].brightest()))
+                    .fold(0.0f64, f64::max);
+                (peak > 1.0 && peak > max(m.diffuse).max(max(m.ambient))).then_some((m, peak))
+            })
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        let path = match (textured, worst) {
+            (Some((m, peak)), _) if bound / peak <= MAX_BRIGHTNESS => {
+                return self.err(
+                    &root().key("materials").key(&m.name),
+                    format!(
+                        "its texture's brightest value, {peak:.3e}, makes the brightest pixel this \
+                         scene can make up to {bound:.3e}, past {MAX_BRIGHTNESS:e}: it could \
+                         overflow f32; scale the texture's colours down"
+                    ),
+                );
+            }
+            (_, Some(i)) => root().key("lights").index(i),
+            (_, None) => root().key("render").key("background"),
         };
         self.err(
             &path,
