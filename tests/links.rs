@@ -1,0 +1,84 @@
+//! Every relative link and image in the repository's Markdown files names
+//! a file or folder that is there (issue 33: the README's SPD pictures
+//! pointed at files that were never committed).
+
+use std::path::{Path, PathBuf};
+
+mod common;
+
+/// The Markdown files of the repository, outside target/ and hidden
+/// folders.
+fn markdown_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        if name.starts_with('.') || name == "target" {
+            continue;
+        }
+        if path.is_dir() {
+            markdown_files(&path, out);
+        } else if name.ends_with(".md") {
+            out.push(path);
+        }
+    }
+}
+
+/// The targets of `[text](target)` and `![alt](target)` in `text`, with
+/// their lines; code spans and fenced blocks are skipped.
+fn link_targets(text: &str) -> Vec<(usize, String)> {
+    let mut targets = Vec::new();
+    let mut fenced = false;
+    for (n, line) in text.lines().enumerate() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+            continue;
+        }
+        if fenced {
+            continue;
+        }
+        // Code spans hold examples, not links.
+        let prose: String = line.split('`').step_by(2).collect::<Vec<_>>().join(" ");
+        let mut rest = prose.as_str();
+        while let Some(at) = rest.find("](") {
+            let after = &rest[at + 2..];
+            let Some(end) = after.find(')') else { break };
+            targets.push((n + 1, after[..end].to_owned()));
+            rest = &after[end..];
+        }
+    }
+    targets
+}
+
+#[test]
+fn every_relative_link_and_image_in_the_markdown_is_there() {
+    let root = common::repo();
+    let mut files = Vec::new();
+    markdown_files(&root, &mut files);
+    assert!(files.len() > 5, "found {} Markdown files", files.len());
+    let mut broken = Vec::new();
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        for (line, target) in link_targets(&text) {
+            let target = target.split_whitespace().next().unwrap_or_default();
+            let path = target.split('#').next().unwrap_or_default();
+            if path.is_empty() || path.contains("://") || path.starts_with("mailto:") {
+                continue;
+            }
+            if !file.parent().unwrap().join(path).exists() {
+                broken.push(format!(
+                    "{}:{line}: {target}",
+                    file.strip_prefix(&root).unwrap().display()
+                ));
+            }
+        }
+    }
+    assert!(broken.is_empty(), "broken links:\n{}", broken.join("\n"));
+}
+
+/// The check sees a broken link, and passes over examples in code.
+#[test]
+fn the_check_sees_a_broken_link() {
+    let text = "see ![a](img/a.png) and [b](b.md#part), not `[c](c.md)`\n```\n[d](d.md)\n```\n";
+    let targets: Vec<String> = link_targets(text).into_iter().map(|(_, t)| t).collect();
+    assert_eq!(targets, ["img/a.png", "b.md#part"]);
+}
