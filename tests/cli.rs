@@ -334,3 +334,54 @@ fn compiled_shaders_are_cached_between_runs_unless_told_not_to() {
         .to_string_lossy()
         .starts_with("pipelines-")));
 }
+
+/// Every command's help speaks to users: no Rust or shader names from the
+/// code (issue 33 found `AUTO_MIN_BOUNDED` and `auto_picks_wavefront`
+/// there), and `--accel` names every bounded kind.
+#[test]
+fn help_text_shows_no_internal_names() {
+    let commands = [
+        "render",
+        "compare",
+        "diff",
+        "info",
+        "stability",
+        "report",
+        "shader",
+        "watch",
+        "convert",
+        "assemble",
+        "bench",
+    ];
+    for command in commands {
+        let o = common::glint(&[command, "--help"]);
+        assert!(o.status.success(), "{command} --help");
+        let help = String::from_utf8_lossy(&o.stdout);
+        // Value names (<MAX_DEPTH>) are clap's, and the environment
+        // variables a user sets are the user's.
+        let mut prose = String::new();
+        for (i, part) in help.split(['<', '>']).enumerate() {
+            if i % 2 == 0 {
+                prose.push_str(part);
+            }
+        }
+        let environment = ["SLURM_ARRAY_TASK_ID", "JOB_COMPLETION_INDEX"];
+        for word in prose.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == ':')) {
+            let constant = word.contains('_')
+                && word
+                    .chars()
+                    .all(|c| c.is_ascii_uppercase() || c == '_' || c.is_ascii_digit())
+                && !word.starts_with("GLINT_")
+                && !environment.contains(&word);
+            let item = word.contains("::") || (word.contains('_') && word.ends_with("()"));
+            assert!(!constant && !item, "{command} --help shows {word}");
+        }
+        assert!(!help.contains("auto_picks_wavefront"), "{command}");
+        if help.contains("--accel") {
+            assert!(
+                help.contains("spheres, triangles and cylinders"),
+                "{command}"
+            );
+        }
+    }
+}

@@ -136,7 +136,7 @@ pub struct DeviceArgs {
     /// Render with the one shader that handles every feature, not the scene's own variant.
     #[arg(long)]
     generic: bool,
-    /// Scene management: a BVH over the bounded primitives (spheres and triangles; planes are scanned), none (every ray tests every object), or auto (by the count of bounded primitives). The CPU renderer follows it too.
+    /// Scene management: a BVH over the bounded primitives (spheres, triangles and cylinders; planes are scanned), none (every ray tests every object), or auto (by the count of bounded primitives). The CPU renderer follows it too.
     #[arg(long, value_parser = choice::of::<Accel>(), default_value = "auto")]
     pub accel: Accel,
     /// How the GPU lays out the rays: one invocation per pixel tracing its whole ray tree (megakernel), a dispatch per ray segment over a compacted queue of live paths (wavefront), or auto (the one measured faster for scenes like this; docs/performance.md, Schedules). Both give the same image, bit for bit.
