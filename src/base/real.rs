@@ -71,6 +71,18 @@ impl<R: Real> Vec3<R> {
     pub fn of(v: glam::DVec3) -> Self {
         Self::new(R::of(v.x), R::of(v.y), R::of(v.z))
     }
+    /// An image's colour (or a texel) in this precision.
+    pub fn of_rgb(c: [f32; 3]) -> Self {
+        Self::new(
+            R::of(f64::from(c[0])),
+            R::of(f64::from(c[1])),
+            R::of(f64::from(c[2])),
+        )
+    }
+    /// This colour as an image stores it.
+    pub fn to_rgb(self) -> [f32; 3] {
+        [self.x.to_f32(), self.y.to_f32(), self.z.to_f32()]
+    }
     pub fn dot(self, o: Self) -> R {
         self.x * o.x + self.y * o.y + self.z * o.z
     }

@@ -41,7 +41,7 @@ pub fn resolve<R: Real, T: Tally>(
         Ok::<_, std::convert::Infallible>(colours)
     };
     let put = |place: usize, v: Vec3<R>| {
-        image.pixels[place] = [v.x.to_f32(), v.y.to_f32(), v.z.to_f32()];
+        image.pixels[place] = v.to_rgb();
     };
     let Ok(()) = refine_image(grid, (traced.x, traced.y), &choice, threshold, trace, put);
     (image, counts)

@@ -134,7 +134,7 @@ fn render_tallied<R: Real, T: Tally>(
                     }
                 }
                 let c = sum * inv;
-                *px = [c.x.to_f32(), c.y.to_f32(), c.z.to_f32()];
+                *px = c.to_rgb();
             }
             progress(1);
             counts

@@ -48,14 +48,7 @@ pub fn image_colour<R: Real>(texels: &[[f32; 3]], t: &TextureR<R>, uv: [R; 2]) -
     let (fx, fy) = (x - x0, y - y0);
     let (i0, i1) = (wrap(x0, w), wrap(x0 + R::one(), w));
     let (j0, j1) = (wrap(y0, h), wrap(y0 + R::one(), h));
-    let texel = |x: u32, y: u32| {
-        let c = texels[(image.first + y * w + x) as usize];
-        Vec3::new(
-            R::of(f64::from(c[0])),
-            R::of(f64::from(c[1])),
-            R::of(f64::from(c[2])),
-        )
-    };
+    let texel = |x: u32, y: u32| Vec3::of_rgb(texels[(image.first + y * w + x) as usize]);
     let top = lerp(texel(i0, j0), texel(i1, j0), fx);
     let bottom = lerp(texel(i0, j1), texel(i1, j1), fx);
     lerp(top, bottom, fy) * t.colors[0]

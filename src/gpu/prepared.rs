@@ -257,7 +257,7 @@ impl Prepared {
             adaptive,
             threshold,
             |points| self.trace_points::<R>(points, times, counts),
-            |place, v| image.pixels[place] = [v.x.to_f32(), v.y.to_f32(), v.z.to_f32()],
+            |place, v: Vec3<R>| image.pixels[place] = v.to_rgb(),
         )?;
         let spent = accounted(&rendered.times) - before;
         rendered.times.refine_s += (t0.elapsed().as_secs_f64() - spent).max(0.0);
@@ -309,13 +309,7 @@ impl Prepared {
         };
         Ok(pixels[..n as usize]
             .iter()
-            .map(|c| {
-                Vec3::new(
-                    R::of(f64::from(c[0])),
-                    R::of(f64::from(c[1])),
-                    R::of(f64::from(c[2])),
-                )
-            })
+            .map(|&c| Vec3::of_rgb(c))
             .collect())
     }
 

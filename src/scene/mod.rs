@@ -166,7 +166,7 @@ impl Adaptive {
     /// choice of the pixels the second pass refines, made once, from the
     /// f32 corner image, for either renderer, by [`Adaptive::contrast`].
     pub fn splits(&self, c: &[[f32; 3]; 4]) -> bool {
-        let corners = c.map(|p| Vec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])));
+        let corners = c.map(Vec3::<f64>::of_rgb);
         Self::contrast(&corners) > self.threshold_steps()
     }
 

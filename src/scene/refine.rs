@@ -98,13 +98,7 @@ fn refine_in_runs<R: Real, E>(
         for x in 0..w {
             let c = corners.corners_of(x, y);
             if adaptive.splits(&c) {
-                let c = c.map(|p| {
-                    Vec3::new(
-                        R::of(f64::from(p[0])),
-                        R::of(f64::from(p[1])),
-                        R::of(f64::from(p[2])),
-                    )
-                });
+                let c = c.map(Vec3::of_rgb);
                 run.push(((origin.0 + x, origin.1 + y), c));
                 places.push((y * w + x) as usize);
             }
