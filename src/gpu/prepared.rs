@@ -280,15 +280,23 @@ impl Prepared {
         let entries = Region::whole(width, invocations.div_ceil(width));
         let rows = (RAYS_PER_DISPATCH / u64::from(width * per)) as u32;
         let tile = (width, rows.clamp(1, entries.height));
-        // The list is this level's alone: the stage binds it anew.
-        self.refine = None;
-        let mut variant = self.main.variant.clone();
-        variant.refine = true;
-        variant.wavefront = false;
-        let defines = self.shared.defines_of(&variant);
-        let (pipeline, setup) = self.shared.pipeline(&variant, &defines)?;
-        times.setup.compile_s += setup.compile_s;
-        times.setup.pipeline_s += setup.pipeline_s;
+        // The list is this level's alone: the stage binds it anew, with the
+        // refinement's pipeline, looked up once for this prepared scene.
+        let (pipeline, variant) = match self.refine.take() {
+            Some(Stage {
+                pipeline, variant, ..
+            }) => (pipeline, variant),
+            None => {
+                let mut variant = self.main.variant.clone();
+                variant.refine = true;
+                variant.wavefront = false;
+                let defines = self.shared.defines_of(&variant);
+                let (pipeline, setup) = self.shared.pipeline(&variant, &defines)?;
+                times.setup.compile_s += setup.compile_s;
+                times.setup.pipeline_s += setup.pipeline_s;
+                (pipeline, variant)
+            }
+        };
         let t0 = Instant::now();
         let list = refine::list(points);
         let stage = Stage::new(
