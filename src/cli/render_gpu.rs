@@ -7,6 +7,7 @@ use glint::gpu;
 use glint::raster::region::Region;
 use glint::raster::Image;
 use glint::scene::Scene;
+use glint::settings::Choice;
 use glint::stats::Counts;
 use glint::tiles::{GpuKey, Sidecar};
 
@@ -35,12 +36,13 @@ pub struct GpuRender {
 impl GpuRender {
     /// `GPU f32 on <device>`.
     pub fn label(&self, precision: Precision) -> String {
-        format!(
-            "GPU {} on {}",
-            format!("{precision:?}").to_lowercase(),
-            self.renderer.device_info().name
-        )
+        label(precision, &self.renderer.device_info().name)
     }
+}
+
+/// `GPU <precision> on <device>`, as `render` reports what rendered.
+fn label(precision: Precision, device: &str) -> String {
+    format!("GPU {} on {device}", precision.name())
 }
 
 /// Renders the whole of `scene` in `precision`, counting where `count`.
@@ -106,10 +108,9 @@ pub fn tile(
         .image;
     bar.finish_and_clear();
     let device = renderer.device_info().name.clone();
-    let name = format!("{precision:?}").to_lowercase();
     let key = gpu_key(&options, &device);
-    let sidecar = tile::sidecar(scene_arg, scene, &name, Some(key), region, tile);
-    Ok((image, format!("GPU {name} on {device}"), sidecar))
+    let sidecar = tile::sidecar(scene_arg, scene, precision.name(), Some(key), region, tile);
+    Ok((image, label(precision, &device), sidecar))
 }
 
 /// What of a GPU render can change a tile's bits: the intersection forms,
