@@ -5,7 +5,7 @@ mod cli;
 use std::process::ExitCode;
 
 use clap::error::ErrorKind;
-use clap::Parser;
+use clap::{CommandFactory, FromArgMatches};
 
 fn main() -> ExitCode {
     // On SIGINT or SIGTERM, remove the temporary file of any write in
@@ -16,7 +16,17 @@ fn main() -> ExitCode {
         eprintln!("error: interrupted");
         std::process::exit(130);
     });
-    let args = match cli::Cli::try_parse() {
+    let argv: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let mut command = cli::Cli::command();
+    if cli::version::asked(&argv) {
+        // clap keeps a version as &'static str (without its "string"
+        // feature); the text lives until the process prints it and exits.
+        command = command.long_version(cli::version::long().leak() as &str);
+    }
+    let args = match command
+        .try_get_matches_from(argv)
+        .and_then(|m| cli::Cli::from_arg_matches(&m))
+    {
         Ok(args) => args,
         Err(e) => return usage_error(e),
     };

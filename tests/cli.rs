@@ -352,6 +352,8 @@ fn help_text_shows_no_internal_names() {
         "convert",
         "assemble",
         "bench",
+        "completions",
+        "man",
     ];
     for command in commands {
         let o = common::glint(&[command, "--help"]);
@@ -384,4 +386,52 @@ fn help_text_shows_no_internal_names() {
             );
         }
     }
+}
+
+/// `--version` names the commit and each Vulkan device with its driver;
+/// `-V` only the first line (issue 33).
+#[test]
+fn version_names_the_commit_and_the_driver() {
+    let o = common::glint(&["--version"]);
+    common::assert_ok(&o);
+    let text = String::from_utf8_lossy(&o.stdout);
+    let mut lines = text.lines();
+    let first = lines.next().unwrap();
+    assert!(
+        first.starts_with(&format!("glint {} (commit ", env!("CARGO_PKG_VERSION"))),
+        "{text}"
+    );
+    let devices: Vec<&str> = lines.collect();
+    assert!(!devices.is_empty(), "{text}");
+    assert!(
+        devices[0].starts_with("Vulkan 0: ") && devices[0].contains(", driver "),
+        "{text}"
+    );
+    let short = common::glint(&["-V"]);
+    common::assert_ok(&short);
+    assert_eq!(String::from_utf8_lossy(&short.stdout).trim_end(), first);
+}
+
+/// Completions and the man page come from the command line's own
+/// definition: every command is in them.
+#[test]
+fn completions_and_man_page_list_every_command() {
+    for shell in ["bash", "zsh", "fish"] {
+        let o = common::glint(&["completions", shell]);
+        common::assert_ok(&o);
+        let script = String::from_utf8_lossy(&o.stdout);
+        for command in ["render", "compare", "assemble", "bench"] {
+            assert!(script.contains(command), "{shell}: {command}");
+        }
+    }
+    let o = common::glint(&["man"]);
+    common::assert_ok(&o);
+    let page = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        page.starts_with(".ie") && page.contains(".TH glint 1"),
+        "{page}"
+    );
+    assert!(page.contains("render") && page.contains("compare"));
+    let o = common::glint(&["completions", "tcsh"]);
+    assert_eq!(o.status.code(), Some(2));
 }

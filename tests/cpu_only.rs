@@ -65,3 +65,13 @@ fn what_needs_the_gpu_says_so_in_one_line() {
         assert!(!out.exists(), "{args:?} wrote its output");
     }
 }
+
+/// `--version` says that this binary has no GPU renderer.
+#[test]
+fn version_says_the_gpu_is_not_built_in() {
+    let o = common::glint(&["--version"]);
+    common::assert_ok(&o);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.lines().next().unwrap().contains("(commit "), "{text}");
+    assert!(text.contains("Vulkan: not built in"), "{text}");
+}

@@ -94,6 +94,10 @@ fn the_quick_report_writes_every_file() {
     assert!(html.contains("img/seed-fig4-diff.png") && html.contains("error_vs_time.svg"));
     let svg = std::fs::read_to_string(dir.path().join("error_vs_time.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("Pareto front"));
+    // --quick does not measure the sampling axis, so neither its plot nor
+    // a link to it is written (an empty front would claim a measurement).
+    assert!(!dir.path().join("sampling_vs_time.svg").exists());
+    assert!(!html.contains("sampling_vs_time.svg"));
 }
 
 #[test]
@@ -208,6 +212,8 @@ fn the_sampling_axis_is_measured_against_a_converged_render() {
     );
     let svg = std::fs::read_to_string(dir.path().join("sampling_vs_time.svg")).unwrap();
     assert!(svg.contains("adaptive sampling") && svg.contains("at 16x16 samples"));
+    let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
+    assert!(html.contains("sampling_vs_time.svg"));
     let csv = std::fs::read_to_string(dir.path().join("report.csv")).unwrap();
     let ms = scene["measurements"].as_array().unwrap().len();
     assert_eq!(csv.lines().count(), 1 + ms + axis.len());

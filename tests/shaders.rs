@@ -65,11 +65,42 @@ fn a_broken_include_is_reported_at_the_users_file_and_line() {
         "--no-cache",
     ]);
     assert_eq!(o.status.code(), Some(2));
+    let err = text(&o.stderr);
     assert!(
-        text(&o.stderr).contains(&format!("{user_file}:{line}: error:")),
-        "{}",
-        text(&o.stderr)
+        err.contains(&format!("{user_file}:{line}: error:")),
+        "{err}"
     );
+    // One line, as every user error is: not glslang's "compilation
+    // terminated" trailer after it (issue 33).
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(!err.contains("compilation terminated"), "{err}");
+}
+
+/// The exit-status rule (README, "Exit status"): a check that ran and
+/// found a fault exits 1; input glint cannot use exits 2.
+#[test]
+fn shader_check_exits_1_for_a_verdict_and_2_for_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.comp");
+    std::fs::write(
+        &bad,
+        "#version 450\nlayout(local_size_x = 1) in;\nvoid main() { foo(); }\n",
+    )
+    .unwrap();
+    let o = glint(&["shader", "check", bad.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        text(&o.stderr).trim_end(),
+        format!(
+            "{}:3: error: 'foo' : no matching overloaded function found",
+            bad.display()
+        )
+    );
+    let missing = dir.path().join("missing.comp");
+    let o = glint(&["shader", "check", missing.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    let o = glint(&["shader", "check", &repo("shaders/main.comp"), "-D", "1BAD"]);
+    assert_eq!(o.status.code(), Some(2));
 }
 
 #[test]

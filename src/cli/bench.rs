@@ -58,9 +58,12 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
     let ceiling = if a.gpu_only {
         None
     } else {
-        Some(bench::ceiling(&options, 512, a.runs)?)
+        Some(progress::waiting(
+            "measuring the device's ceiling (ray-sphere tests a second)",
+            || bench::ceiling(&options, 512, a.runs),
+        )?)
     };
-    let mut renderer = Renderer::new(&options)?;
+    let mut renderer = progress::waiting("opening the Vulkan device", || Renderer::new(&options))?;
     let accel = a.device.accel;
     let bar = progress::bar(scenes.len() as u64, "scenes");
     let mut rows = Vec::new();

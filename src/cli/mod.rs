@@ -19,9 +19,11 @@ mod render_gpu;
 mod report;
 #[cfg(feature = "gpu")]
 mod shader;
+mod shell;
 #[cfg(feature = "gpu")]
 mod stability;
 mod tile;
+pub mod version;
 #[cfg(feature = "gpu")]
 mod watch;
 #[cfg(not(feature = "gpu"))]
@@ -42,7 +44,7 @@ use glint::settings::{Accel, Intersect, Schedule};
 #[derive(Parser)]
 #[command(
     name = "glint",
-    version,
+    version = version::SHORT,
     about = "Headless Whitted-style ray tracer: a Vulkan compute shader checked against a CPU reference"
 )]
 pub struct Cli {
@@ -74,6 +76,10 @@ enum Command {
     Assemble(assemble::AssembleArgs),
     /// Time each scene on both renderers, with its rays, tests and node visits by ray type, against the device's ceiling.
     Bench(bench::BenchArgs),
+    /// Print a shell's completion script: `glint completions bash > /etc/bash_completion.d/glint`.
+    Completions(shell::CompletionsArgs),
+    /// Print the man page (roff): `glint man > glint.1; man ./glint.1`.
+    Man,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -299,5 +305,7 @@ pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Convert(a) => convert::run(&a),
         Command::Bench(a) => bench::run(&a),
         Command::Assemble(a) => assemble::run(&a),
+        Command::Completions(a) => shell::completions(&a),
+        Command::Man => shell::man(),
     }
 }

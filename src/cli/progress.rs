@@ -1,17 +1,41 @@
-//! Progress bars for renders that take seconds; hidden when stderr is not a
-//! terminal, so logs and tests stay clean.
+//! Progress for work that takes seconds: bars for renders, a spinner for
+//! waits of unknown length (opening the device, compiling a shader, the
+//! driver's compile, building a BVH). Hidden when stderr is not a terminal,
+//! so logs and tests keep to glint's one-line output.
+
+use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
+/// How often a bar redraws with no progress, so that its clock moves
+/// through a wait that reports nothing (a driver compiling a shader).
+const TICK: Duration = Duration::from_millis(200);
+
+/// A bar over `total` steps, labelled `what`.
 pub fn bar(total: u64, what: &str) -> ProgressBar {
     let bar = ProgressBar::new(total);
     bar.set_style(
         ProgressStyle::with_template(
-            "{msg:>10} [{bar:40}] {percent:>3}% {elapsed_precise} eta {eta}",
+            "[{bar:30}] {percent:>3}% {elapsed_precise} eta {eta:>3} {wide_msg}",
         )
         .expect("valid template")
         .progress_chars("=> "),
     );
     bar.set_message(what.to_owned());
+    bar.enable_steady_tick(TICK);
     bar
+}
+
+/// Runs `f` under a spinner that says `what` and the seconds so far, and
+/// clears it after.
+pub fn waiting<T>(what: &str, f: impl FnOnce() -> T) -> T {
+    let spinner = ProgressBar::new_spinner();
+    spinner.set_style(
+        ProgressStyle::with_template("{spinner} {elapsed:>3} {wide_msg}").expect("valid template"),
+    );
+    spinner.set_message(what.to_owned());
+    spinner.enable_steady_tick(TICK);
+    let out = f();
+    spinner.finish_and_clear();
+    out
 }

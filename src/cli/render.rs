@@ -289,7 +289,9 @@ pub fn render_cpu_timed(
         start: Instant,
         progress: &(dyn Fn(u64) + Sync),
     ) -> (Image, Option<Counts>, f64) {
-        let prepared = cpu::Prepared::<R>::new(scene, accel);
+        let prepared = progress::waiting("preparing the scene (BVH)", || {
+            cpu::Prepared::<R>::new(scene, accel)
+        });
         let setup_s = start.elapsed().as_secs_f64();
         if count {
             let (image, counts) = prepared.render_counted(progress);

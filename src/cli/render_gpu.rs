@@ -45,6 +45,22 @@ fn label(precision: Precision, device: &str) -> String {
     format!("GPU {} on {device}", precision.name())
 }
 
+/// Opens the device and prepares `scene` on it, under a spinner: opening
+/// lavapipe, building a large BVH, compiling a new shader variant and the
+/// driver's compile of its pipeline each take seconds.
+fn open_and_prepare(
+    scene: &Scene,
+    options: &gpu::GpuOptions,
+) -> anyhow::Result<(gpu::Renderer, gpu::Prepared)> {
+    let mut renderer =
+        progress::waiting("opening the Vulkan device", || gpu::Renderer::new(options))?;
+    let prepared = progress::waiting(
+        "preparing the scene: buffers, BVH, and the shader (compiled on first use of a variant)",
+        || renderer.prepare(scene, &options.settings),
+    )?;
+    Ok((renderer, prepared))
+}
+
 /// Renders the whole of `scene` in `precision`, counting where `count`.
 pub fn timed(
     scene: &Scene,
@@ -54,8 +70,7 @@ pub fn timed(
 ) -> anyhow::Result<GpuRender> {
     let mut options = options(device, precision)?;
     options.settings.count = count;
-    let mut renderer = gpu::Renderer::new(&options)?;
-    let mut prepared = renderer.prepare(scene, &options.settings)?;
+    let (renderer, mut prepared) = open_and_prepare(scene, &options)?;
     let bar = progress::bar(
         scene.pixel_count(),
         &format!("gpu {precision:?}").to_lowercase(),
@@ -100,12 +115,9 @@ pub fn tile(
     tile: Option<String>,
 ) -> anyhow::Result<(Image, String, Sidecar)> {
     let options = options(device, precision)?;
-    let mut renderer = gpu::Renderer::new(&options)?;
+    let (renderer, mut prepared) = open_and_prepare(scene, &options)?;
     let bar = progress::bar(region.pixel_count(), "gpu tile");
-    let image = renderer
-        .prepare(scene, &options.settings)?
-        .render(Some(region), &|n| bar.inc(n))?
-        .image;
+    let image = prepared.render(Some(region), &|n| bar.inc(n))?.image;
     bar.finish_and_clear();
     let device = renderer.device_info().name.clone();
     let key = gpu_key(&options, &device);

@@ -22,7 +22,7 @@ fn scene_name(path: &std::path::Path) -> String {
 pub struct ReportArgs {
     /// Scene files [default: every scene in scenes/]
     scenes: Vec<PathBuf>,
-    /// The directory to write report.md, report.csv, report.json, error_vs_time.svg, sampling_vs_time.svg and index.html into.
+    /// The directory to write report.md, report.csv, report.json, error_vs_time.svg, sampling_vs_time.svg (where the sampling axis is measured) and index.html into.
     #[arg(short, long, value_name = "DIR")]
     output: PathBuf,
     /// Warm runs per variant (the median is reported).
@@ -75,13 +75,14 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
     }
     // Every output can be written, and none is an input, before minutes of measuring.
     let outputs = Outputs::new(inputs, false);
-    for file in report::html::files(&names, &a.output) {
+    for file in report::html::files(&names, &a.output, settings.sampling) {
         // The folder may not exist yet: it is made before the writes.
         if file.parent().is_some_and(|d| d.is_dir()) {
             outputs.check(&file)?;
         }
     }
-    let mut renderer = Renderer::new(&a.device.options()?)?;
+    let options = a.device.options()?;
+    let mut renderer = progress::waiting("opening the Vulkan device", || Renderer::new(&options))?;
     let device_s = renderer.device_s();
     let total: u64 = scenes
         .iter()
@@ -100,6 +101,7 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
     let bar = progress::bar(total, "report");
     let mut reports = Vec::new();
     for (name, scene) in names.iter().zip(&scenes) {
+        bar.set_message(format!("{name}: the CPU f64 reference"));
         let r = report::measure(&mut renderer, scene, name, settings, &|variant| {
             bar.set_message(format!("{name}: {variant}"));
             bar.inc(1);
@@ -115,9 +117,11 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
         scenes: reports,
     };
     report::html::write_all(&report, &a.output, outputs)?;
+    let written = report::html::texts(report::html::measured_sampling(&report));
     eprintln!(
-        "wrote {}/index.html, report.md, report.csv, report.json, error_vs_time.svg, sampling_vs_time.svg",
-        a.output.display()
+        "wrote {}/index.html, {}",
+        a.output.display(),
+        written.join(", ")
     );
     Ok(ExitCode::SUCCESS)
 }

@@ -370,6 +370,8 @@ fn format_log(e: &GlslangError, main_path: &str) -> String {
             line_no.parse::<u32>().ok().map(|n| (file, n, message))
         });
         match parsed {
+            // glslang's trailer after the first error: it names nothing.
+            Some((_, _, message)) if message.trim() == "'' : compilation terminated" => {}
             Some((file, n, message)) => {
                 // "0" is the main file, "-1" the preamble of -D defines.
                 let file = match file {
@@ -377,11 +379,11 @@ fn format_log(e: &GlslangError, main_path: &str) -> String {
                     "-1" => "-D",
                     f => f,
                 };
-                out.push(format!("{file}:{n}: {kind}: {message}"));
+                out.push(format!("{file}:{n}: {kind}: {}", message.trim_end()));
             }
             // "ERROR: 1 compilation errors.  No code generated." and the like.
             None if rest.contains("compilation errors") => {}
-            None => out.push(format!("{main_path}: {kind}: {rest}")),
+            None => out.push(format!("{main_path}: {kind}: {}", rest.trim_end())),
         }
     }
     if out.is_empty() {

@@ -36,7 +36,9 @@ pub enum GpuError {
     #[error("no memory type for {0} on this device")]
     NoMemoryType(&'static str),
     /// glslang's errors, one a line: the first line says what and where.
-    #[error("the shader does not compile: {0}")]
+    /// Shown as that first line and a count of the rest, so that a render
+    /// keeps to one line; `glint shader check` prints them all.
+    #[error("the shader does not compile: {}", first_of_log(.0))]
     Shader(String),
     /// The validation layer spoke (with `GpuOptions::validate`): its messages.
     #[error("the Vulkan validation layer reported {} message(s):\n{}", .0.len(), .0.join("\n"))]
@@ -152,5 +154,15 @@ impl GpuError {
             self,
             GpuError::Timeout { .. } | GpuError::CompileTimeout { .. } | GpuError::Lost
         )
+    }
+}
+
+/// A compiler log's first line, and how many more there are.
+fn first_of_log(log: &str) -> String {
+    let mut lines = log.lines().filter(|l| !l.trim().is_empty());
+    let first = lines.next().unwrap_or("(glslang gave no message)");
+    match lines.count() {
+        0 => first.to_owned(),
+        more => format!("{first} (and {more} more line(s): `glint shader check` prints them all)"),
     }
 }

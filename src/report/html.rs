@@ -23,21 +23,32 @@ fn slug(name: &str) -> String {
 }
 
 /// The files `write_all` writes into `dir` for the scenes `names`, the
-/// page last, so that a command can check them before it measures.
-pub fn files(names: &[String], dir: &Path) -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = TEXTS.iter().map(|n| dir.join(n)).collect();
+/// page last, so that a command can check them before it measures. The
+/// sampling axis's plot is among them only where `sampling` is measured.
+pub fn files(names: &[String], dir: &Path, sampling: bool) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = texts(sampling).iter().map(|n| dir.join(n)).collect();
     v.extend(names.iter().flat_map(|n| image_paths(dir, n)));
     v.push(dir.join(PAGE));
     v
 }
 
-const TEXTS: [&str; 5] = [
-    "report.md",
-    "report.csv",
-    "report.json",
-    "error_vs_time.svg",
-    "sampling_vs_time.svg",
-];
+/// The text files of a report, by name; the sampling axis's plot only
+/// where the sampling axis was measured, since without its points the plot
+/// would draw an empty front under a label that claims a measurement.
+pub fn texts(sampling: bool) -> Vec<&'static str> {
+    let mut v = vec![
+        "report.md",
+        "report.csv",
+        "report.json",
+        "error_vs_time.svg",
+    ];
+    if sampling {
+        v.push(SAMPLING_PLOT);
+    }
+    v
+}
+
+const SAMPLING_PLOT: &str = "sampling_vs_time.svg";
 const PAGE: &str = "index.html";
 
 /// A scene's images under img/: the GPU's, the reference and their heat-map.
@@ -54,14 +65,17 @@ pub fn write_all(r: &Report, dir: &Path, mut outputs: Outputs) -> anyhow::Result
     let img_dir = dir.join("img");
     std::fs::create_dir_all(&img_dir)
         .with_context(|| format!("cannot create {}", img_dir.display()))?;
-    let texts = [
+    let sampling = measured_sampling(r);
+    let mut texts = vec![
         tables::markdown(r),
         tables::csv(r),
         tables::json(r),
         super::svg::plot(r),
-        super::svg::plot_sampling(r),
     ];
-    for (name, text) in TEXTS.iter().zip(&texts) {
+    if sampling {
+        texts.push(super::svg::plot_sampling(r));
+    }
+    for (name, text) in self::texts(sampling).iter().zip(&texts) {
         stage_text(&mut outputs, &dir.join(name), text)?;
     }
     for s in &r.scenes {
@@ -74,6 +88,11 @@ pub fn write_all(r: &Report, dir: &Path, mut outputs: Outputs) -> anyhow::Result
     }
     stage_text(&mut outputs, &dir.join(PAGE), &page(r))?;
     Ok(outputs.commit()?)
+}
+
+/// Whether any scene of `r` has the sampling axis measured.
+pub fn measured_sampling(r: &Report) -> bool {
+    r.scenes.iter().any(|s| !s.sampling.is_empty())
 }
 
 fn stage_text(outputs: &mut Outputs, path: &Path, text: &str) -> Result<(), output::OutputError> {
@@ -103,7 +122,7 @@ figcaption{font-size:13px;color:#444}.pareto{font-weight:bold}</style></head><bo
         r.device_s
     );
     h.push_str("<p><img src=\"error_vs_time.svg\" alt=\"error against run time, log-log\"></p>\n");
-    if r.scenes.iter().any(|s| !s.sampling.is_empty()) {
+    if measured_sampling(r) {
         h.push_str("<p><img src=\"sampling_vs_time.svg\" alt=\"the sampling axis: error against run time, log-log\"></p>\n");
     }
     h.push_str("<p>Errors are against the CPU f64 reference at the scene's own settings. Bold rows are on the scene's Pareto front: no other variant is both faster and more accurate. The heat-map is black where the images agree, blue to red to white from 1e-7 through 1/255 to 1, magenta where a value is not finite.</p>\n");
