@@ -1,4 +1,4 @@
-//! Which pixels an f32 renderer can be held to (README, Accuracy;
+//! Which pixels an f32 renderer can be held to (docs/guide.md, Accuracy;
 //! docs/spd.md, GPU against the reference).
 //!
 //! The robust forms are backward stable: the f32 image is, to a few

@@ -1,4 +1,4 @@
-//! The `glint` command line (README, Command line).
+//! The `glint` command line (docs/commands.md).
 
 mod cli;
 

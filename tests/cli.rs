@@ -354,6 +354,7 @@ fn help_text_shows_no_internal_names() {
         "bench",
         "completions",
         "man",
+        "drivers",
     ];
     for command in commands {
         let o = common::glint(&[command, "--help"]);

@@ -48,7 +48,7 @@ fn what_needs_the_gpu_says_so_in_one_line() {
     let out = dir.path().join("x.png");
     let scene = common::repo().join("scenes/seed-fig3.toml");
     let scene = scene.to_str().unwrap();
-    let runs: [&[&str]; 8] = [
+    let runs: [&[&str]; 9] = [
         &["render", scene, "-o", out.to_str().unwrap()],
         &["compare", scene],
         &["info"],
@@ -57,6 +57,7 @@ fn what_needs_the_gpu_says_so_in_one_line() {
         &["shader", "check", "x.glsl"],
         &["watch", scene, "-o", out.to_str().unwrap()],
         &["bench"],
+        &["drivers", "--quick"],
     ];
     for args in runs {
         let o = common::glint(args);

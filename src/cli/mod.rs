@@ -10,6 +10,8 @@ mod compare;
 mod convert;
 mod diff;
 #[cfg(feature = "gpu")]
+mod drivers;
+#[cfg(feature = "gpu")]
 mod info;
 mod progress;
 mod render;
@@ -28,8 +30,12 @@ pub mod version;
 mod watch;
 #[cfg(not(feature = "gpu"))]
 mod without_gpu;
+#[cfg(feature = "gpu")]
+use drivers::probe as driver_probe;
 #[cfg(not(feature = "gpu"))]
-use without_gpu::{bench, compare, info, render_gpu, report, shader, stability, watch};
+use without_gpu::{
+    bench, compare, driver_probe, drivers, info, render_gpu, report, shader, stability, watch,
+};
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -76,6 +82,11 @@ enum Command {
     Assemble(assemble::AssembleArgs),
     /// Time each scene on both renderers, with its rays, tests and node visits by ray type, against the device's ceiling.
     Bench(bench::BenchArgs),
+    /// Run the scenes on every Vulkan driver the machine has, each held to the CPU f64 reference; a table, a page and a reproducer for each failure; exit 1 where a driver fails.
+    Drivers(drivers::DriversArgs),
+    /// One driver's run of one scene, for `glint drivers` (internal).
+    #[command(hide = true)]
+    DriverProbe(driver_probe::ProbeArgs),
     /// Print a shell's completion script: `glint completions bash > /etc/bash_completion.d/glint`.
     Completions(shell::CompletionsArgs),
     /// Print the man page (roff): `glint man > glint.1; man ./glint.1`.
@@ -172,6 +183,43 @@ impl DeviceArgs {
                 .filter(|f| f.extension().is_some_and(|e| e == "glsl" || e == "comp")),
         );
         v
+    }
+
+    /// These options as the words of a command line, for a child glint
+    /// (`glint drivers`), all but `--device`: the child's device is the
+    /// one its driver offers.
+    #[cfg(feature = "gpu")]
+    pub fn forward(&self) -> Vec<std::ffi::OsString> {
+        use glint::settings::Choice;
+        let mut v: Vec<std::ffi::OsString> = Vec::new();
+        for dir in &self.include {
+            v.extend(["-I".into(), dir.clone().into_os_string()]);
+        }
+        if let Some(shader) = &self.shader {
+            v.extend(["--shader".into(), shader.clone().into_os_string()]);
+        }
+        for d in &self.define {
+            v.extend(["-D".into(), d.into()]);
+        }
+        v.extend(["--intersect".into(), self.intersect.name().into()]);
+        v.extend(["--accel".into(), self.accel.name().into()]);
+        v.extend(["--schedule".into(), self.schedule.name().into()]);
+        if self.generic {
+            v.push("--generic".into());
+        }
+        if self.no_cache {
+            v.push("--no-cache".into());
+        }
+        if let Some(t) = self.timeout {
+            v.extend(["--timeout".into(), t.to_string().into()]);
+        }
+        v
+    }
+
+    /// Whether `--device` was given.
+    #[cfg(feature = "gpu")]
+    pub fn names_a_device(&self) -> bool {
+        self.device.is_some()
     }
 
     /// Fails where a shader option is given to a run that reads no shader
@@ -305,6 +353,8 @@ pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Convert(a) => convert::run(&a),
         Command::Bench(a) => bench::run(&a),
         Command::Assemble(a) => assemble::run(&a),
+        Command::Drivers(a) => drivers::run(&a),
+        Command::DriverProbe(a) => driver_probe::run(&a),
         Command::Completions(a) => shell::completions(&a),
         Command::Man => shell::man(),
     }

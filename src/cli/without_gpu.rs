@@ -44,6 +44,8 @@ macro_rules! unbuilt {
 unbuilt!(
     bench::BenchArgs,
     compare::CompareArgs,
+    drivers::DriversArgs,
+    driver_probe::ProbeArgs,
     info::InfoArgs,
     report::ReportArgs,
     shader::ShaderArgs,

@@ -1,11 +1,11 @@
-//! Error figures of an image against a reference (README, Command line), the heat-map of
+//! Error figures of an image against a reference (docs/commands.md), the heat-map of
 //! their difference, and the tolerance `glint compare` holds the GPU to.
 
 use serde::Serialize;
 
 use super::Image;
 
-/// the figures of the README, over linear unclamped values.
+/// the figures of docs/commands.md, over linear unclamped values.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ErrorFigures {
     /// Largest |a - ref| over finite channel pairs.

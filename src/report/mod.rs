@@ -298,7 +298,7 @@ pub fn machine() -> Machine {
 }
 
 /// `s` as text or an attribute value of HTML or SVG.
-fn escape(s: &str) -> String {
+pub fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")

@@ -1,0 +1,111 @@
+//! The Vulkan drivers a machine has: the ICD manifest files the loader
+//! would enumerate (docs/drivers.md, Which drivers), those `ci/old-lavapipe`
+//! unpacked, and any named on the command line.
+
+use std::path::{Path, PathBuf};
+
+/// Where the Vulkan loader looks for ICD manifests on Linux, in its order:
+/// `VK_DRIVER_FILES` (or the older `VK_ICD_FILENAMES`) alone where set,
+/// else the `vulkan/icd.d` folder of each XDG config and data folder and
+/// /etc.
+pub fn loader_files() -> Vec<PathBuf> {
+    for var in ["VK_DRIVER_FILES", "VK_ICD_FILENAMES"] {
+        if let Some(v) = std::env::var_os(var).filter(|v| !v.is_empty()) {
+            return std::env::split_paths(&v)
+                .flat_map(|p| if p.is_dir() { manifests(&p) } else { vec![p] })
+                .collect();
+        }
+    }
+    let env_dirs = |var: &str, default: &str| -> Vec<PathBuf> {
+        let v = std::env::var_os(var).filter(|v| !v.is_empty());
+        match v {
+            Some(v) => std::env::split_paths(&v).collect(),
+            None => std::env::split_paths(default).collect(),
+        }
+    };
+    let home = std::env::var_os("HOME").map(PathBuf::from);
+    let mut dirs = env_dirs("XDG_CONFIG_DIRS", "/etc/xdg");
+    dirs.push(PathBuf::from("/etc"));
+    if let Some(h) = std::env::var_os("XDG_DATA_HOME")
+        .map(PathBuf::from)
+        .or_else(|| home.map(|h| h.join(".local/share")))
+    {
+        dirs.push(h);
+    }
+    dirs.extend(env_dirs("XDG_DATA_DIRS", "/usr/local/share:/usr/share"));
+    dirs.iter()
+        .flat_map(|d| manifests(&d.join("vulkan/icd.d")))
+        .collect()
+}
+
+/// The lavapipes `ci/old-lavapipe` unpacked: `<cache>/glint-drivers/*/*.json`.
+pub fn unpacked_files() -> Vec<PathBuf> {
+    let cache = std::env::var_os("XDG_CACHE_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")));
+    let Some(root) = cache.map(|c| c.join("glint-drivers")) else {
+        return Vec::new();
+    };
+    glint::files::sorted(&root, |p| p.is_dir())
+        .unwrap_or_default()
+        .iter()
+        .flat_map(|d| manifests(d))
+        .collect()
+}
+
+/// The .json files in `dir`, by name; none where it cannot be read.
+fn manifests(dir: &Path) -> Vec<PathBuf> {
+    glint::files::sorted(dir, |p| p.extension().is_some_and(|e| e == "json")).unwrap_or_default()
+}
+
+/// `files` with each file once (by its resolved path), in their order.
+pub fn once(files: impl IntoIterator<Item = PathBuf>) -> Vec<PathBuf> {
+    let mut seen = std::collections::HashSet::new();
+    files
+        .into_iter()
+        .filter(|f| seen.insert(std::fs::canonicalize(f).unwrap_or_else(|_| f.clone())))
+        .collect()
+}
+
+/// A short name for an ICD file, for folder names and the table:
+/// `lvp_icd` for /usr/share/vulkan/icd.d/lvp_icd.json, and the folder too
+/// where `ci/old-lavapipe` unpacked it (`mesa-22.3.6-1+deb12u2/lvp_icd`).
+pub fn short_name(file: &Path) -> String {
+    let stem = file
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "icd".into());
+    let stem = stem.strip_suffix(".x86_64").unwrap_or(&stem).to_owned();
+    match file.parent().and_then(|p| p.file_name()) {
+        Some(parent) if parent != "icd.d" => format!("{}/{stem}", parent.to_string_lossy()),
+        _ => stem,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn short_names_say_which_driver() {
+        assert_eq!(
+            short_name(Path::new("/usr/share/vulkan/icd.d/lvp_icd.json")),
+            "lvp_icd"
+        );
+        assert_eq!(
+            short_name(Path::new(
+                "/root/.cache/glint-drivers/mesa-22.3.6/lvp_icd.x86_64.json"
+            )),
+            "mesa-22.3.6/lvp_icd"
+        );
+    }
+
+    #[test]
+    fn a_file_named_twice_is_kept_once() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = dir.path().join("a.json");
+        std::fs::write(&a, "{}").unwrap();
+        let again = dir.path().join(".").join("a.json");
+        assert_eq!(once([a.clone(), again, a.clone()]), vec![a]);
+    }
+}

@@ -1,0 +1,487 @@
+//! `glint drivers`: the same scenes on every Vulkan driver the machine
+//! has, each in a child process of its own, each image held to one CPU
+//! f64 reference with `compare`'s tolerance, and a reproducer for each
+//! failure (docs/drivers.md).
+
+mod icd;
+pub mod probe;
+mod repro;
+mod table;
+mod verdict;
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+use anyhow::Context;
+use clap::Args;
+
+use glint::cpu;
+use glint::output::Outputs;
+use glint::raster::Image;
+use glint::scene::{Overrides, Scene};
+
+use probe::{Ended, Identity, Job, Seen};
+use repro::Size;
+use table::{Cell, Column, Matrix, Row};
+use verdict::Verdict;
+
+use super::{progress, DeviceArgs};
+
+#[derive(Args)]
+pub struct DriversArgs {
+    /// Scene files [default: every scene in scenes/, scenes/spd and scenes/extreme; with --quick, scenes/ alone].
+    scenes: Vec<PathBuf>,
+    /// The folder to write drivers.md, drivers.csv, drivers.json, index.html and the reproducers (repro/) into.
+    #[arg(short, long, value_name = "DIR", default_value = "drivers")]
+    output: PathBuf,
+    /// Small images (64x48) of the scenes in scenes/ alone: seconds, for tests and CI.
+    #[arg(long)]
+    quick: bool,
+    /// Also the driver of this ICD manifest file; repeatable.
+    #[arg(long, value_name = "FILE")]
+    icd: Vec<PathBuf>,
+    /// Only the drivers given with --icd: none of those the machine has.
+    #[arg(long, requires = "icd")]
+    only: bool,
+    /// Image width for every scene [default: 160; 64 with --quick].
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height for every scene [default: 120; 48 with --quick].
+    #[arg(long)]
+    height: Option<u32>,
+    /// Give up on one driver's run of one scene after SECONDS and call it hung [default: 120].
+    #[arg(long, value_name = "SECONDS")]
+    deadline: Option<f64>,
+    /// Keep each reproducer at the size it failed at, without trying smaller images.
+    #[arg(long)]
+    no_shrink: bool,
+    #[command(flatten)]
+    device: DeviceArgs,
+}
+
+/// A driver of the matrix: its ICD file, a short name, and the device it
+/// gave (or how naming it ended).
+struct Driver {
+    /// Its place among the ICD files found (its probe folder's number).
+    index: usize,
+    icd: PathBuf,
+    name: String,
+    identity: Result<Identity, Verdict>,
+}
+
+/// What every run of one scene shares.
+struct Run<'a> {
+    args: &'a DriversArgs,
+    device_args: Vec<OsString>,
+    work: &'a Path,
+    deadline: Duration,
+}
+
+pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
+    anyhow::ensure!(
+        !a.device.names_a_device(),
+        "--device does not apply to `glint drivers`: it runs each driver's own device (name a driver with --icd FILE --only)"
+    );
+    let deadline = a.deadline.unwrap_or(120.0);
+    anyhow::ensure!(
+        deadline.is_finite() && deadline > 0.0 && deadline <= 1e6,
+        "--deadline {deadline:?}: must be in (0, 1e6] seconds"
+    );
+    for f in &a.icd {
+        anyhow::ensure!(
+            f.is_file(),
+            "--icd {}: no such file",
+            glint::printable::path(f)
+        );
+    }
+    let size = Overrides {
+        width: Some(a.width.unwrap_or(if a.quick { 64 } else { 160 })),
+        height: Some(a.height.unwrap_or(if a.quick { 48 } else { 120 })),
+        ..Overrides::default()
+    };
+    let paths = if !a.scenes.is_empty() {
+        a.scenes.clone()
+    } else if a.quick {
+        super::scene_files("scenes")?
+    } else {
+        let mut v = super::scene_files("scenes")?;
+        v.extend(super::scene_files("scenes/spd")?);
+        v.extend(super::scene_files("scenes/extreme")?);
+        v
+    };
+    // Every scene loads before minutes of rendering.
+    let scenes = paths
+        .iter()
+        .map(|p| {
+            let s = Scene::load(p, &size)?;
+            cpu::bound::check(&s)?;
+            Ok(s)
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let outputs = Outputs::new(inputs_of(&paths, &scenes, a), false);
+    for f in table::files(&a.output) {
+        if f.parent().is_some_and(|d| d.is_dir()) {
+            outputs.check(&f)?;
+        }
+    }
+    let work = tempfile::tempdir().context("cannot make a temporary folder")?;
+    let run = Run {
+        args: a,
+        device_args: a.device.forward(),
+        work: work.path(),
+        deadline: Duration::from_secs_f64(deadline),
+    };
+    let started = Instant::now();
+    let files = if a.only {
+        a.icd.clone()
+    } else {
+        let mut v = icd::loader_files();
+        v.extend(icd::unpacked_files());
+        v.extend(a.icd.iter().cloned());
+        v
+    };
+    let files = icd::once(files);
+    anyhow::ensure!(
+        !files.is_empty(),
+        "no Vulkan driver found: no ICD file in the loader's folders (install mesa-vulkan-drivers, or name one with --icd FILE)"
+    );
+    let repro_root = a.output.join("repro");
+    clear_reproducers(&repro_root, &inputs_of(&paths, &scenes, a))?;
+    let all: Vec<Driver> =
+        progress::waiting("naming each driver's device", || identify(&run, &files))?;
+    let (drivers, absent): (Vec<Driver>, Vec<Driver>) = all
+        .into_iter()
+        .partition(|d| !matches!(&d.identity, Err(Verdict::Error { .. })));
+    // A driver that crashed or hung while loading has one reproducer,
+    // which each of its cells names.
+    let mut load_repro = Vec::new();
+    for d in &drivers {
+        load_repro.push(match &d.identity {
+            Err(v) if v.is_failure() => {
+                let dir = repro_root.join(slug(&d.name)).join("load");
+                let stderr = run
+                    .work
+                    .join(format!("identify-{}", d.index))
+                    .join("stderr.txt");
+                repro::write_load(&d.icd, v, &stderr, &dir)?;
+                Some(dir)
+            }
+            _ => None,
+        });
+    }
+    let bar = progress::bar((scenes.len() * drivers.len()) as u64, "drivers");
+    let mut rows = Vec::new();
+    for (path, scene) in paths.iter().zip(&scenes) {
+        let name = scene_name(path);
+        bar.set_message(format!("{name}: the CPU f64 reference"));
+        let reference = reference(scene, a.device.accel);
+        let mut cells = Vec::new();
+        for (d, load_repro) in drivers.iter().zip(&load_repro) {
+            bar.set_message(format!("{name} on {}", d.name));
+            let cell = match &d.identity {
+                Err(v) => Cell {
+                    verdict: v.clone(),
+                    repro: load_repro.clone(),
+                },
+                Ok(identity) => {
+                    let (verdict, image, stderr) =
+                        run.scene(d, path, scene, &reference, "run", Size::of(scene))?;
+                    let repro = if verdict.is_failure() {
+                        let dir = repro_root.join(slug(&d.name)).join(&name);
+                        bar.set_message(format!("{name} on {}: reproducer", d.name));
+                        run.reproducer(
+                            d, identity, path, scene, &verdict, image, &reference, stderr, &dir,
+                        )?;
+                        Some(dir)
+                    } else {
+                        None
+                    };
+                    Cell { verdict, repro }
+                }
+            };
+            cells.push(cell);
+            bar.inc(1);
+        }
+        rows.push(Row { scene: name, cells });
+    }
+    bar.finish_and_clear();
+    let matrix = Matrix {
+        columns: drivers
+            .iter()
+            .map(|d| Column {
+                icd: d.icd.clone(),
+                name: d.name.clone(),
+                identity: d.identity.as_ref().ok().cloned(),
+                load: d.identity.as_ref().err().cloned(),
+            })
+            .collect(),
+        absent: absent
+            .iter()
+            .map(|d| {
+                (
+                    d.icd.clone(),
+                    d.identity
+                        .as_ref()
+                        .err()
+                        .map(|v| v.detail())
+                        .unwrap_or_default(),
+                )
+            })
+            .collect(),
+        rows,
+        size: (size.width.unwrap_or(0), size.height.unwrap_or(0)),
+        seconds: started.elapsed().as_secs_f64(),
+        experiment: std::env::var("GLINT_EXPERIMENT").ok(),
+        validation: probe::validation_layer(),
+    };
+    table::write_all(&matrix, &a.output, outputs)?;
+    print!("{}", table::summary(&matrix));
+    println!(
+        "wrote {}/index.html, drivers.md, drivers.csv, drivers.json{} in {:.1} s",
+        a.output.display(),
+        if matrix
+            .rows
+            .iter()
+            .flat_map(|r| &r.cells)
+            .any(|c| c.repro.is_some())
+        {
+            " and repro/"
+        } else {
+            ""
+        },
+        matrix.seconds
+    );
+    Ok(if matrix.failures() > 0 {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// Every file the run reads: the scenes and theirs, the shader files and
+/// the ICD files named.
+fn inputs_of(paths: &[PathBuf], scenes: &[Scene], a: &DriversArgs) -> Vec<PathBuf> {
+    let mut inputs = a.device.inputs();
+    inputs.extend(a.icd.iter().cloned());
+    for (p, s) in paths.iter().zip(scenes) {
+        inputs.push(p.clone());
+        inputs.extend(s.input_files.iter().cloned());
+    }
+    inputs
+}
+
+/// The file that marks a folder of reproducers as this command's, so that
+/// a later run replaces it and never a folder of the user's.
+const MARK: &str = ".glint-drivers";
+
+/// Removes the last run's reproducers from `root` and makes it afresh:
+/// only a folder this command made, and none that holds an input.
+fn clear_reproducers(root: &Path, inputs: &[PathBuf]) -> anyhow::Result<()> {
+    let resolved = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_owned());
+    if root.exists() {
+        anyhow::ensure!(
+            root.join(MARK).is_file(),
+            "{}: the folder exists and is not one `glint drivers` wrote; remove it or choose another -o",
+            root.display()
+        );
+        let root_r = resolved(root);
+        if let Some(input) = inputs.iter().find(|i| resolved(i).starts_with(&root_r)) {
+            anyhow::bail!(
+                "{} is inside {}, which this run replaces; copy it elsewhere or choose another -o",
+                input.display(),
+                root.display()
+            );
+        }
+        std::fs::remove_dir_all(root)
+            .with_context(|| format!("cannot remove {}", root.display()))?;
+    }
+    std::fs::create_dir_all(root).with_context(|| format!("cannot create {}", root.display()))?;
+    std::fs::write(
+        root.join(MARK),
+        "reproducers written by glint drivers; replaced by its next run\n",
+    )
+    .with_context(|| format!("cannot write in {}", root.display()))
+}
+
+/// Names each ICD's device, each in its own process.
+fn identify(run: &Run, files: &[PathBuf]) -> anyhow::Result<Vec<Driver>> {
+    let mut names = std::collections::HashSet::new();
+    let mut drivers = Vec::new();
+    for (i, icd) in files.iter().enumerate() {
+        let mut name = icd::short_name(icd);
+        if !names.insert(name.clone()) {
+            name = format!("{name}-{i}");
+        }
+        let out = run.work.join(format!("identify-{i}"));
+        let job = Job {
+            icd,
+            args: run.device_args.clone(),
+            out,
+            deadline: run.deadline,
+        };
+        let identity = match job.run()? {
+            Ended::Wrote(p) => match (p.device, p.seen) {
+                (Some(d), Seen::Rendered { .. }) => Ok(d),
+                (_, Seen::NoDevice { message } | Seen::Error { message }) => {
+                    Err(Verdict::Error { message })
+                }
+                (_, Seen::Refused { message }) => Err(Verdict::Refused { reason: message }),
+                (_, Seen::Hung { message }) => Err(Verdict::Hung { message }),
+                (_, Seen::Validation { messages }) => Err(Verdict::Validation { messages }),
+                (None, Seen::Rendered { .. }) => Err(Verdict::Error {
+                    message: "no device named".into(),
+                }),
+            },
+            other => Err(verdict::judge_ended(other)),
+        };
+        drivers.push(Driver {
+            index: i,
+            icd: icd.clone(),
+            name,
+            identity,
+        });
+    }
+    Ok(drivers)
+}
+
+impl Run<'_> {
+    /// `scene` (from `path`) on driver `d`: the verdict, the image where
+    /// it made one, and the child's stderr file.
+    fn scene(
+        &self,
+        d: &Driver,
+        path: &Path,
+        scene: &Scene,
+        reference: &Image,
+        tag: &str,
+        size: Size,
+    ) -> anyhow::Result<(Verdict, Option<Image>, PathBuf)> {
+        let out = self
+            .work
+            .join(format!("{}-{}-{tag}", slug(&d.name), scene_name(path)));
+        let mut args: Vec<OsString> = vec!["--scene".into(), path.as_os_str().to_owned()];
+        for w in size.args() {
+            args.push(w.into());
+        }
+        args.extend(self.device_args.iter().cloned());
+        let job = Job {
+            icd: &d.icd,
+            args,
+            out: out.clone(),
+            deadline: self.deadline,
+        };
+        let ended = job.run()?;
+        let (v, image) = verdict::judge(ended, &out, scene, reference, self.args.device.accel);
+        Ok((v, image, out.join("stderr.txt")))
+    }
+
+    /// Shrinks the failure `first` of `scene` on `d` while it stays the
+    /// same kind of failure, then writes its reproducer into `dir`.
+    #[allow(clippy::too_many_arguments)]
+    fn reproducer(
+        &self,
+        d: &Driver,
+        identity: &Identity,
+        path: &Path,
+        scene: &Scene,
+        first: &Verdict,
+        image: Option<Image>,
+        reference: &Image,
+        stderr: PathBuf,
+        dir: &Path,
+    ) -> anyhow::Result<()> {
+        let first_size = Size::of(scene);
+        let mut best = (
+            scene.clone(),
+            first.clone(),
+            image,
+            reference.clone(),
+            stderr,
+        );
+        let mut size = first_size;
+        while let Some(smaller) = size.smaller(scene).filter(|_| !self.args.no_shrink) {
+            let small = Scene::load(path, &smaller.overrides())?;
+            let small_ref = self::reference(&small, self.args.device.accel);
+            let tag = format!(
+                "{}x{}x{}",
+                smaller.width,
+                smaller.height,
+                smaller.samples.unwrap_or(0)
+            );
+            let (v, img, err) = self.scene(d, path, &small, &small_ref, &tag, smaller)?;
+            if v.word() != first.word() {
+                break;
+            }
+            best = (small, v, img, small_ref, err);
+            size = smaller;
+        }
+        let (scene, verdict, image, reference, stderr) = best;
+        let failure = repro::Failure {
+            scene_path: path,
+            scene: &scene,
+            icd: &d.icd,
+            identity,
+            verdict: &verdict,
+            size,
+            device_args: &self.device_args,
+            gpu: image.as_ref(),
+            reference: &reference,
+            // A crash's or a hang's last words; a wrong image has none.
+            stderr: matches!(verdict, Verdict::Crashed { .. } | Verdict::Hung { .. })
+                .then_some(stderr.as_path()),
+            first_size,
+        };
+        let dump = |scene_copy: &Path, shader_dir: &Path| {
+            self.shader_dump(d, scene_copy, size, shader_dir)
+        };
+        repro::write(&failure, dir, &dump)
+    }
+
+    /// `glint shader dump` of the scene's variant on driver `d`, in a child.
+    fn shader_dump(&self, d: &Driver, scene: &Path, size: Size, dir: &Path) -> Result<(), String> {
+        let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+        let mut c = std::process::Command::new(exe);
+        c.arg("shader")
+            .arg("dump")
+            .arg(scene)
+            .args(size.args())
+            .arg("-o")
+            .arg(dir)
+            .args(&self.device_args)
+            .env("VK_DRIVER_FILES", &d.icd)
+            .env("VK_ICD_FILENAMES", &d.icd)
+            .stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped());
+        let o = c.output().map_err(|e| e.to_string())?;
+        if o.status.success() {
+            Ok(())
+        } else {
+            Err(String::from_utf8_lossy(&o.stderr).trim().to_owned())
+        }
+    }
+}
+
+/// The CPU f64 reference of `scene`.
+fn reference(scene: &Scene, accel: glint::accel::Accel) -> Image {
+    cpu::Prepared::<f64>::new(scene, accel).render(&|_| {})
+}
+
+fn scene_name(path: &Path) -> String {
+    slug(&path.file_stem().unwrap_or_default().to_string_lossy())
+}
+
+/// A name made safe for a folder: letters, digits, '.', '-' and '_'.
+fn slug(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "._-".contains(c) {
+                c
+            } else {
+                '-'
+            }
+        })
+        .collect()
+}

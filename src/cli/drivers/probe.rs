@@ -1,0 +1,330 @@
+//! One driver's run, in a child process of its own (`glint driver-probe`,
+//! hidden): it opens the one device `VK_DRIVER_FILES` leaves, renders one
+//! scene (or none, to name the device) and writes what happened as JSON
+//! beside the image. A driver that crashes or hangs takes only this
+//! process with it; the parent reads the signal or the missing file.
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, ExitCode, ExitStatus, Stdio};
+use std::time::{Duration, Instant};
+
+use anyhow::Context;
+use clap::Args;
+use serde::{Deserialize, Serialize};
+
+use glint::gpu::{GpuError, Renderer};
+use glint::raster::io;
+
+use glint::scene::{Overrides, Scene};
+
+use super::super::DeviceArgs;
+
+/// The hidden command's arguments.
+#[derive(Args)]
+pub struct ProbeArgs {
+    /// The folder to write probe.json (and gpu.pfm) into.
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// The scene to render; without it the probe names the device only.
+    #[arg(long, value_name = "FILE")]
+    scene: Option<PathBuf>,
+    #[arg(long)]
+    width: Option<u32>,
+    #[arg(long)]
+    height: Option<u32>,
+    #[arg(long)]
+    samples: Option<u32>,
+    #[command(flatten)]
+    device: DeviceArgs,
+}
+
+/// A device as the driver names it.
+#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+pub struct Identity {
+    /// The device's name (`llvmpipe (LLVM 15.0.6, 256 bits)`).
+    pub name: String,
+    /// CPU, discrete GPU, ...
+    pub kind: String,
+    /// The driver's name and version.
+    pub driver: String,
+    /// The Vulkan version the device offers.
+    pub api_version: String,
+}
+
+/// How one probe ended, as the child saw it.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(tag = "outcome", rename_all = "snake_case")]
+pub enum Seen {
+    /// The device was opened (and the scene rendered, unless identifying).
+    Rendered {
+        /// The scene's shader variant.
+        variant: Option<String>,
+        /// Upload, dispatch and readback of the render, seconds.
+        seconds: f64,
+        /// The driver's compile of the variant, seconds.
+        driver_compile_s: f64,
+    },
+    /// This ICD gives no device that glint can use.
+    NoDevice { message: String },
+    /// The driver or device cannot render this scene as it is: a limit
+    /// glint knows (the loop budget, no f64, a buffer too large).
+    Refused { message: String },
+    /// glint's own watchdog gave up waiting on the device.
+    Hung { message: String },
+    /// The validation layer spoke.
+    Validation { messages: Vec<String> },
+    /// Anything else went wrong.
+    Error { message: String },
+}
+
+/// What the child writes: the device, and how the probe ended.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Probe {
+    pub device: Option<Identity>,
+    #[serde(flatten)]
+    pub seen: Seen,
+}
+
+/// The image a probe writes beside its probe.json.
+pub const IMAGE: &str = "gpu.pfm";
+const REPORT: &str = "probe.json";
+
+/// The child's side: runs the probe and writes probe.json; its exit status
+/// is 0 whenever that file is written, whatever the probe found.
+pub fn run(a: &ProbeArgs) -> anyhow::Result<ExitCode> {
+    std::fs::create_dir_all(&a.out)
+        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    let probe = probe(a);
+    let text = serde_json::to_string_pretty(&probe)?;
+    let path = a.out.join(REPORT);
+    std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn probe(a: &ProbeArgs) -> Probe {
+    let options = match a.device.options() {
+        Ok(o) => o,
+        Err(e) => {
+            return failed(
+                None,
+                Seen::Error {
+                    message: format!("{e:#}"),
+                },
+            )
+        }
+    };
+    let mut renderer = match Renderer::new(&options) {
+        Ok(r) => r,
+        Err(
+            e @ (GpuError::NoDevice | GpuError::NoLoader(_) | GpuError::NoMatchingDevice { .. }),
+        ) => {
+            return failed(
+                None,
+                Seen::NoDevice {
+                    message: e.to_string(),
+                },
+            )
+        }
+        Err(e) => return failed(None, seen_of(e)),
+    };
+    let d = renderer.device_info();
+    let device = Some(Identity {
+        name: d.name.clone(),
+        kind: d.kind.clone(),
+        driver: d.driver.clone(),
+        api_version: d.api_version.clone(),
+    });
+    let Some(scene) = &a.scene else {
+        return Probe {
+            device,
+            seen: Seen::Rendered {
+                variant: None,
+                seconds: 0.0,
+                driver_compile_s: 0.0,
+            },
+        };
+    };
+    let overrides = Overrides {
+        width: a.width,
+        height: a.height,
+        samples: a.samples,
+        max_depth: None,
+    };
+    let scene = match Scene::load(scene, &overrides) {
+        Ok(s) => s,
+        Err(e) => {
+            return failed(
+                device,
+                Seen::Error {
+                    message: format!("{e:#}"),
+                },
+            )
+        }
+    };
+    let rendered = renderer
+        .prepare(&scene, &options.settings)
+        .and_then(|mut p| {
+            let r = p.render(None, &|_| {})?;
+            Ok((p.variant().name(), r))
+        });
+    match rendered {
+        Ok((variant, r)) => {
+            if let Err(e) = io::write(&a.out.join(IMAGE), &r.image, false) {
+                return failed(
+                    device,
+                    Seen::Error {
+                        message: e.to_string(),
+                    },
+                );
+            }
+            Probe {
+                device,
+                seen: Seen::Rendered {
+                    variant: Some(variant),
+                    seconds: r.times.total_s(),
+                    driver_compile_s: r.times.setup.driver_compile_s,
+                },
+            }
+        }
+        Err(e) => failed(device, seen_of(e)),
+    }
+}
+
+fn failed(device: Option<Identity>, seen: Seen) -> Probe {
+    Probe { device, seen }
+}
+
+/// Sorts the renderer's errors into what the matrix reports.
+fn seen_of(e: GpuError) -> Seen {
+    let message = e.to_string();
+    match e {
+        GpuError::LoopBudget { .. } | GpuError::Unsupported(_) => Seen::Refused { message },
+        GpuError::Timeout { .. } | GpuError::CompileTimeout { .. } | GpuError::Lost => {
+            Seen::Hung { message }
+        }
+        GpuError::Validation(messages) => Seen::Validation { messages },
+        GpuError::NoDevice | GpuError::NoLoader(_) | GpuError::NoMatchingDevice { .. } => {
+            Seen::NoDevice { message }
+        }
+        _ => Seen::Error { message },
+    }
+}
+
+/// How a child process ended, as the parent sees it.
+pub enum Ended {
+    /// It wrote its probe.json.
+    Wrote(Probe),
+    /// It died of a signal (its number), or exited without a report.
+    Crashed {
+        signal: Option<i32>,
+        status: String,
+        stderr: String,
+    },
+    /// It ran past the parent's deadline and was killed.
+    Hung { seconds: f64 },
+}
+
+/// A probe to run in a child: the ICD file, the scene's arguments and the
+/// device arguments, as words of a command line.
+pub struct Job<'a> {
+    pub icd: &'a Path,
+    pub args: Vec<std::ffi::OsString>,
+    pub out: PathBuf,
+    pub deadline: Duration,
+}
+
+impl Job<'_> {
+    /// The command that runs the probe.
+    fn command(&self) -> anyhow::Result<Command> {
+        let exe = std::env::current_exe().context("cannot find glint's own executable")?;
+        let mut c = Command::new(exe);
+        c.arg("driver-probe")
+            .arg("--out")
+            .arg(&self.out)
+            .args(&self.args);
+        // Both names: VK_DRIVER_FILES for current loaders, VK_ICD_FILENAMES
+        // for older ones; the device is the first the ICD offers.
+        c.env("VK_DRIVER_FILES", self.icd)
+            .env("VK_ICD_FILENAMES", self.icd)
+            .env_remove("VK_LOADER_DRIVERS_SELECT")
+            .env(
+                "GLINT_VALIDATION",
+                if validation_layer() { "1" } else { "0" },
+            )
+            .stdin(Stdio::null())
+            .stdout(Stdio::null());
+        Ok(c)
+    }
+
+    /// Runs the probe and waits for it, at most `deadline`.
+    pub fn run(&self) -> anyhow::Result<Ended> {
+        std::fs::create_dir_all(&self.out)
+            .with_context(|| format!("cannot create {}", self.out.display()))?;
+        let report = self.out.join(REPORT);
+        let _ = std::fs::remove_file(&report);
+        let stderr_path = self.out.join("stderr.txt");
+        let stderr = std::fs::File::create(&stderr_path)
+            .with_context(|| format!("cannot create {}", stderr_path.display()))?;
+        let mut child = self
+            .command()?
+            .stderr(stderr)
+            .spawn()
+            .context("cannot start a child glint")?;
+        let start = Instant::now();
+        let status = match wait(&mut child, self.deadline)? {
+            Some(s) => s,
+            None => {
+                return Ok(Ended::Hung {
+                    seconds: start.elapsed().as_secs_f64(),
+                })
+            }
+        };
+        if status.success() {
+            if let Ok(text) = std::fs::read_to_string(&report) {
+                if let Ok(probe) = serde_json::from_str(&text) {
+                    return Ok(Ended::Wrote(probe));
+                }
+            }
+        }
+        use std::os::unix::process::ExitStatusExt;
+        Ok(Ended::Crashed {
+            signal: status.signal(),
+            status: status.to_string(),
+            stderr: tail(&stderr_path),
+        })
+    }
+}
+
+/// Waits for `child` at most `limit`; kills it and returns None past that.
+fn wait(child: &mut Child, limit: Duration) -> anyhow::Result<Option<ExitStatus>> {
+    let start = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().context("cannot wait for a child glint")? {
+            return Ok(Some(status));
+        }
+        if start.elapsed() >= limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Ok(None);
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// The last lines of a child's stderr, for the table and the reproducer.
+fn tail(path: &Path) -> String {
+    let text = std::fs::read(path).unwrap_or_default();
+    let text = String::from_utf8_lossy(&text[text.len().saturating_sub(4000)..]).into_owned();
+    let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
+    lines[lines.len().saturating_sub(5)..].join("\n")
+}
+
+/// Whether the Khronos validation layer is installed where the loader
+/// finds it: then every probe runs under it, and a message is a result.
+pub fn validation_layer() -> bool {
+    ["/usr/share", "/usr/local/share", "/etc"].iter().any(|d| {
+        Path::new(d)
+            .join("vulkan/explicit_layer.d/VkLayer_khronos_validation.json")
+            .is_file()
+    })
+}

@@ -1,0 +1,312 @@
+//! A reproducer for each failure, in its own folder: what a driver's bug
+//! tracker asks for (docs/drivers.md, Reproducers). The image is first
+//! shrunk while the failure stays the same.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+
+use glint::raster::{diff, io, Image};
+use glint::scene::{Overrides, Scene};
+
+use super::probe::Identity;
+use super::verdict::Verdict;
+
+/// The size a reproducer renders at, and its samples where shrinking set
+/// them (None: the scene's own sampling, adaptive or uniform).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct Size {
+    pub width: u32,
+    pub height: u32,
+    pub samples: Option<u32>,
+}
+
+impl Size {
+    pub fn of(scene: &Scene) -> Self {
+        Self {
+            width: scene.width,
+            height: scene.height,
+            samples: None,
+        }
+    }
+
+    /// The next smaller size to try for `scene`: half the image down to 8
+    /// pixels a side, then one sample a pixel; None where nothing is left.
+    pub fn smaller(self, scene: &Scene) -> Option<Self> {
+        if self.width >= 16 && self.height >= 16 {
+            Some(Self {
+                width: self.width / 2,
+                height: self.height / 2,
+                ..self
+            })
+        } else if self.samples.is_none() && scene.samples > 1 {
+            Some(Self {
+                samples: Some(1),
+                ..self
+            })
+        } else {
+            None
+        }
+    }
+
+    /// The scene's overrides for this size.
+    pub fn overrides(self) -> Overrides {
+        Overrides {
+            width: Some(self.width),
+            height: Some(self.height),
+            samples: self.samples,
+            max_depth: None,
+        }
+    }
+
+    /// As arguments of `glint compare` and `render`.
+    pub fn args(self) -> Vec<String> {
+        let mut v = vec![
+            "--width".into(),
+            self.width.to_string(),
+            "--height".into(),
+            self.height.to_string(),
+        ];
+        if let Some(n) = self.samples {
+            v.extend(["--samples".into(), n.to_string()]);
+        }
+        v
+    }
+
+    /// `64x48` and the samples where set.
+    pub fn describe(self) -> String {
+        match self.samples {
+            Some(n) => format!("{}x{}, {n}x{n} samples a pixel", self.width, self.height),
+            None => format!("{}x{}, the scene's own sampling", self.width, self.height),
+        }
+    }
+}
+
+/// What one reproducer holds.
+pub struct Failure<'a> {
+    pub scene_path: &'a Path,
+    pub scene: &'a Scene,
+    pub icd: &'a Path,
+    pub identity: &'a Identity,
+    pub verdict: &'a Verdict,
+    pub size: Size,
+    /// The run's own device options, as words (`DeviceArgs::forward`).
+    pub device_args: &'a [std::ffi::OsString],
+    pub gpu: Option<&'a Image>,
+    pub reference: &'a Image,
+    /// The child's stderr, where it crashed or hung.
+    pub stderr: Option<&'a Path>,
+    /// The size the failure was first seen at.
+    pub first_size: Size,
+}
+
+/// Writes `f`'s reproducer into `dir` (a new folder); the shader variant
+/// comes from `shader_dump`, a function that runs `glint shader dump` on
+/// the failing driver into the folder it is given.
+pub fn write(
+    f: &Failure,
+    dir: &Path,
+    shader_dump: &dyn Fn(&Path, &Path) -> Result<(), String>,
+) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let scene_copy = copy_scene(f.scene_path, f.scene, dir)?;
+    let shader_dir = dir.join("shader");
+    let shader = shader_dump(&scene_copy, &shader_dir);
+    if let Some(img) = f.gpu {
+        io::write(&dir.join("gpu.pfm"), img, false)?;
+        io::write(
+            &dir.join("heat.png"),
+            &diff::heat_map(img, f.reference)?,
+            false,
+        )?;
+    }
+    io::write(&dir.join("reference.pfm"), f.reference, false)?;
+    if let Some(stderr) = f.stderr {
+        let _ = std::fs::copy(stderr, dir.join("stderr.txt"));
+    }
+    let manifest = std::fs::read_to_string(f.icd).unwrap_or_default();
+    let driver = serde_json::json!({
+        "icd": f.icd,
+        "icd_manifest": manifest,
+        "device": f.identity,
+    });
+    std::fs::write(
+        dir.join("driver.json"),
+        serde_json::to_string_pretty(&driver)?,
+    )?;
+    let command = command_line(f, &scene_copy);
+    std::fs::write(
+        dir.join("command.sh"),
+        format!("#!/bin/sh\n# Run from this folder.\n{command}\n"),
+    )?;
+    std::fs::write(dir.join("README.md"), readme(f, &command, shader.err()))?;
+    Ok(())
+}
+
+/// The reproducer of a driver that failed before it named a device (it
+/// crashed or hung as the loader opened it): its manifest, its last words
+/// and the command, in `dir`.
+pub fn write_load(icd: &Path, verdict: &Verdict, stderr: &Path, dir: &Path) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let manifest = std::fs::read_to_string(icd).unwrap_or_default();
+    let driver = serde_json::json!({ "icd": icd, "icd_manifest": manifest });
+    std::fs::write(
+        dir.join("driver.json"),
+        serde_json::to_string_pretty(&driver)?,
+    )?;
+    let _ = std::fs::copy(stderr, dir.join("stderr.txt"));
+    let command = format!(
+        "VK_DRIVER_FILES={} glint info",
+        quote(&icd.display().to_string())
+    );
+    std::fs::write(dir.join("command.sh"), format!("#!/bin/sh\n{command}\n"))?;
+    let readme = format!(
+        "# {}: {} when loaded\n\n- What went wrong: {}, before the driver named a device; no scene was rendered on it.\n- Files: `driver.json` (the ICD file and its manifest), `stderr.txt` (the process's last words).\n\nTo see it again:\n\n```\n{command}\n```\n",
+        icd.display(),
+        verdict.word(),
+        verdict.detail()
+    );
+    std::fs::write(dir.join("README.md"), readme)?;
+    Ok(())
+}
+
+/// Copies the scene and the files it reads into `dir`, each at its path
+/// relative to the scene's folder where it is below it; the copy's path.
+fn copy_scene(path: &Path, scene: &Scene, dir: &Path) -> anyhow::Result<PathBuf> {
+    let name = path.file_name().context("the scene has no file name")?;
+    let copy = dir.join(name);
+    std::fs::copy(path, &copy).with_context(|| format!("cannot copy {}", path.display()))?;
+    let home = super::super::parent_dir(path);
+    for input in &scene.input_files {
+        if let Ok(rel) = input.strip_prefix(&home) {
+            let to = dir.join(rel);
+            if let Some(parent) = to.parent() {
+                std::fs::create_dir_all(parent)?;
+            }
+            let _ = std::fs::copy(input, to);
+        }
+    }
+    Ok(copy)
+}
+
+/// The line that shows the failure again: `glint compare` on the copy of
+/// the scene, with the failing driver alone.
+fn command_line(f: &Failure, scene_copy: &Path) -> String {
+    let mut words = vec![format!(
+        "VK_DRIVER_FILES={}",
+        quote(&f.icd.display().to_string())
+    )];
+    if let Ok(e) = std::env::var("GLINT_EXPERIMENT") {
+        words.push(format!("GLINT_EXPERIMENT={}", quote(&e)));
+    }
+    words.push("glint compare".into());
+    words.push(quote(
+        &scene_copy
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+    ));
+    words.extend(f.size.args());
+    words.extend(f.device_args.iter().map(|a| quote(&a.to_string_lossy())));
+    words.join(" ")
+}
+
+/// A word as sh reads it.
+fn quote(word: &str) -> String {
+    if !word.is_empty()
+        && word
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c))
+    {
+        word.to_owned()
+    } else {
+        format!("'{}'", word.replace('\'', r"'\''"))
+    }
+}
+
+fn readme(f: &Failure, command: &str, shader_problem: Option<String>) -> String {
+    let mut r = String::new();
+    let scene = f
+        .scene_path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let _ = writeln!(
+        r,
+        "# {scene} on {}: {}\n",
+        f.identity.name,
+        f.verdict.word()
+    );
+    let _ = writeln!(
+        r,
+        "- Device: {} ({}), driver {}, Vulkan {}; ICD file `{}`.",
+        f.identity.name,
+        f.identity.kind,
+        f.identity.driver,
+        f.identity.api_version,
+        f.icd.display()
+    );
+    let _ = writeln!(r, "- What went wrong: {}.", f.verdict.detail());
+    if let Verdict::Fail { violations, .. } = f.verdict {
+        let _ = writeln!(
+            r,
+            "- Held to `glint compare`'s tolerance against the CPU f64 reference: {}.",
+            violations.join("; ")
+        );
+    }
+    let shrunk = if f.size == f.first_size {
+        String::new()
+    } else {
+        format!(
+            " (first seen at {}; shrunk while it still failed the same way)",
+            f.first_size.describe()
+        )
+    };
+    let _ = writeln!(r, "- Size: {}{shrunk}.", f.size.describe());
+    let _ = writeln!(r, "\nFiles: the scene ({scene}) and what it reads; `shader/`, the variant's GLSL and SPIR-V as `glint shader dump` writes them; `gpu.pfm` (the driver's image, where it made one), `reference.pfm` (CPU f64) and `heat.png` (their difference: black where they agree, blue to red to white from 1e-7 through 1/255 to 1); `driver.json` (the ICD and the device); `stderr.txt` where the process crashed or hung.");
+    if let Some(p) = shader_problem {
+        let _ = writeln!(r, "\nThe shader could not be dumped here: {p}");
+    }
+    let _ = writeln!(
+        r,
+        "\nTo see it again, from this folder:\n\n```\n{command}\n```"
+    );
+    r
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_shrink_to_eight_pixels_then_one_sample() {
+        let mut scene = Scene::load(
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/seed-fig3.toml"),
+            &Overrides::default(),
+        )
+        .unwrap();
+        scene.samples = 2;
+        let mut s = Size {
+            width: 64,
+            height: 48,
+            samples: None,
+        };
+        let mut seen = vec![];
+        while let Some(t) = s.smaller(&scene) {
+            seen.push((t.width, t.height, t.samples));
+            s = t;
+        }
+        assert_eq!(
+            seen,
+            vec![(32, 24, None), (16, 12, None), (16, 12, Some(1))]
+        );
+    }
+
+    #[test]
+    fn words_are_quoted_for_sh() {
+        assert_eq!(quote("/a/b-c.json"), "/a/b-c.json");
+        assert_eq!(quote("it's here"), r"'it'\''s here'");
+        assert_eq!(quote(""), "''");
+    }
+}
