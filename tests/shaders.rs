@@ -321,6 +321,55 @@ fn watch_rerenders_on_change_and_keeps_the_last_good_image() {
     );
 }
 
+/// The scene's folder deleted and made again, with the scene in it: watch
+/// renders the new scene (issue 31: it used to stop reacting, its watch
+/// left on the deleted folder).
+#[test]
+fn watch_follows_a_folder_deleted_and_made_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().join("work");
+    std::fs::create_dir(&folder).unwrap();
+    let scene = folder.join("scene.toml");
+    let out = dir.path().join("out.pfm");
+    let original = std::fs::read_to_string(repo("scenes/seed-fig4.toml"))
+        .unwrap()
+        .replace("width = 800", "width = 64")
+        .replace("height = 600", "height = 48");
+    std::fs::write(&scene, &original).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_glint"))
+        .args([
+            "watch",
+            scene.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let result = std::panic::catch_unwind(|| {
+        let limit = Duration::from_secs(30);
+        assert!(wait_for(limit, || out.exists()), "first render");
+        let first = std::fs::read(&out).unwrap();
+        std::fs::remove_dir_all(&folder).unwrap();
+        std::thread::sleep(Duration::from_millis(1500));
+        std::fs::create_dir(&folder).unwrap();
+        let changed = original.replace(
+            "background = [0.05, 0.05, 0.1]",
+            "background = [0.5, 0.0, 0.0]",
+        );
+        assert_ne!(changed, original);
+        std::fs::write(&scene, changed).unwrap();
+        assert!(
+            wait_for(limit, || std::fs::read(&out).is_ok_and(|b| b != first)),
+            "no render after the folder came back"
+        );
+    });
+    child.kill().unwrap();
+    let _ = child.wait_with_output();
+    result.unwrap();
+}
+
 /// A main shader finds the files it includes beside it, without `-I`:
 /// `shader check` and `render --shader` alike (issue 21, defect 10).
 #[test]

@@ -154,7 +154,7 @@ lights too. glint renders camera-relative, so the image should not change;
 in world coordinates f32 spaces {off:g} by {off * 2**-23 if off else 0:.2g}.""")
           + small_world((off, off, off)))
 
-for k in (-20, -10, 0, 10, 20):
+for k in (-56, -40, -20, -10, 0, 10, 20):
     s = 2.0 ** k
     write(f"scaled-2e{k}", header(f"""
 The small world with every length scaled by 2^{k} (no attenuation, so the

@@ -81,11 +81,14 @@ pub fn run(a: &WatchArgs) -> anyhow::Result<ExitCode> {
     let (events, changes) = mpsc::channel();
     let mut debouncer = new_debouncer(Duration::from_millis(100), events)
         .context("cannot watch for file changes")?;
-    for (dir, mode) in watched(&a.scene.scene, &a.device) {
+    let dirs = watched(&a.scene.scene, &a.device);
+    let mut identities = Vec::new();
+    for (dir, mode) in &dirs {
         debouncer
             .watcher()
-            .watch(&dir, mode)
-            .with_context(|| format!("cannot watch {}", glint::printable::path(&dir)))?;
+            .watch(dir, *mode)
+            .with_context(|| format!("cannot watch {}", glint::printable::path(dir)))?;
+        identities.push(identity(dir));
     }
     eprintln!("watching {} (Ctrl-C to stop)", a.scene.scene.display());
     // An event is only a hint: the files' times and sizes decide whether a
@@ -111,12 +114,34 @@ pub fn run(a: &WatchArgs) -> anyhow::Result<ExitCode> {
                 }
             }
         }
-        match changes.recv() {
-            Ok(Ok(_)) => {}
+        match changes.recv_timeout(RECHECK) {
+            Ok(Ok(_)) | Err(mpsc::RecvTimeoutError::Timeout) => {}
             Ok(Err(e)) => eprintln!("error: watching files: {e}"),
-            Err(mpsc::RecvError) => anyhow::bail!("the file watcher stopped"),
+            Err(mpsc::RecvTimeoutError::Disconnected) => anyhow::bail!("the file watcher stopped"),
+        }
+        // A folder deleted and made again is a new folder, which the old
+        // watch does not see (issue 31): watch it afresh.
+        for ((dir, mode), known) in dirs.iter().zip(identities.iter_mut()) {
+            let now = identity(dir);
+            if now != *known {
+                let _ = debouncer.watcher().unwatch(dir);
+                if now.is_some() && debouncer.watcher().watch(dir, *mode).is_err() {
+                    continue;
+                }
+                *known = now;
+            }
         }
     }
+}
+
+/// How often the files are looked at without an event: a deleted folder
+/// sends none once it is made again.
+const RECHECK: Duration = Duration::from_secs(1);
+
+/// A folder's identity: its device and inode, None while it is missing.
+fn identity(dir: &Path) -> Option<(u64, u64)> {
+    use std::os::unix::fs::MetadataExt;
+    std::fs::metadata(dir).ok().map(|m| (m.dev(), m.ino()))
 }
 
 fn render_once(a: &WatchArgs, renderer: &mut Renderer) -> anyhow::Result<f64> {

@@ -127,6 +127,22 @@ fn heading(c: &Column) -> String {
     }
 }
 
+/// What the run did, in a few sentences: the size, the rule, the time,
+/// and the experiment where one was set.
+fn about(m: &Matrix) -> String {
+    format!(
+        "Each scene at {}x{} on each driver, in a process of its own, held to the CPU f64 reference with glint compare's tolerance{}. The run took {:.1} s.{}",
+        m.size.0,
+        m.size.1,
+        validation_words(m),
+        m.seconds,
+        m.experiment
+            .as_ref()
+            .map(|e| format!(" GLINT_EXPERIMENT={e}: not the default shaders."))
+            .unwrap_or_default()
+    )
+}
+
 /// Whether the validation layer watched, in words.
 fn validation_words(m: &Matrix) -> &'static str {
     if m.validation {
@@ -166,19 +182,8 @@ pub fn summary(m: &Matrix) -> String {
 
 fn markdown(m: &Matrix) -> String {
     let mut s = String::from("# glint drivers\n\n");
-    let _ = writeln!(
-        s,
-        "Each scene at {}x{} on each driver, in a process of its own, held to the CPU f64 reference with `glint compare`'s tolerance{}. The run took {:.1} s.{}\n",
-        m.size.0,
-        m.size.1,
-        validation_words(m),
-        m.seconds,
-        m.experiment
-            .as_ref()
-            .map(|e| format!(" GLINT_EXPERIMENT={e}: not the default shaders."))
-            .unwrap_or_default()
-    );
-    for (i, c) in m.columns.iter().enumerate() {
+    let _ = writeln!(s, "{}\n", about(m));
+    for c in &m.columns {
         let _ = writeln!(
             s,
             "- **{}**: {} — `{}`",
@@ -186,7 +191,6 @@ fn markdown(m: &Matrix) -> String {
             heading(c),
             c.icd.display()
         );
-        let _ = i;
     }
     for (icd, why) in &m.absent {
         let _ = writeln!(s, "- no device from `{}`: {why}", icd.display());
@@ -318,15 +322,8 @@ small{color:#555}</style></head><body>\n<h1>glint: the scenes on each Vulkan dri
     );
     let _ = writeln!(
         h,
-        "<p>Each scene at {}x{} on each driver, each run in a process of its own, each image held to the CPU f64 reference with <code>glint compare</code>'s tolerance (over the well-conditioned pixels where the whole image is over it){}. Red: a wrong image, a crash, a hang or a validation message, each with a reproducer; yellow: ill-conditioned (more than 10 % of the pixels are beyond any f32 renderer, so the image is not held to the reference), refused by a limit glint knows, or an error. The run took {:.1} s.{}</p>",
-        m.size.0,
-        m.size.1,
-        validation_words(m),
-        m.seconds,
-        m.experiment
-            .as_ref()
-            .map(|e| format!(" <b>GLINT_EXPERIMENT={}</b>: not the default shaders.", escape(e)))
-            .unwrap_or_default()
+        "<p>{} Where the whole image is over the tolerance, it is held to its well-conditioned pixels. Red: a wrong image, a crash, a hang or a validation message, each with a reproducer; yellow: ill-conditioned (more than 10 % of the pixels are beyond any f32 renderer, so the image is not held to the reference), refused by a limit glint knows, or an error.</p>",
+        escape(&about(m))
     );
     h.push_str("<table>\n<tr><th>scene</th>");
     for c in &m.columns {
