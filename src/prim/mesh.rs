@@ -105,7 +105,16 @@ pub fn load(
     // and its first problem kept for the message; `reads` lists each file
     // read with the number of materials it gave, in tobj's order.
     let obj_dir = path.parent().unwrap_or(Path::new(".")).to_owned();
+    // Only the materials the OBJ uses are kept (every one is checked).
+    let used = match material {
+        Some(_) => Default::default(),
+        None => super::mtl::used_names(BufReader::new(
+            crate::input::open(&path, crate::input::Kind::Mesh)
+                .or_else(|e| at.invalid("file", format!("cannot read {shown}: {e}")))?,
+        )),
+    };
     let mtl_problem: RefCell<Option<String>> = RefCell::new(None);
+    let bad_material: RefCell<Option<SceneError>> = RefCell::new(None);
     let reads: RefCell<Vec<(PathBuf, usize)>> = RefCell::new(Vec::new());
     let seen = RefCell::new(std::collections::HashSet::new());
     let read_mtl = |p: &Path| {
@@ -132,12 +141,33 @@ pub fn load(
                 "{name}:{line}: {key} needs three numbers (r g b), got {n}"
             )))
         })?;
-        let loaded = tobj::load_mtl_buf(&mut text.as_slice())
+        // One material at a time: each parsed and checked, the used ones
+        // kept, so that the file's unused materials cost no memory.
+        let mtl_dir = mtl.parent().unwrap_or(&obj_dir);
+        let mut kept = Vec::new();
+        for block in super::mtl::blocks(&text) {
+            let (parsed, _) = tobj::load_mtl_buf(&mut &block.text[..])
+                .map_err(|e| fail(format!("{name}: not a valid MTL file: {e}")))?;
+            for m in &parsed {
+                if let Err(e) = mtl_material(m, &name, mtl_dir, at) {
+                    bad_material.borrow_mut().get_or_insert(e);
+                    return Err(tobj::LoadError::OpenFileFailed);
+                }
+            }
+            if block.name.as_ref().is_some_and(|n| used.contains(n)) {
+                kept.extend_from_slice(block.text);
+            }
+        }
+        drop(text);
+        let loaded = tobj::load_mtl_buf(&mut kept.as_slice())
             .map_err(|e| fail(format!("{name}: not a valid MTL file: {e}")))?;
         reads.borrow_mut().push((mtl, loaded.0.len()));
         Ok(loaded)
     };
     let loaded = tobj::load_obj_buf(&mut BufReader::new(file), &options, read_mtl);
+    if let Some(e) = bad_material.into_inner() {
+        return Err(e);
+    }
     if let Some(problem) = mtl_problem.into_inner() {
         return at.invalid("file", format!("{shown}: {problem}"));
     }

@@ -10,6 +10,7 @@
 
 pub mod cylinder;
 pub mod mesh;
+mod mtl;
 pub mod plane;
 pub mod sphere;
 pub mod triangle;
