@@ -44,9 +44,10 @@ pub type Uvs = [[f64; 2]; 3];
 pub const MAX_UV: f64 = 1e6;
 
 /// A triangle, flat or with vertex normals (smooth); a mesh is its
-/// triangles placed. Not `Copy`: its uvs are shared, not held inline, so
-/// that a triangle without them is 8 bytes larger for them, not 56 (a
-/// million-face mesh is held more than once).
+/// triangles placed. Not `Copy`: its vertex normals and uvs are shared, not
+/// held inline, so that a triangle without them is 8 bytes larger for
+/// each, not 80 and 56 (a flat million-face mesh is 120 MB, not 192; issue
+/// 31).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Triangle {
     /// Its corners, counter-clockwise seen from the side its normal faces.
@@ -55,7 +56,7 @@ pub struct Triangle {
     /// camera-relative rebase leaves it as it is).
     pub normal: DVec3,
     /// Unit vertex normals, where the triangle is smooth.
-    pub normals: Option<[DVec3; 3]>,
+    pub normals: Option<Arc<[DVec3; 3]>>,
     /// Texture coordinates at the vertices, where it has them.
     pub uvs: Option<Arc<Uvs>>,
     /// The index of its material in `Scene::materials`.
@@ -69,7 +70,7 @@ impl Triangle {
         unit_vector((b - a).cross(c - a)).map(|normal| Triangle {
             vertices,
             normal,
-            normals,
+            normals: normals.map(Arc::new),
             uvs: None,
             material,
         })
@@ -109,7 +110,8 @@ crate::base::interface::gpu_struct!(
 pub struct TriangleR<R> {
     pub vertices: [Vec3<R>; 3],
     pub normal: Vec3<R>,
-    pub normals: Option<[Vec3<R>; 3]>,
+    /// Boxed, as the uvs: a flat triangle holds 8 bytes for them, not 80.
+    pub normals: Option<Box<[Vec3<R>; 3]>>,
     /// Boxed: the reference holds a million triangles without uvs at 8
     /// bytes more each, not 56.
     pub uvs: Option<Box<[[R; 2]; 3]>>,
@@ -197,7 +199,7 @@ impl Kind for Triangle {
     fn gpu(&self, file_index: u32) -> gpu::Values {
         let [a, b, c] = self.vertices;
         let g = self.normal;
-        let [n0, n1, n2] = self.normals.unwrap_or([DVec3::ZERO; 3]);
+        let [n0, n1, n2] = self.normals.as_deref().copied().unwrap_or([DVec3::ZERO; 3]);
         let four = |v: DVec3, w: f64| [v.x, v.y, v.z, w];
         gpu::Values {
             v0: four(a, g.x),
@@ -229,7 +231,7 @@ impl Kind for Triangle {
         TriangleR {
             vertices: self.vertices.map(Vec3::of),
             normal: Vec3::of(self.normal),
-            normals: self.normals.map(|ns| ns.map(Vec3::of)),
+            normals: self.normals.as_deref().map(|ns| Box::new(ns.map(Vec3::of))),
             uvs: self
                 .uvs
                 .as_ref()
@@ -331,7 +333,7 @@ impl<R: Real> Shape<R> for TriangleR<R> {
     /// The vertex normals interpolated at `p` by its barycentric
     /// coordinates, normalised; the geometric normal where the triangle is flat.
     fn shading(&self, p: Vec3<R>, geometric: Vec3<R>) -> Vec3<R> {
-        let Some([n0, n1, n2]) = self.normals else {
+        let Some(&[n0, n1, n2]) = self.normals.as_deref() else {
             return geometric;
         };
         let [b0, b1, b2] = self.barycentric(p);
