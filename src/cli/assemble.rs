@@ -48,10 +48,16 @@ pub fn run(a: &AssembleArgs) -> anyhow::Result<ExitCode> {
         .flat_map(|f| [f.clone(), tiles::sidecar_path(f)]);
     let mut outputs = Outputs::new(inputs, a.force);
     outputs.check(&a.output)?;
+    let bar = super::progress::bar(files.len() as u64, "reading tiles");
     let tiles: Vec<Tile> = files
         .iter()
-        .map(|f| tiles::read_tile(f))
+        .map(|f| {
+            let tile = tiles::read_tile(f);
+            bar.inc(1);
+            tile
+        })
         .collect::<Result<_, _>>()?;
+    bar.finish_and_clear();
     let (image, whole) = tiles::assemble(&tiles)?;
     io::stage(&mut outputs, &a.output, &image, whole.srgb)
         .with_context(|| "cannot write the image")?;

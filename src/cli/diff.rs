@@ -38,8 +38,8 @@ pub fn run(a: &DiffArgs) -> anyhow::Result<ExitCode> {
             glint::printable::path(&a.b)
         );
     }
-    let img = io::read(&a.a)?;
-    let reference = io::read(&a.b)?;
+    let img = super::progress::waiting("reading the first image", || io::read(&a.a))?;
+    let reference = super::progress::waiting("reading the reference", || io::read(&a.b))?;
     let figures = diff::figures(&img, &reference)?;
     if let Some(path) = &a.diff_out {
         io::stage(
