@@ -172,9 +172,18 @@ fn a_wrong_driver_fails_with_a_reproducer() {
         "{command}"
     );
     assert!(command.contains("GLINT_EXPERIMENT=unroll-all") && command.contains("--accel none"));
-    // Shrunk: the failure is still there at a smaller image.
+    // Shrunk: the failure is still there at a smaller image, and with
+    // fewer objects.
     let (w, h) = glint::raster::io::dimensions(&repro.join("gpu.pfm")).unwrap();
     assert!(w < 64 && h < 48, "{w}x{h}");
+    let readme = std::fs::read_to_string(repro.join("README.md")).unwrap();
+    assert!(readme.contains("- Objects: "), "{readme}");
+    let shrunk = std::fs::read_to_string(repro.join("seed-fig5.toml")).unwrap();
+    let original = std::fs::read_to_string(common::repo().join("scenes/seed-fig5.toml")).unwrap();
+    assert!(
+        shrunk.matches("[[spheres]]").count() < original.matches("[[spheres]]").count(),
+        "no sphere was left out"
+    );
     // The reproducer's own command shows the failure again: compare fails.
     let again = common::cmd()
         .current_dir(&repro)

@@ -6,6 +6,7 @@
 mod icd;
 pub mod probe;
 mod repro;
+mod shrink;
 mod table;
 mod verdict;
 
@@ -417,10 +418,30 @@ impl Run<'_> {
             best = (small, v, img, small_ref, err);
             size = smaller;
         }
-        let (scene, verdict, image, reference, stderr) = best;
+        // Then the objects, in the reproducer's own copy of the scene.
+        let copy = repro::copy_scene(path, &best.0, dir)?;
+        let objects = if self.args.no_shrink {
+            None
+        } else {
+            let mut run = 0;
+            shrink::objects(&copy, &mut |candidate| {
+                run += 1;
+                let Ok(small) = Scene::load(candidate, &size.overrides()) else {
+                    return Ok(false);
+                };
+                let small_ref = self::reference(&small, self.args.device.accel);
+                let tag = format!("objects-{run}");
+                let (v, img, err) = self.scene(d, candidate, &small, &small_ref, &tag, size)?;
+                let same = v.word() == first.word();
+                if same {
+                    best = (small, v, img, small_ref, err);
+                }
+                Ok(same)
+            })?
+        };
+        let (_, verdict, image, reference, stderr) = best;
         let failure = repro::Failure {
             scene_path: path,
-            scene: &scene,
             icd: &d.icd,
             identity,
             verdict: &verdict,
@@ -432,11 +453,12 @@ impl Run<'_> {
             stderr: matches!(verdict, Verdict::Crashed { .. } | Verdict::Hung { .. })
                 .then_some(stderr.as_path()),
             first_size,
+            objects,
         };
         let dump = |scene_copy: &Path, shader_dir: &Path| {
             self.shader_dump(d, scene_copy, size, shader_dir)
         };
-        repro::write(&failure, dir, &dump)
+        repro::write(&failure, dir, &copy, &dump)
     }
 
     /// `glint shader dump` of the scene's variant on driver `d`, in a child.

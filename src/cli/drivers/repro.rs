@@ -86,7 +86,6 @@ impl Size {
 /// What one reproducer holds.
 pub struct Failure<'a> {
     pub scene_path: &'a Path,
-    pub scene: &'a Scene,
     pub icd: &'a Path,
     pub identity: &'a Identity,
     pub verdict: &'a Verdict,
@@ -99,20 +98,22 @@ pub struct Failure<'a> {
     pub stderr: Option<&'a Path>,
     /// The size the failure was first seen at.
     pub first_size: Size,
+    /// The scene's objects before and after shrinking, where it was.
+    pub objects: Option<(usize, usize)>,
 }
 
-/// Writes `f`'s reproducer into `dir` (a new folder); the shader variant
-/// comes from `shader_dump`, a function that runs `glint shader dump` on
-/// the failing driver into the folder it is given.
+/// Writes `f`'s reproducer into `dir`, beside the scene's copy there
+/// (`copy_scene`); the shader variant comes from `shader_dump`, a function
+/// that runs `glint shader dump` on the failing driver into the folder it
+/// is given.
 pub fn write(
     f: &Failure,
     dir: &Path,
+    scene_copy: &Path,
     shader_dump: &dyn Fn(&Path, &Path) -> Result<(), String>,
 ) -> anyhow::Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let scene_copy = copy_scene(f.scene_path, f.scene, dir)?;
     let shader_dir = dir.join("shader");
-    let shader = shader_dump(&scene_copy, &shader_dir);
+    let shader = shader_dump(scene_copy, &shader_dir);
     if let Some(img) = f.gpu {
         io::write(&dir.join("gpu.pfm"), img, false)?;
         io::write(
@@ -135,7 +136,7 @@ pub fn write(
         dir.join("driver.json"),
         serde_json::to_string_pretty(&driver)?,
     )?;
-    let command = command_line(f, &scene_copy);
+    let command = command_line(f, scene_copy);
     std::fs::write(
         dir.join("command.sh"),
         format!("#!/bin/sh\n# Run from this folder.\n{command}\n"),
@@ -173,7 +174,8 @@ pub fn write_load(icd: &Path, verdict: &Verdict, stderr: &Path, dir: &Path) -> a
 
 /// Copies the scene and the files it reads into `dir`, each at its path
 /// relative to the scene's folder where it is below it; the copy's path.
-fn copy_scene(path: &Path, scene: &Scene, dir: &Path) -> anyhow::Result<PathBuf> {
+pub fn copy_scene(path: &Path, scene: &Scene, dir: &Path) -> anyhow::Result<PathBuf> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let name = path.file_name().context("the scene has no file name")?;
     let copy = dir.join(name);
     std::fs::copy(path, &copy).with_context(|| format!("cannot copy {}", path.display()))?;
@@ -264,6 +266,12 @@ fn readme(f: &Failure, command: &str, shader_problem: Option<String>) -> String 
         )
     };
     let _ = writeln!(r, "- Size: {}{shrunk}.", f.size.describe());
+    if let Some((before, after)) = f.objects.filter(|(b, a)| a < b) {
+        let _ = writeln!(
+            r,
+            "- Objects: {after} of the scene's {before} primitives, meshes and lights, the rest left out while it still failed the same way."
+        );
+    }
     let _ = writeln!(r, "\nFiles: the scene ({scene}) and what it reads; `shader/`, the variant's GLSL and SPIR-V as `glint shader dump` writes them; `gpu.pfm` (the driver's image, where it made one), `reference.pfm` (CPU f64) and `heat.png` (their difference: black where they agree, blue to red to white from 1e-7 through 1/255 to 1); `driver.json` (the ICD and the device); `stderr.txt` where the process crashed or hung.");
     if let Some(p) = shader_problem {
         let _ = writeln!(r, "\nThe shader could not be dumped here: {p}");
