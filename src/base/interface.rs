@@ -6,6 +6,8 @@
 //! from the table of primitive kinds (`crate::prim`), per variant; nothing
 //! is kept in a hand-written second copy (docs/shaders.md, Interface).
 
+use std::sync::Arc;
+
 use bytemuck::Pod;
 
 use super::Precision;
@@ -76,14 +78,15 @@ pub fn span(fields: &[(&str, Member)], precision: Precision) -> usize {
 /// One array of the scene as bytes of `precision`, with its element count
 /// (at least 1: Vulkan has no empty buffers, GLSL no empty arrays; the
 /// counts never reach the zeroed slot of an absent kind).
-pub fn array<S: GpuStruct>(items: impl Iterator<Item = S>, precision: Precision) -> Array {
-    fn cast<T: Pod>(mut v: Vec<T>) -> Array {
+pub fn array<S: GpuStruct>(items: impl Iterator<Item = S>, precision: Precision) -> Array<'static> {
+    fn cast<T: Pod>(mut v: Vec<T>) -> Array<'static> {
         if v.is_empty() {
             v.push(T::zeroed());
         }
         Array {
-            bytes: bytemuck::cast_slice(&v).to_vec(),
             len: v.len(),
+            byte_len: std::mem::size_of_val(v.as_slice()),
+            data: Data::Held(bytemuck::cast_slice(&v).to_vec()),
         }
     }
     match precision {
@@ -92,11 +95,91 @@ pub fn array<S: GpuStruct>(items: impl Iterator<Item = S>, precision: Precision)
     }
 }
 
-/// One scene array as bytes, with its element count (at least 1).
-#[derive(Debug, Clone)]
-pub struct Array {
-    pub bytes: Vec<u8>,
+/// As [`array`], for `len` items that `each` hands, in order, to the
+/// function it is given, afresh each time it is called: the bytes are not
+/// held, but written where they are wanted (into the mapped buffer that
+/// takes them), so that a million triangles are laid out once, not once in
+/// a vector and again in the buffer.
+pub fn written<'a, S: GpuStruct>(
+    len: usize,
+    each: impl Fn(&mut dyn FnMut(S)) + Send + Sync + 'a,
+    precision: Precision,
+) -> Array<'a> {
+    let size = match precision {
+        Precision::F32 => std::mem::size_of::<S::F32>(),
+        Precision::F64 => std::mem::size_of::<S::F64>(),
+    };
+    let write = move |dst: &mut [u8]| {
+        dst.fill(0);
+        let mut slots = dst.chunks_exact_mut(size);
+        each(&mut |s: S| {
+            let slot = slots.next().expect("no more items than the array's length");
+            match precision {
+                Precision::F32 => slot.copy_from_slice(bytemuck::bytes_of(&s.f32())),
+                Precision::F64 => slot.copy_from_slice(bytemuck::bytes_of(&s.f64())),
+            }
+        });
+    };
+    Array {
+        len: len.max(1),
+        byte_len: len.max(1) * size,
+        data: Data::Written(Arc::new(write)),
+    }
+}
+
+/// One scene array: its element count (at least 1) and its bytes, held, or
+/// written on demand ([`written`]).
+#[derive(Clone)]
+pub struct Array<'a> {
     pub len: usize,
+    byte_len: usize,
+    data: Data<'a>,
+}
+
+/// What writes an array's bytes into a slice of its size.
+type Writer<'a> = Arc<dyn Fn(&mut [u8]) + Send + Sync + 'a>;
+
+#[derive(Clone)]
+enum Data<'a> {
+    Held(Vec<u8>),
+    Written(Writer<'a>),
+}
+
+impl Array<'_> {
+    /// Its size in bytes.
+    pub fn byte_len(&self) -> usize {
+        self.byte_len
+    }
+
+    /// Writes its bytes into `dst`, which is `byte_len` long.
+    pub fn write(&self, dst: &mut [u8]) {
+        assert_eq!(
+            dst.len(),
+            self.byte_len,
+            "an array written into a slice of another size"
+        );
+        match &self.data {
+            Data::Held(bytes) => dst.copy_from_slice(bytes),
+            Data::Written(write) => write(dst),
+        }
+    }
+
+    /// Its bytes, in a vector of their own.
+    #[cfg(test)]
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut v = vec![0; self.byte_len];
+        self.write(&mut v);
+        v
+    }
+}
+
+impl std::fmt::Debug for Array<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Array")
+            .field("len", &self.len)
+            .field("byte_len", &self.byte_len)
+            .finish()
+    }
 }
 
 /// Declares one interface struct: `gpu_struct!(pub mod m: "Name" { field:
@@ -231,7 +314,7 @@ mod tests {
             a: [1.0, 2.0, 3.0, 0.1],
             b: [7, 0, 0, 0],
         };
-        let bytes = array([v].into_iter(), Precision::F32).bytes;
+        let bytes = array([v].into_iter(), Precision::F32).to_bytes();
         assert_eq!(&bytes[..16], bytemuck::bytes_of(&[1.0f32, 2.0, 3.0, 0.1]));
         assert_eq!(
             array(std::iter::empty::<probe::Values>(), Precision::F64).len,

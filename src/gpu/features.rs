@@ -143,10 +143,7 @@ impl Features {
             && !experiment.storage;
         let fits = uniforms
             && uploads.array_bytes().iter().all(|b| *b <= range)
-            && uploads
-                .nodes
-                .as_ref()
-                .is_none_or(|n| n.bytes.len() <= range);
+            && uploads.nodes.as_ref().is_none_or(|n| n.byte_len() <= range);
         // Where the arrays do not all fit, the small tables still do: each
         // read in uniform blocks, and the lights' loop unrolled, so that a
         // light is read at a constant offset (docs/performance.md, Reading
@@ -155,7 +152,7 @@ impl Features {
         let table_slots = (uniforms
             && !fits
             && !experiment.no_uniform_tables
-            && tables.iter().all(|t| t.bytes.len() <= range))
+            && tables.iter().all(|t| t.byte_len() <= range))
         .then(|| tables.map(|t| t.len));
         Self {
             unroll: fits

@@ -158,32 +158,32 @@ pub struct TileRect {
 }
 
 /// Everything the shader reads, laid out for upload.
-pub struct Uploads {
+pub struct Uploads<'a> {
     pub globals: Vec<u8>,
     /// Each kind's array (`prim::KINDS`), in the BVH's leaf order where
     /// the kind is in it.
-    pub kinds: Vec<Array>,
-    pub materials: Array,
-    pub lights: Array,
-    pub textures: Array,
+    pub kinds: Vec<Array<'a>>,
+    pub materials: Array<'a>,
+    pub lights: Array<'a>,
+    pub textures: Array<'a>,
     /// The images' texels (at least one).
-    pub texels: Array,
+    pub texels: Array<'a>,
     /// The triangles' uvs by their index in the file, where any has them.
-    pub uvs: Array,
+    pub uvs: Array<'a>,
     /// The BVH's nodes, where the scene is traced through one.
-    pub nodes: Option<Array>,
+    pub nodes: Option<Array<'a>>,
     /// The entries its walk's stack needs (`Bvh::stack_size`); 0 without one.
     pub bvh_stack: usize,
     /// Seconds spent building the BVH.
     pub bvh_s: f64,
 }
 
-impl Uploads {
+impl<'a> Uploads<'a> {
     /// The robust forms trace the scene in camera-relative coordinates (see
     /// `Scene::camera_relative`); the naive ones trace it as written.
     /// Everything is moved item by item as it is laid out: no translated
     /// copy of the scene is held (a million triangles are 192 MB).
-    pub fn new(scene: &Scene, intersect: Intersect, precision: Precision, accel: Accel) -> Self {
+    pub fn new(scene: &'a Scene, intersect: Intersect, precision: Precision, accel: Accel) -> Self {
         // A plane's rebase moves its point, so the naive forms take the
         // primitives as written; elsewhere subtracting zero keeps every bit.
         let relative = matches!(intersect, Intersect::Robust).then_some(scene.camera.eye);
@@ -266,7 +266,7 @@ impl Uploads {
         });
         Uploads {
             globals,
-            kinds: scene.prims.gpu_arrays(&orders, precision, relative),
+            kinds: scene.prims.gpu_arrays(orders, precision, relative),
             materials: interface::array(materials, precision),
             lights: interface::array(lights, precision),
             textures: interface::array(textures, precision),
@@ -280,7 +280,7 @@ impl Uploads {
 
     /// The scene's arrays: each kind's, then the materials, the lights
     /// and the textures.
-    pub fn arrays(&self) -> impl Iterator<Item = &Array> {
+    pub fn arrays(&self) -> impl Iterator<Item = &Array<'a>> {
         self.kinds
             .iter()
             .chain([&self.materials, &self.lights, &self.textures])
@@ -288,7 +288,7 @@ impl Uploads {
 
     /// Bytes of each scene array, in the order of `arrays`.
     pub fn array_bytes(&self) -> Vec<usize> {
-        self.arrays().map(|a| a.bytes.len()).collect()
+        self.arrays().map(|a| a.byte_len()).collect()
     }
 
     /// Elements of each scene array, as uploaded, in the order of `arrays`.
@@ -299,7 +299,7 @@ impl Uploads {
     /// Every read-only array, with its name in messages: each kind's, the
     /// materials, the lights, the textures, the BVH's nodes, the texels and
     /// the uvs.
-    fn named_arrays(&self) -> impl Iterator<Item = (&'static str, &Array)> {
+    fn named_arrays(&self) -> impl Iterator<Item = (&'static str, &Array<'a>)> {
         let names = KINDS.iter().map(|k| k.key).chain([
             "materials",
             "lights",
@@ -319,7 +319,7 @@ impl Uploads {
     /// `max_texels` 16-byte texels (the device's maxTexelBufferElements).
     pub fn fit_texels(&self, max_texels: u32) -> bool {
         self.named_arrays()
-            .all(|(_, a)| a.bytes.len() as u64 / 16 <= u64::from(max_texels))
+            .all(|(_, a)| a.byte_len() as u64 / 16 <= u64::from(max_texels))
     }
 
     /// Fails, naming the array and the limits, where one array is larger
@@ -329,7 +329,7 @@ impl Uploads {
     /// can be (`max_texels`).
     pub fn check_storage_range(&self, limit: u32, max_texels: u32) -> Result<(), String> {
         for (name, array) in self.named_arrays() {
-            let bytes = array.bytes.len();
+            let bytes = array.byte_len();
             if bytes as u64 > u64::from(limit) {
                 return Err(format!(
                     "the scene's {name} take {bytes} bytes, more than this device's \
@@ -460,8 +460,8 @@ pub(super) mod tests {
         let scene = row();
         for (precision, sphere_bytes) in [(Precision::F32, 32), (Precision::F64, 64)] {
             let up = Uploads::new(&scene, Intersect::Robust, precision, Accel::Bvh);
-            let nodes = up.nodes.as_ref().unwrap().bytes.len();
-            let spheres = up.kinds[0].bytes.len();
+            let nodes = up.nodes.as_ref().unwrap().byte_len();
+            let spheres = up.kinds[0].byte_len();
             assert_eq!(spheres, 64 * sphere_bytes);
             let biggest = up.array_bytes().into_iter().chain([nodes]).max().unwrap();
             assert!(up.check_storage_range(biggest as u32, 0).is_ok());

@@ -9,7 +9,7 @@ use crate::base::interface::{array, Array};
 use crate::scene::refine::Point;
 
 /// A level's points as the shader's list.
-pub(crate) fn list(points: &[Point]) -> Array {
+pub(crate) fn list(points: &[Point]) -> Array<'static> {
     let values = points.iter().map(|p| Values {
         point: [p.x, p.y, p.level, 0],
     });

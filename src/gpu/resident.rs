@@ -66,16 +66,22 @@ pub(crate) fn scene_blocks(
 ) -> Result<Blocks, GpuError> {
     let mut blocks = Vec::new();
     for (block, _, ty) in variant.bindings() {
-        let bytes: &[u8] = match block {
-            Block::Globals => bytemuck::cast_slice(&up.globals),
-            Block::Kind(k) => &up.kinds[k].bytes,
-            Block::Materials => &up.materials.bytes,
-            Block::Lights => &up.lights.bytes,
-            Block::Textures => &up.textures.bytes,
-            Block::Texels => &up.texels.bytes,
-            Block::Uvs => &up.uvs.bytes,
-            Block::Nodes => &up.nodes.as_ref().expect("a BVH variant has nodes").bytes,
+        let array = match block {
+            Block::Globals => None,
+            Block::Kind(k) => Some(&up.kinds[k]),
+            Block::Materials => Some(&up.materials),
+            Block::Lights => Some(&up.lights),
+            Block::Textures => Some(&up.textures),
+            Block::Texels => Some(&up.texels),
+            Block::Uvs => Some(&up.uvs),
+            Block::Nodes => Some(up.nodes.as_ref().expect("a BVH variant has nodes")),
             _ => continue,
+        };
+        // The arrays are written straight into the (staging) buffer.
+        let size = array.map_or(up.globals.len(), |a| a.byte_len());
+        let write = |dst: &mut [u8]| match array {
+            Some(a) => a.write(dst),
+            None => dst.copy_from_slice(&up.globals),
         };
         let form = access::ArrayDecl::of(block).map(|_| variant.form(block));
         let usage = usage(form, ty);
@@ -85,9 +91,9 @@ pub(crate) fn scene_blocks(
             block.name()
         };
         let buffer = if staged {
-            Buffer::staged(device, commands, bytes, usage, what)?
+            Buffer::staged_written(device, commands, size, write, usage, what)?
         } else {
-            Buffer::with_data(device, bytes, usage, what)?
+            Buffer::written(device, size, write, usage, what)?
         };
         blocks.push((block, bind_as(device, form, buffer)?));
     }
@@ -115,12 +121,16 @@ pub(crate) fn stage_blocks(
                 filled,
                 block.name(),
             )?,
-            Block::Refine => Buffer::with_data(
-                device,
-                &refine.expect("a refining variant has its list").bytes,
-                storage,
-                block.name(),
-            )?,
+            Block::Refine => {
+                let list = refine.expect("a refining variant has its list");
+                Buffer::written(
+                    device,
+                    list.byte_len(),
+                    |dst| list.write(dst),
+                    storage,
+                    block.name(),
+                )?
+            }
             Block::PathReals | Block::PathWords => {
                 let (reals, words) = variant.path_bytes();
                 let size = if block == Block::PathReals {

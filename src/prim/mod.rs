@@ -205,20 +205,24 @@ impl PrimId {
 }
 
 /// A kind's GPU struct, as the shader's array holds it.
-fn gpu_array<K: Kind>(
+fn gpu_array<K: Kind + Sync>(
     items: &[K],
-    order: Option<&[u32]>,
+    order: Option<Vec<u32>>,
     precision: Precision,
     origin: Option<DVec3>,
-) -> Array {
-    let gpu = |i: u32| match origin {
+) -> Array<'_> {
+    let gpu = move |i: u32| match origin {
         Some(origin) => items[i as usize].relative_to(origin).gpu(i),
         None => items[i as usize].gpu(i),
     };
-    match order {
-        Some(order) => interface::array(order.iter().map(|&i| gpu(i)), precision),
-        None => interface::array((0..items.len() as u32).map(gpu), precision),
-    }
+    // Written into the buffer when it is made, in the BVH's leaf order
+    // where the kind is in the BVH, else the file's.
+    let len = order.as_ref().map_or(items.len(), Vec::len);
+    let each = move |f: &mut dyn FnMut(K::Gpu)| match &order {
+        Some(order) => order.iter().for_each(|&i| f(gpu(i))),
+        None => (0..items.len() as u32).for_each(|i| f(gpu(i))),
+    };
+    interface::written(len, each, precision)
 }
 
 /// Generates from the table: `KINDS`, the scene's `Prims` and the CPU
@@ -360,14 +364,14 @@ macro_rules! generate {
             /// kind in the BVH's leaf order, where it is in one.
             pub(crate) fn gpu_arrays(
                 &self,
-                orders: &[Option<Vec<u32>>],
+                orders: Vec<Option<Vec<u32>>>,
                 precision: Precision,
                 origin: Option<DVec3>,
-            ) -> Vec<Array> {
-                let mut orders = orders.iter();
+            ) -> Vec<Array<'_>> {
+                let mut orders = orders.into_iter();
                 vec![$(gpu_array(
                     &self.$key,
-                    orders.next().and_then(|o| o.as_deref()),
+                    orders.next().flatten(),
                     precision,
                     origin,
                 ),)*]

@@ -33,7 +33,7 @@ impl Buffer {
 
     /// A buffer of `size` bytes in device-local memory, which the host does
     /// not map: a discrete GPU's own memory where it has memory the host
-    /// cannot see, else any device-local memory. Filled by [`Buffer::staged`].
+    /// cannot see, else any device-local memory. Filled by [`Buffer::staged_written`].
     pub fn device_local(
         device: &Arc<Device>,
         size: vk::DeviceSize,
@@ -135,29 +135,53 @@ impl Buffer {
         what: &'static str,
     ) -> Result<Self, GpuError> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
-        let buffer = Self::new(device, bytes.len() as vk::DeviceSize, usage, what)?;
-        buffer.fill(bytes);
-        Ok(buffer)
+        Self::written(
+            device,
+            bytes.len(),
+            |dst| dst.copy_from_slice(bytes),
+            usage,
+            what,
+        )
     }
 
-    /// A device-local buffer holding `data`, copied in through a staging
-    /// buffer by one submission of `commands`, which this waits on.
-    pub fn staged<T: bytemuck::Pod>(
+    /// A buffer of `size` bytes that `write` fills in place, through the
+    /// mapping: the data is never held anywhere else.
+    pub fn written(
         device: &Arc<Device>,
-        commands: &mut OneShot,
-        data: &[T],
+        size: usize,
+        write: impl FnOnce(&mut [u8]),
         usage: vk::BufferUsageFlags,
         what: &'static str,
     ) -> Result<Self, GpuError> {
-        let bytes: &[u8] = bytemuck::cast_slice(data);
-        let size = bytes.len() as vk::DeviceSize;
+        let buffer = Self::new(device, size as vk::DeviceSize, usage, what)?;
+        buffer.fill_with(size, write);
+        Ok(buffer)
+    }
+
+    /// A device-local buffer of `size` bytes, copied in through a staging
+    /// buffer that `write` fills in place, by one submission of `commands`,
+    /// which this waits on.
+    pub fn staged_written(
+        device: &Arc<Device>,
+        commands: &mut OneShot,
+        size: usize,
+        write: impl FnOnce(&mut [u8]),
+        usage: vk::BufferUsageFlags,
+        what: &'static str,
+    ) -> Result<Self, GpuError> {
         let buffer = Self::device_local(
             device,
-            size,
+            size as vk::DeviceSize,
             usage | vk::BufferUsageFlags::TRANSFER_DST,
             what,
         )?;
-        let staging = Self::with_data(device, bytes, vk::BufferUsageFlags::TRANSFER_SRC, what)?;
+        let staging = Self::written(
+            device,
+            size,
+            write,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            what,
+        )?;
         let copy = vk::BufferCopy::default().size(staging.size.min(buffer.size));
         // SAFETY: both buffers are alive until `run` returns, which waits
         // for the copy (on a timeout `staging` is leaked, below); the copy
@@ -207,15 +231,17 @@ impl Buffer {
     /// Writes `bytes` at the start of a buffer just made, which no
     /// command has used yet. (A buffer the GPU has used is filled on the
     /// device, by `vkCmdFillBuffer` or a copy, never from the host.)
-    fn fill(&self, bytes: &[u8]) {
+    fn fill_with(&self, len: usize, write: impl FnOnce(&mut [u8])) {
         assert!(!self.mapped.is_null(), "write to a device-local buffer");
         assert!(
-            bytes.len() as vk::DeviceSize <= self.size,
+            len as vk::DeviceSize <= self.size,
             "write past the end of a buffer"
         );
-        // SAFETY: the mapping covers `size` bytes, and the buffer is new
-        // (private to `with_data`), so no GPU work can be using it.
-        unsafe { std::ptr::copy_nonoverlapping(bytes.as_ptr(), self.mapped, bytes.len()) };
+        // SAFETY: the mapping covers `size` bytes, host-visible and
+        // coherent, and the buffer is new (private to `written`), so no GPU
+        // work can be using it and nothing else aliases the slice.
+        let dst = unsafe { std::slice::from_raw_parts_mut(self.mapped, len) };
+        write(dst);
     }
 
     /// The first `count` values of the mapped contents, once the work that
