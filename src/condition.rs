@@ -95,12 +95,7 @@ fn perturbed(scene: &Scene, trial: u32) -> Scene {
     cam.screen_up = moved(cam.screen_up, cam.screen_up.length());
     let largest = |b: &Aabb| b.lo.abs().max(b.hi.abs()).max_element();
     // An unbounded primitive moves as much as the largest bounded one.
-    let scale = s
-        .prims
-        .bounds()
-        .iter()
-        .map(|(b, _)| largest(b))
-        .fold(1.0, f64::max);
+    let scale = s.prims.bounds().iter().map(largest).fold(1.0, f64::max);
     s.prims = s
         .prims
         .each_moved(|b| moved(DVec3::ZERO, b.as_ref().map_or(scale, largest)));

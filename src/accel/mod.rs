@@ -52,13 +52,12 @@ pub fn scene_bvh(prims: &Prims) -> bvh::Bvh {
 /// The BVH of `prims` translated by `-origin` (that of the scene's
 /// `camera_relative()` where `origin` is the eye).
 pub fn relative_bvh(prims: &Prims, origin: glam::DVec3) -> bvh::Bvh {
-    let items = prims.relative_bounds(origin);
-    let bounds: Vec<crate::base::aabb::Aabb> = items.iter().map(|(b, _)| *b).collect();
-    let kinds: Vec<u32> = items.iter().map(|(_, id)| id.kind).collect();
+    let (bounds, ids) = prims.relative_bounds(origin);
+    let kinds: Vec<u32> = ids.iter().map(|id| id.kind).collect();
     let mut tree = bvh::build(&bounds, &kinds);
     for order in &mut tree.orders {
         for i in order.iter_mut() {
-            *i = items[*i as usize].1.index;
+            *i = ids[*i as usize].index;
         }
     }
     tree

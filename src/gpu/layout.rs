@@ -193,10 +193,12 @@ impl<'a> Uploads<'a> {
             .uses_bvh(&scene.prims)
             .then(|| accel::relative_bvh(&scene.prims, origin));
         let bvh_s = t0.elapsed().as_secs_f64();
+        // Moved out of the BVH, not copied: a million triangles' order is 4 MB.
+        let mut bvh = bvh;
         let orders: Vec<Option<Vec<u32>>> = (0..KINDS.len())
             .map(|k| {
-                let order = bvh.as_ref()?.orders.get(k)?;
-                (!order.is_empty()).then(|| order.clone())
+                let order = std::mem::take(bvh.as_mut()?.orders.get_mut(k)?);
+                (!order.is_empty()).then_some(order)
             })
             .collect();
         let globals = globals(scene, origin);
@@ -273,7 +275,16 @@ impl<'a> Uploads<'a> {
             texels,
             uvs,
             bvh_stack: bvh.as_ref().map_or(0, |b| b.stack_size()),
-            nodes: bvh.map(|b| interface::array(b.packed.into_iter(), Precision::F32)),
+            // Written from the BVH's own nodes, which the array keeps.
+            nodes: bvh.map(|b| {
+                let packed = b.packed;
+                let len = packed.len();
+                interface::written(
+                    len,
+                    move |f| packed.iter().for_each(|&n| f(n)),
+                    Precision::F32,
+                )
+            }),
             bvh_s,
         }
     }

@@ -323,9 +323,10 @@ macro_rules! generate {
                 None
             }
 
-            /// The bounded primitives' boxes, with their ids.
-            pub(crate) fn bounds(&self) -> Vec<(Aabb, PrimId)> {
-                self.relative_bounds(DVec3::ZERO)
+            /// The bounded primitives' boxes (and, in `relative_bounds`,
+            /// their ids).
+            pub(crate) fn bounds(&self) -> Vec<Aabb> {
+                self.relative_bounds(DVec3::ZERO).0
             }
 
             /// The farthest any bounded primitive's box reaches from
@@ -345,18 +346,23 @@ macro_rules! generate {
 
             /// The boxes of the primitives translated by `-origin` (those
             /// of `relative_to(origin)`, without holding that copy).
-            pub(crate) fn relative_bounds(&self, origin: DVec3) -> Vec<(Aabb, PrimId)> {
-                let mut out = Vec::new();
+            pub(crate) fn relative_bounds(&self, origin: DVec3) -> (Vec<Aabb>, Vec<PrimId>) {
+                // Reserved for every primitive (the bounded ones are most):
+                // grown by doubling, a million boxes would take up to twice
+                // their 48 MB, and half as much again while moved.
+                let all = 0 $(+ self.$key.len())*;
+                let (mut boxes, mut ids) = (Vec::with_capacity(all), Vec::with_capacity(all));
                 let mut _kind = 0u32;
                 $(
                     for (i, p) in self.$key.iter().enumerate() {
                         if let Some(b) = p.relative_to(origin).bounds() {
-                            out.push((b, PrimId { kind: _kind, index: i as u32 }));
+                            boxes.push(b);
+                            ids.push(PrimId { kind: _kind, index: i as u32 });
                         }
                     }
                     _kind += 1;
                 )*
-                out
+                (boxes, ids)
             }
 
             /// Each kind's array as the shader reads it, translated by
