@@ -256,17 +256,17 @@ fn wait_for(limit: Duration, mut f: impl FnMut() -> bool) -> bool {
     false
 }
 
-#[test]
-fn watch_rerenders_on_change_and_keeps_the_last_good_image() {
-    let dir = tempfile::tempdir().unwrap();
-    let scene = dir.path().join("scene.toml");
-    let out = dir.path().join("out.pfm");
-    let original = std::fs::read_to_string(repo("scenes/seed-fig4.toml"))
+/// seed-fig4 at 64x48, as scene text.
+fn small_seed_fig4() -> String {
+    std::fs::read_to_string(repo("scenes/seed-fig4.toml"))
         .unwrap()
         .replace("width = 800", "width = 64")
-        .replace("height = 600", "height = 48");
-    std::fs::write(&scene, &original).unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_glint"))
+        .replace("height = 600", "height = 48")
+}
+
+/// `glint watch SCENE -o OUT`, running; its stderr piped.
+fn watch(scene: &Path, out: &Path) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_glint"))
         .args([
             "watch",
             scene.to_str().unwrap(),
@@ -276,7 +276,17 @@ fn watch_rerenders_on_change_and_keeps_the_last_good_image() {
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
-        .unwrap();
+        .unwrap()
+}
+
+#[test]
+fn watch_rerenders_on_change_and_keeps_the_last_good_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.toml");
+    let out = dir.path().join("out.pfm");
+    let original = small_seed_fig4();
+    std::fs::write(&scene, &original).unwrap();
+    let mut child = watch(&scene, &out);
     let result = std::panic::catch_unwind(|| {
         let limit = Duration::from_secs(30);
         assert!(wait_for(limit, || out.exists()), "first render");
@@ -331,22 +341,9 @@ fn watch_follows_a_folder_deleted_and_made_again() {
     std::fs::create_dir(&folder).unwrap();
     let scene = folder.join("scene.toml");
     let out = dir.path().join("out.pfm");
-    let original = std::fs::read_to_string(repo("scenes/seed-fig4.toml"))
-        .unwrap()
-        .replace("width = 800", "width = 64")
-        .replace("height = 600", "height = 48");
+    let original = small_seed_fig4();
     std::fs::write(&scene, &original).unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_glint"))
-        .args([
-            "watch",
-            scene.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-        ])
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = watch(&scene, &out);
     let result = std::panic::catch_unwind(|| {
         let limit = Duration::from_secs(30);
         assert!(wait_for(limit, || out.exists()), "first render");
