@@ -23,7 +23,7 @@ use glint::output::Outputs;
 use glint::raster::Image;
 use glint::scene::{Overrides, Scene};
 
-use probe::{Ended, Identity, Job, Seen};
+use probe::{Ended, Identity, Job};
 use repro::Size;
 use table::{Cell, Column, Matrix, Row};
 use verdict::Verdict;
@@ -121,7 +121,8 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
             Ok(s)
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
-    let outputs = Outputs::new(inputs_of(&paths, &scenes, a), false);
+    let inputs = inputs_of(&paths, &scenes, a);
+    let outputs = Outputs::new(inputs.iter(), false);
     for f in table::files(&a.output) {
         if f.parent().is_some_and(|d| d.is_dir()) {
             outputs.check(&f)?;
@@ -149,7 +150,7 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
         "no Vulkan driver found: no ICD file in the loader's folders (install mesa-vulkan-drivers, or name one with --icd FILE)"
     );
     let repro_root = a.output.join("repro");
-    clear_reproducers(&repro_root, &inputs_of(&paths, &scenes, a))?;
+    clear_reproducers(&repro_root, &inputs)?;
     let all: Vec<Driver> =
         progress::waiting("naming each driver's device", || identify(&run, &files))?;
     let (drivers, absent): (Vec<Driver>, Vec<Driver>) = all
@@ -323,17 +324,12 @@ fn identify(run: &Run, files: &[PathBuf]) -> anyhow::Result<Vec<Driver>> {
             deadline: run.deadline,
         };
         let identity = match job.run()? {
-            Ended::Wrote(p) => match (p.device, p.seen) {
-                (Some(d), Seen::Rendered { .. }) => Ok(d),
-                (_, Seen::NoDevice { message } | Seen::Error { message }) => {
-                    Err(Verdict::Error { message })
-                }
-                (_, Seen::Refused { message }) => Err(Verdict::Refused { reason: message }),
-                (_, Seen::Hung { message }) => Err(Verdict::Hung { message }),
-                (_, Seen::Validation { messages }) => Err(Verdict::Validation { messages }),
-                (None, Seen::Rendered { .. }) => Err(Verdict::Error {
+            Ended::Wrote(p) => match (p.device, verdict::rendered(p.seen)) {
+                (Some(d), Ok(_)) => Ok(d),
+                (None, Ok(_)) => Err(Verdict::Error {
                     message: "no device named".into(),
                 }),
+                (_, Err(v)) => Err(v),
             },
             other => Err(verdict::judge_ended(other)),
         };
@@ -463,8 +459,7 @@ impl Run<'_> {
 
     /// `glint shader dump` of the scene's variant on driver `d`, in a child.
     fn shader_dump(&self, d: &Driver, scene: &Path, size: Size, dir: &Path) -> Result<(), String> {
-        let exe = std::env::current_exe().map_err(|e| e.to_string())?;
-        let mut c = std::process::Command::new(exe);
+        let mut c = probe::on_driver(&d.icd).map_err(|e| e.to_string())?;
         c.arg("shader")
             .arg("dump")
             .arg(scene)
@@ -472,10 +467,6 @@ impl Run<'_> {
             .arg("-o")
             .arg(dir)
             .args(&self.device_args)
-            .env("VK_DRIVER_FILES", &d.icd)
-            .env("VK_ICD_FILENAMES", &d.icd)
-            .stdin(std::process::Stdio::null())
-            .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::piped());
         let o = c.output().map_err(|e| e.to_string())?;
         if o.status.success() {

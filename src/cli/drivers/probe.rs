@@ -236,23 +236,15 @@ pub struct Job<'a> {
 impl Job<'_> {
     /// The command that runs the probe.
     fn command(&self) -> anyhow::Result<Command> {
-        let exe = std::env::current_exe().context("cannot find glint's own executable")?;
-        let mut c = Command::new(exe);
+        let mut c = on_driver(self.icd)?;
         c.arg("driver-probe")
             .arg("--out")
             .arg(&self.out)
-            .args(&self.args);
-        // Both names: VK_DRIVER_FILES for current loaders, VK_ICD_FILENAMES
-        // for older ones; the device is the first the ICD offers.
-        c.env("VK_DRIVER_FILES", self.icd)
-            .env("VK_ICD_FILENAMES", self.icd)
-            .env_remove("VK_LOADER_DRIVERS_SELECT")
+            .args(&self.args)
             .env(
                 "GLINT_VALIDATION",
                 if validation_layer() { "1" } else { "0" },
-            )
-            .stdin(Stdio::null())
-            .stdout(Stdio::null());
+            );
         Ok(c)
     }
 
@@ -293,6 +285,21 @@ impl Job<'_> {
             stderr: tail(&stderr_path),
         })
     }
+}
+
+/// A child glint that sees the driver of `icd` alone, its stdin and stdout
+/// closed: both names, VK_DRIVER_FILES for current loaders and
+/// VK_ICD_FILENAMES for older ones, and no filter of the user's that could
+/// hide it; the device is the first the ICD offers.
+pub fn on_driver(icd: &Path) -> anyhow::Result<Command> {
+    let exe = std::env::current_exe().context("cannot find glint's own executable")?;
+    let mut c = Command::new(exe);
+    c.env("VK_DRIVER_FILES", icd)
+        .env("VK_ICD_FILENAMES", icd)
+        .env_remove("VK_LOADER_DRIVERS_SELECT")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null());
+    Ok(c)
 }
 
 /// Waits for `child` at most `limit`; kills it and returns None past that.

@@ -11,7 +11,7 @@ use glint::output::{self, Outputs};
 use glint::report::escape;
 
 use super::probe::Identity;
-use super::verdict::Verdict;
+use super::verdict::{Verdict, WORDS};
 
 /// A driver's column.
 #[derive(Serialize)]
@@ -74,17 +74,6 @@ impl Matrix {
             .count()
     }
 }
-
-const WORDS: [&str; 8] = [
-    "pass",
-    "FAIL",
-    "ill-conditioned",
-    "refused",
-    "crashed",
-    "hung",
-    "validation",
-    "error",
-];
 
 /// The files `write_all` writes into `dir`, the page last.
 pub fn files(dir: &Path) -> Vec<PathBuf> {

@@ -54,8 +54,20 @@ pub enum Verdict {
     Error { message: String },
 }
 
+/// Every cell's word (`Verdict::word`), in the order a summary counts them.
+pub const WORDS: [&str; 8] = [
+    "pass",
+    "FAIL",
+    "ill-conditioned",
+    "refused",
+    "crashed",
+    "hung",
+    "validation",
+    "error",
+];
+
 impl Verdict {
-    /// The cell's word: pass, FAIL, refused, crashed, hung, validation, error.
+    /// The cell's word, one of `WORDS`.
     pub fn word(&self) -> &'static str {
         match self {
             Verdict::Pass { .. } => "pass",
@@ -129,16 +141,9 @@ pub fn judge(
         Ended::Wrote(p) => p,
         other => return (judge_ended(other), None),
     };
-    let (variant, seconds) = match probe.seen {
-        Seen::Rendered {
-            variant, seconds, ..
-        } => (variant.unwrap_or_default(), seconds),
-        Seen::Refused { message } => return (Verdict::Refused { reason: message }, None),
-        Seen::Hung { message } => return (Verdict::Hung { message }, None),
-        Seen::Validation { messages } => return (Verdict::Validation { messages }, None),
-        Seen::NoDevice { message } | Seen::Error { message } => {
-            return (Verdict::Error { message }, None)
-        }
+    let (variant, seconds) = match rendered(probe.seen) {
+        Ok(r) => r,
+        Err(v) => return (v, None),
     };
     let image = match io::read(&dir.join(IMAGE)) {
         Ok(i) => i,
@@ -177,6 +182,20 @@ pub fn judge(
         }
     };
     (verdict, Some(image))
+}
+
+/// A probe that rendered: its variant (none where it only named the
+/// device) and its seconds; else the verdict on how it ended.
+pub fn rendered(seen: Seen) -> Result<(String, f64), Verdict> {
+    match seen {
+        Seen::Rendered {
+            variant, seconds, ..
+        } => Ok((variant.unwrap_or_default(), seconds)),
+        Seen::Refused { message } => Err(Verdict::Refused { reason: message }),
+        Seen::Hung { message } => Err(Verdict::Hung { message }),
+        Seen::Validation { messages } => Err(Verdict::Validation { messages }),
+        Seen::NoDevice { message } | Seen::Error { message } => Err(Verdict::Error { message }),
+    }
 }
 
 /// Error figures and a time, in a few words.
