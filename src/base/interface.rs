@@ -79,19 +79,26 @@ pub fn span(fields: &[(&str, Member)], precision: Precision) -> usize {
 /// (at least 1: Vulkan has no empty buffers, GLSL no empty arrays; the
 /// counts never reach the zeroed slot of an absent kind).
 pub fn array<S: GpuStruct>(items: impl Iterator<Item = S>, precision: Precision) -> Array<'static> {
-    fn cast<T: Pod>(mut v: Vec<T>) -> Array<'static> {
-        if v.is_empty() {
-            v.push(T::zeroed());
+    // Straight into bytes: a vector of the structs first, then a copy of
+    // its bytes, would hold a large texture's texels twice.
+    fn held<T: Pod>(items: impl Iterator<Item = T>) -> Array<'static> {
+        let size = std::mem::size_of::<T>();
+        let mut bytes = Vec::with_capacity(items.size_hint().0.max(1) * size);
+        for item in items {
+            bytes.extend_from_slice(bytemuck::bytes_of(&item));
+        }
+        if bytes.is_empty() {
+            bytes.resize(size, 0);
         }
         Array {
-            len: v.len(),
-            byte_len: std::mem::size_of_val(v.as_slice()),
-            data: Data::Held(bytemuck::cast_slice(&v).to_vec()),
+            len: bytes.len() / size,
+            byte_len: bytes.len(),
+            data: Data::Held(bytes),
         }
     }
     match precision {
-        Precision::F32 => cast(items.map(|s| s.f32()).collect()),
-        Precision::F64 => cast(items.map(|s| s.f64()).collect()),
+        Precision::F32 => held(items.map(|s| s.f32())),
+        Precision::F64 => held(items.map(|s| s.f64())),
     }
 }
 

@@ -189,12 +189,11 @@ impl<'a> Uploads<'a> {
         let relative = matches!(intersect, Intersect::Robust).then_some(scene.camera.eye);
         let origin = relative.unwrap_or_default();
         let t0 = std::time::Instant::now();
-        let bvh = accel
+        let mut bvh = accel
             .uses_bvh(&scene.prims)
             .then(|| accel::relative_bvh(&scene.prims, origin));
         let bvh_s = t0.elapsed().as_secs_f64();
         // Moved out of the BVH, not copied: a million triangles' order is 4 MB.
-        let mut bvh = bvh;
         let orders: Vec<Option<Vec<u32>>> = (0..KINDS.len())
             .map(|k| {
                 let order = std::mem::take(bvh.as_mut()?.orders.get_mut(k)?);
