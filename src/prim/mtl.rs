@@ -30,31 +30,37 @@ pub struct Block<'a> {
 }
 
 /// The blocks of an MTL file, in order, each a slice of `text` (so their
-/// lines and line numbers are the file's).
-pub fn blocks(text: &[u8]) -> Vec<Block<'_>> {
-    let mut out = Vec::new();
-    let (mut start, mut name) = (0, None);
-    let mut at = 0;
-    for line in text.split_inclusive(|&b| b == b'\n') {
-        if let Some(n) = newmtl(line) {
-            if at > start || name.is_some() {
-                out.push(Block {
-                    name: name.take(),
-                    text: &text[start..at],
-                });
+/// lines and line numbers are the file's), one at a time: a file of a
+/// million materials never holds a million names.
+pub fn blocks(text: &[u8]) -> impl Iterator<Item = Block<'_>> {
+    let mut lines = text.split_inclusive(|&b| b == b'\n');
+    // The current block's start and name; `at`, the end of what is read.
+    let (mut start, mut name, mut at, mut ended) = (0, None, 0, false);
+    std::iter::from_fn(move || loop {
+        let Some(line) = lines.next() else {
+            if ended || (at == start && name.is_none()) {
+                return None;
             }
-            start = at;
-            name = Some(n);
-        }
+            ended = true;
+            return Some(Block {
+                name: name.take(),
+                text: &text[start..at],
+            });
+        };
+        let here = at;
         at += line.len();
-    }
-    if at > start || name.is_some() {
-        out.push(Block {
-            name,
-            text: &text[start..at],
-        });
-    }
-    out
+        if let Some(next) = newmtl(line) {
+            let previous = name.replace(next);
+            let done = (here > start || previous.is_some()).then(|| Block {
+                name: previous,
+                text: &text[start..here],
+            });
+            start = here;
+            if done.is_some() {
+                return done;
+            }
+        }
+    })
 }
 
 /// The material a `newmtl` line names, as tobj reads it.
@@ -71,12 +77,20 @@ mod tests {
     #[test]
     fn blocks_split_at_each_newmtl_and_keep_every_byte() {
         let text = b"# top\nnewmtl a\nKd 1 0 0\n  newmtl  b c \nNs 3\n";
-        let b = blocks(text);
+        let b: Vec<Block> = blocks(text).collect();
         let names: Vec<Option<&str>> = b.iter().map(|b| b.name.as_deref()).collect();
         assert_eq!(names, [None, Some("a"), Some("b c")]);
         let joined: Vec<u8> = b.iter().flat_map(|b| b.text.iter().copied()).collect();
         assert_eq!(joined, text);
-        assert!(blocks(b"").is_empty());
+        assert_eq!(blocks(b"").count(), 0);
+        let names: Vec<Option<String>> = blocks(b"newmtl a\nKd 1 1 1\nnewmtl b\n")
+            .map(|b| b.name)
+            .collect();
+        assert_eq!(names, [Some("a".to_owned()), Some("b".to_owned())]);
+        assert_eq!(
+            blocks(b"newmtl a").map(|b| b.text).collect::<Vec<_>>(),
+            [b"newmtl a"]
+        );
     }
 
     #[test]
