@@ -7,7 +7,7 @@ use serde_json::json;
 
 use glint::bench::{self, Ceiling};
 use glint::cpu;
-use glint::gpu::{RenderSettings, Renderer};
+use glint::gpu::RenderSettings;
 use glint::report::median;
 use glint::scene::{Overrides, Scene};
 use glint::stats::Counts;
@@ -63,7 +63,7 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
             || bench::ceiling(&options, 512, a.runs),
         )?)
     };
-    let mut renderer = progress::waiting("opening the Vulkan device", || Renderer::new(&options))?;
+    let mut renderer = super::render_gpu::open(&options)?;
     let accel = a.device.accel;
     let bar = progress::bar(scenes.len() as u64, "scenes");
     let mut rows = Vec::new();

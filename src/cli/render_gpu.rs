@@ -45,6 +45,12 @@ fn label(precision: Precision, device: &str) -> String {
     format!("GPU {} on {device}", precision.name())
 }
 
+/// Opens the device `options` name, under a spinner: lavapipe takes a
+/// moment, and a command that opens it has nothing else to show yet.
+pub fn open(options: &gpu::GpuOptions) -> Result<gpu::Renderer, gpu::GpuError> {
+    progress::waiting("opening the Vulkan device", || gpu::Renderer::new(options))
+}
+
 /// Opens the device and prepares `scene` on it, under a spinner: opening
 /// lavapipe, building a large BVH, compiling a new shader variant and the
 /// driver's compile of its pipeline each take seconds.
@@ -52,8 +58,7 @@ fn open_and_prepare(
     scene: &Scene,
     options: &gpu::GpuOptions,
 ) -> anyhow::Result<(gpu::Renderer, gpu::Prepared)> {
-    let mut renderer =
-        progress::waiting("opening the Vulkan device", || gpu::Renderer::new(options))?;
+    let mut renderer = open(options)?;
     let prepared = progress::waiting(
         "preparing the scene: buffers, BVH, and the shader (compiled on first use of a variant)",
         || renderer.prepare(scene, &options.settings),

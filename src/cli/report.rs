@@ -3,7 +3,6 @@ use std::process::ExitCode;
 
 use clap::Args;
 
-use glint::gpu::Renderer;
 use glint::report::{self, Report, Settings};
 use glint::scene::{Overrides, Scene};
 
@@ -82,7 +81,7 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
         }
     }
     let options = a.device.options()?;
-    let mut renderer = progress::waiting("opening the Vulkan device", || Renderer::new(&options))?;
+    let mut renderer = super::render_gpu::open(&options)?;
     let device_s = renderer.device_s();
     let total: u64 = scenes
         .iter()
