@@ -281,6 +281,15 @@ impl DeviceArgs {
     }
 }
 
+/// A scene's name in tables and file names: its file's, without the extension.
+#[cfg(feature = "gpu")]
+pub fn scene_name(path: &Path) -> String {
+    path.file_stem()
+        .unwrap_or_default()
+        .to_string_lossy()
+        .into_owned()
+}
+
 /// The folder `file` is in ("." for a bare name).
 pub fn parent_dir(file: &Path) -> PathBuf {
     match file.parent() {

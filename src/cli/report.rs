@@ -10,13 +10,6 @@ use glint::output::Outputs;
 
 use super::{progress, DeviceArgs};
 
-fn scene_name(path: &std::path::Path) -> String {
-    path.file_stem()
-        .unwrap_or_default()
-        .to_string_lossy()
-        .into_owned()
-}
-
 #[derive(Args)]
 pub struct ReportArgs {
     /// Scene files [default: every scene in scenes/]
@@ -66,7 +59,7 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
         sweeps: !a.quick,
         sampling: !a.quick || a.sampling,
     };
-    let names: Vec<String> = paths.iter().map(|p| scene_name(p)).collect();
+    let names: Vec<String> = paths.iter().map(|p| super::scene_name(p)).collect();
     let mut inputs = a.device.inputs();
     for (path, scene) in paths.iter().zip(&scenes) {
         inputs.push(path.clone());

@@ -482,8 +482,9 @@ fn reference(scene: &Scene, accel: glint::accel::Accel) -> Image {
     cpu::Prepared::<f64>::new(scene, accel).render(&|_| {})
 }
 
+/// The scene's name, safe for a folder.
 fn scene_name(path: &Path) -> String {
-    slug(&path.file_stem().unwrap_or_default().to_string_lossy())
+    slug(&super::scene_name(path))
 }
 
 /// A name made safe for a folder: letters, digits, '.', '-' and '_'.
