@@ -24,6 +24,12 @@
 
 const uint BVH_EMPTY = 0xffffffffu;
 
+#ifdef USE_TABLES
+// The light buffers and the eye's tiles: a list of leaves the walks below
+// take in place of the tree.
+#include "tables.glsl"
+#endif
+
 // Widens a box's far distance against the rounding of the slab test (1 + 2
 // gamma_3 of Ize, JCGT 2013, with room to spare); the boxes are padded too.
 const real BOX_SLACK = 1.000002;
@@ -181,17 +187,36 @@ uint bvh_pop(real t_max) {
     return next;
 }
 
-// The nearest hit in the tree closer than hit.t, into hit.
+// The nearest hit in the tree closer than hit.t, into hit. With the tables
+// (USE_TABLES), a list (first entry, count) other than the walk's
+// (TABLE_WALK) is scanned in its place by the same loop: its entries are
+// leaves of one primitive, taken nearest first while their keys are within
+// the hit's t, so that the shader holds one copy of the loop.
+#ifdef USE_TABLES
+void bvh_nearest(Ray r, uint from, inout Hit hit, uvec2 list) {
+#else
 void bvh_nearest(Ray r, uint from, inout Hit hit) {
+#endif
     vec3r inv = inverse_dir(r.dir);
     uint key = NONE;
     bvh_sp = 0u;
     // The root is inner node 0.
     uint current = 0u;
+#ifdef USE_TABLES
+    bool listing = list.y != TABLE_WALK;
+    uint at = list.x;
+    uint end = listing ? list.x + list.y : 0u;
+    if (listing) {
+        current = list_next(at, end, hit.t * KEY_SLACK);
+    }
+#endif
 #ifdef WALK_WHILE_WHILE
     // An experiment (docs/performance.md, Reading the scene): Aila and
     // Laine's while-while, the inner nodes until every lane holds a leaf,
-    // then the leaves.
+    // then the leaves. (It walks the tree for a list too.)
+#ifdef USE_TABLES
+    current = 0u;
+#endif
     [[dont_unroll]] while (current != BVH_EMPTY) {
         [[dont_unroll]] while (current != BVH_EMPTY && (current & 15u) == 0u) {
             uint next = bvh_descend(r, inv, current >> 4, hit.t);
@@ -210,20 +235,41 @@ void bvh_nearest(Ray r, uint from, inout Hit hit) {
         } else {
             next = bvh_descend(r, inv, current >> 4, hit.t);
         }
+#ifdef USE_TABLES
+        current = next != BVH_EMPTY ? next
+                : listing ? list_next(at, end, hit.t * KEY_SLACK) : bvh_pop(hit.t);
+#else
         current = next != BVH_EMPTY ? next : bvh_pop(hit.t);
+#endif
     }
 #endif
 }
 
 #if HAS_SHADOWS
 // Whether a primitive in the tree lies on the ray strictly between 0 and
-// dist: any hit ends the walk.
+// dist: any hit ends the walk. With the tables, a list other than the
+// walk's is scanned in its place while its keys are at most `bound`.
+#ifdef USE_TABLES
+bool bvh_occluded(Ray r, uint from, real dist, uvec2 list, real bound) {
+#else
 bool bvh_occluded(Ray r, uint from, real dist) {
+#endif
     vec3r inv = inverse_dir(r.dir);
     bvh_sp = 0u;
     bool blocked = false;
     uint current = 0u;
+#ifdef USE_TABLES
+    bool listing = list.y != TABLE_WALK;
+    uint at = list.x;
+    uint end = listing ? list.x + list.y : 0u;
+    if (listing) {
+        current = list_next(at, end, bound);
+    }
+#endif
 #ifdef WALK_WHILE_WHILE
+#ifdef USE_TABLES
+    current = 0u;
+#endif
     [[dont_unroll]] while (current != BVH_EMPTY) {
         [[dont_unroll]] while (current != BVH_EMPTY && (current & 15u) == 0u) {
             uint next = bvh_descend_shadow(r, inv, current >> 4, dist);
@@ -242,7 +288,12 @@ bool bvh_occluded(Ray r, uint from, real dist) {
         } else {
             next = bvh_descend_shadow(r, inv, current >> 4, dist);
         }
+#ifdef USE_TABLES
+        current = next != BVH_EMPTY || blocked ? next
+                : listing ? list_next(at, end, bound) : bvh_pop(dist);
+#else
         current = next != BVH_EMPTY || blocked ? next : bvh_pop(dist);
+#endif
     }
 #endif
     return blocked;

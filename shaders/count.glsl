@@ -12,7 +12,8 @@ uint counting_as = RAY_EYE;
 #define COUNT(slot) counted[slot]++
 #define COUNT_AS(type) counting_as = (type)
 #define COUNT_NODE() counted[COUNT_WORK + counting_as * COUNT_PER_TYPE]++
-#define COUNT_TEST(kind) counted[COUNT_WORK + counting_as * COUNT_PER_TYPE + 1u + (kind)]++
+#define COUNT_CELL() counted[COUNT_WORK + counting_as * COUNT_PER_TYPE + 1u]++
+#define COUNT_TEST(kind) counted[COUNT_WORK + counting_as * COUNT_PER_TYPE + 2u + (kind)]++
 
 void begin_counts() {
     [[unroll]] for (uint i = 0u; i < COUNT_SLOTS; i++) {
@@ -38,6 +39,7 @@ void end_counts() {
 #define COUNT(slot)
 #define COUNT_AS(type)
 #define COUNT_NODE()
+#define COUNT_CELL()
 #define COUNT_TEST(kind)
 #define begin_counts()
 #define end_counts()

@@ -48,19 +48,36 @@ vec3r lift(vec3r p, vec3r o, vec3r side) {
 #endif
 
 // The nearest hit with t in (0, t_max): the BVH's kinds, then the others.
-bool intersect_scene(Ray r, uint from, real t_max, out Hit hit) {
+// With the tables, an eye ray (`eye`) reads its tile's list in place of the
+// walk (tables.glsl); mirrors intersect_scene and intersect_eye in
+// src/cpu/intersect.rs.
+bool intersect_ray(Ray r, uint from, real t_max, bool eye, out Hit hit) {
     hit = Hit(t_max, NONE, 0u, vec4r(0.0));
-#ifdef USE_BVH
+#if defined(USE_TABLES)
+    bvh_nearest(r, from, hit, eye ? eye_list(r.dir) : uvec2(0u, TABLE_WALK));
+#elif defined(USE_BVH)
     bvh_nearest(r, from, hit);
 #endif
     scan_nearest(r, from, hit);
     return hit.prim != NONE;
 }
 
+// The nearest hit with t in (0, t_max), walking the tree.
+bool intersect_scene(Ray r, uint from, real t_max, out Hit hit) {
+    return intersect_ray(r, from, t_max, false, hit);
+}
+
 #if HAS_SHADOWS
-// Whether anything lies on the ray strictly between 0 and dist.
-bool occluded(Ray r, uint from, real dist) {
-#ifdef USE_BVH
+// Whether anything lies on the ray strictly between 0 and dist, towards the
+// light l: through its light buffer where it has one (tables.glsl).
+bool occluded(Ray r, uint from, real dist, Light l) {
+#if defined(USE_TABLES)
+    real bound;
+    uvec2 list = shadow_list(r, dist, l, bound);
+    if (bvh_occluded(r, from, dist, list, bound)) {
+        return true;
+    }
+#elif defined(USE_BVH)
     if (bvh_occluded(r, from, dist)) {
         return true;
     }

@@ -62,7 +62,7 @@ vec3r shade(vec3r p, vec3r n, vec3r v, Material m, uint from) {
         if (direct && SHADOWS_ON) {
             COUNT(COUNT_SHADOW);
             COUNT_AS(RAY_SHADOW);
-            direct = !occluded(Ray(p, l), from, dist);
+            direct = !occluded(Ray(p, l), from, dist, light);
         }
 #endif
         if (direct) {

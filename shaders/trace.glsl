@@ -122,7 +122,9 @@ bool path_step(inout Path s) {
     real weight = s.weight;
     uint depth = s.depth;
     Hit hit;
-    if (!intersect_scene(ray, s.from, INF, hit)) {
+    // An eye ray reads its tile's list where the scene has the tables.
+    bool met = intersect_ray(ray, s.from, INF, depth == 1u, hit);
+    if (!met) {
         s.color += g.background.rgb * weight;
     } else {
         if (depth == 1u) {

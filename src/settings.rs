@@ -95,7 +95,7 @@ impl Choice for Accel {
         (
             Accel::Auto,
             "auto",
-            "The BVH from 16 bounded primitives up, else the linear scan",
+            "The BVH from 16 bounded primitives up, else the linear scan; on llvmpipe from Mesa 25.0 with the tables",
         ),
         (
             Accel::Bvh,
@@ -103,6 +103,11 @@ impl Choice for Accel {
             "A BVH over the bounded primitives; the unbounded ones (planes) are scanned",
         ),
         (Accel::None, "none", "Every ray tests every object"),
+        (
+            Accel::Tables,
+            "tables",
+            "The BVH, with a light buffer for shadow rays and screen tiles for eye rays",
+        ),
     ];
 }
 

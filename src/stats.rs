@@ -27,8 +27,9 @@ impl Counter {
     /// Where the work of each ray type starts: its node visits, then its
     /// tests by kind.
     pub const WORK: usize = Self::RAYS.len();
-    /// Slots of one ray type's work.
-    pub const PER_TYPE: usize = 1 + KINDS.len();
+    /// Slots of one ray type's work: its node visits, its cells read, its
+    /// tests by kind.
+    pub const PER_TYPE: usize = 2 + KINDS.len();
     /// Slots in all.
     pub const SLOTS: usize = Self::WORK + RayType::ALL.len() * Self::PER_TYPE;
 
@@ -41,7 +42,8 @@ impl Counter {
             Counter::Refract => 3,
             Counter::Shadow => 4,
             Counter::Node => work,
-            Counter::Test(k) => work + 1 + k as usize,
+            Counter::Cell => work + 1,
+            Counter::Test(k) => work + 2 + k as usize,
         }
     }
 }
@@ -83,7 +85,8 @@ impl Tally for Counts {
 pub struct Work {
     /// The rays of this type.
     pub rays: u64,
-    /// Tests by kind, under each kind's key, and `bvh_nodes`.
+    /// Tests by kind, under each kind's key, `bvh_nodes` and
+    /// `table_cells`.
     pub tests: BTreeMap<&'static str, u64>,
 }
 
@@ -92,7 +95,7 @@ impl Work {
     pub fn tests_total(&self) -> u64 {
         self.tests
             .iter()
-            .filter(|(k, _)| **k != "bvh_nodes")
+            .filter(|(k, _)| **k != "bvh_nodes" && **k != "table_cells")
             .map(|(_, n)| n)
             .sum()
     }
@@ -115,7 +118,7 @@ impl Counts {
     /// A ray counter, or a test or node counter summed over the ray types.
     pub fn get(&self, c: Counter) -> u64 {
         match c {
-            Counter::Node | Counter::Test(_) => {
+            Counter::Node | Counter::Cell | Counter::Test(_) => {
                 RayType::ALL.iter().map(|t| self.slots[c.slot(*t)]).sum()
             }
             _ => self.slots[c.slot(RayType::Eye)],
@@ -194,6 +197,7 @@ fn tests_by(get: impl Fn(Counter) -> u64) -> BTreeMap<&'static str, u64> {
         .map(|(k, kind)| (kind.key, get(Counter::Test(k as u32))))
         .collect();
     m.insert("bvh_nodes", get(Counter::Node));
+    m.insert("table_cells", get(Counter::Cell));
     m
 }
 

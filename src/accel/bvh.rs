@@ -437,7 +437,7 @@ fn widest(b: Aabb) -> usize {
 /// extent plus 2^-18 of its largest coordinate, hundreds of f32 ulps)
 /// covers the rounding of the slab test and of the primitive's own t, so a
 /// ray that the primitive test would call a hit always enters the box.
-fn padded(b: Aabb) -> ([f32; 3], [f32; 3]) {
+pub(crate) fn padded(b: Aabb) -> ([f32; 3], [f32; 3]) {
     let mut lo = [0.0f32; 3];
     let mut hi = [0.0f32; 3];
     for a in 0..3 {
@@ -449,7 +449,7 @@ fn padded(b: Aabb) -> ([f32; 3], [f32; 3]) {
     (lo, hi)
 }
 
-fn round_down(x: f64) -> f32 {
+pub(crate) fn round_down(x: f64) -> f32 {
     let f = x as f32;
     if f64::from(f) > x {
         next_toward_neg(f)

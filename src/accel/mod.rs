@@ -7,6 +7,7 @@
 
 pub(crate) mod bvh;
 pub(crate) mod quantize;
+pub(crate) mod tables;
 
 use crate::prim::Prims;
 
@@ -15,12 +16,19 @@ use crate::prim::Prims;
 /// lavapipe, measured with spheres).
 pub const AUTO_MIN_BOUNDED: usize = 16;
 
+/// Up to this many bounded primitives `auto` takes the tables where they
+/// pay: the scenes they were measured on have up to 8,191 (the SPD's tree);
+/// a million-face mesh keeps the memory it had with the tree alone.
+pub const AUTO_MAX_TABLED: usize = 65_536;
+
 /// Which primitives each ray tests (scene management). The image is the
 /// same either way, bit for bit; only the time differs.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Accel {
-    /// The BVH from 16 bounded primitives up (`AUTO_MIN_BOUNDED`), else the linear scan.
+    /// The BVH from 16 bounded primitives up (`AUTO_MIN_BOUNDED`), else the
+    /// linear scan; with the tables too where they pay (up to
+    /// `AUTO_MAX_TABLED` bounded primitives).
     #[default]
     Auto,
     /// A BVH over the bounded primitives; the unbounded ones (planes) are
@@ -28,6 +36,10 @@ pub enum Accel {
     Bvh,
     /// Every ray tests every object.
     None,
+    /// The BVH, with a light buffer for shadow rays and a screen-tile list
+    /// for eye rays (`tables`): the walk serves reflection and refraction
+    /// rays, and the cells whose lists would be too long.
+    Tables,
 }
 
 impl Accel {
@@ -36,12 +48,44 @@ impl Accel {
         let bounded = prims.bounded_count();
         match self {
             Accel::Auto => bounded >= AUTO_MIN_BOUNDED,
-            Accel::Bvh => bounded > 0,
+            Accel::Bvh | Accel::Tables => bounded > 0,
             Accel::None => false,
+        }
+    }
+
+    /// Whether a scene of `prims` reads tables for its shadow and eye rays
+    /// (where it is traced through a BVH), on a renderer where they pay
+    /// (`pays`): `auto` takes them there, up to `AUTO_MAX_TABLED`
+    /// bounded primitives.
+    pub fn uses_tables(self, prims: &Prims, pays: bool) -> bool {
+        match self {
+            Accel::Tables => self.uses_bvh(prims),
+            Accel::Auto => pays && self.uses_bvh(prims) && prims.bounded_count() <= AUTO_MAX_TABLED,
+            Accel::Bvh | Accel::None => false,
         }
     }
 }
 
+/// The bytes the tables may take on the device: 16 MiB, and as much again
+/// as the tree and the bounded primitives take (at 32 bytes each).
+pub(crate) fn tables_budget(prims: &Prims, tree: &bvh::Bvh) -> usize {
+    (16 << 20) + 64 * tree.nodes.len() + 32 * prims.bounded_count()
+}
+
+/// Each bounded primitive's padded box (`bvh::padded`), translated by
+/// `-origin`, by kind and index in the scene.
+pub(crate) fn prim_boxes(prims: &Prims, origin: glam::DVec3) -> Vec<Vec<([f32; 3], [f32; 3])>> {
+    let (bounds, ids) = prims.relative_bounds(origin);
+    let mut boxes: Vec<Vec<([f32; 3], [f32; 3])>> = prims
+        .counts()
+        .into_iter()
+        .map(|n| vec![([0.0; 3], [0.0; 3]); n])
+        .collect();
+    for (b, id) in bounds.into_iter().zip(ids) {
+        boxes[id.kind as usize][id.index as usize] = bvh::padded(b);
+    }
+    boxes
+}
 /// The BVH over the bounded ones of `prims`, as the renderers trace it
 /// (the scene already in the coordinates it is traced in). Its `orders`
 /// hold each kind's indices in the scene.

@@ -52,6 +52,9 @@ pub enum Counter {
     Shadow,
     /// A BVH node visited.
     Node,
+    /// A table's cell read: a shadow ray's light buffer, an eye ray's
+    /// tile (`accel::tables`).
+    Cell,
     /// A ray tested against a primitive of the kind `crate::prim::KINDS[k]`.
     Test(u32),
 }

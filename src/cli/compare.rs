@@ -128,8 +128,8 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             }
         );
         println!(
-            "setup      load {load_s:.3} s, device {:.3} s, shader compile {:.3} s, pipeline {:.3} s, BVH {:.3} s (not in the times below)",
-            setup.device_s, setup.compile_s, setup.pipeline_s, gpu_times.bvh_s
+            "setup      load {load_s:.3} s, device {:.3} s, shader compile {:.3} s, pipeline {:.3} s, BVH {:.3} s, tables {:.3} s (not in the times below)",
+            setup.device_s, setup.compile_s, setup.pipeline_s, gpu_times.bvh_s, gpu_times.tables_s
         );
         println!(
             "gpu f32    {:.3} s  (upload {:.3}, dispatch {:.3}{}, readback {:.3}; the first render took {:.3} s)",

@@ -47,7 +47,8 @@ pub struct RenderArgs {
 #[derive(serde::Serialize)]
 struct Stats {
     rays: RayCounts,
-    /// Ray/primitive tests by kind, and `bvh_nodes`: BVH nodes visited.
+    /// Ray/primitive tests by kind, `bvh_nodes`: BVH nodes visited, and
+    /// `table_cells`: cells of a light buffer or the eye's tiles read.
     tests: std::collections::BTreeMap<&'static str, u64>,
     /// The same by the type of ray that cost them, with the rays of each type.
     by_ray: std::collections::BTreeMap<&'static str, Work>,
@@ -55,7 +56,7 @@ struct Stats {
 }
 
 impl Stats {
-    fn new(counts: &Counts, input: f64, setup: f64, trace: f64) -> Self {
+    fn new(counts: &Counts, input: f64, setup: f64, tables: f64, trace: f64) -> Self {
         Self {
             rays: counts.rays(),
             tests: counts.tests(),
@@ -63,6 +64,7 @@ impl Stats {
             seconds: StatsSeconds {
                 input,
                 setup,
+                tables,
                 trace,
             },
         }
@@ -76,6 +78,9 @@ struct StatsSeconds {
     /// The scene in the renderer's precision and its BVH; on the GPU also
     /// opening the device and compiling the (counting) shader.
     setup: f64,
+    /// Of the setup, building the light buffers and the eye's tiles
+    /// (`--accel tables`; 0 without them).
+    tables: f64,
     trace: f64,
 }
 
@@ -140,14 +145,17 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
             let r = render_gpu::whole(&scene, &a.device, precision, count)?;
             let stats = r
                 .counts
-                .map(|c| Stats::new(&c, input_s, r.setup_s, r.seconds));
+                .map(|c| Stats::new(&c, input_s, r.setup_s, r.tables_s, r.seconds));
             (r.image, r.label, r.seconds, stats)
         }
         (Backend::Cpu, p) => {
             let precision = p.unwrap_or(Precision::F64);
             let r = render_cpu_timed(&scene, precision, a.device.accel, count);
             let (setup, trace) = (r.times.setup_s, r.times.render_s);
-            let stats = r.counts.map(|c| Stats::new(&c, input_s, setup, trace));
+            let tables = r.times.tables_s;
+            let stats = r
+                .counts
+                .map(|c| Stats::new(&c, input_s, setup, tables, trace));
             (r.image, r.label, trace, stats)
         }
     };
@@ -251,8 +259,10 @@ pub struct Whole {
     pub label: String,
     /// The render's seconds, without its setup.
     pub seconds: f64,
-    /// Opening the device, compiling, and the BVH.
+    /// Opening the device, compiling, the BVH and the tables.
     pub setup_s: f64,
+    /// Of the setup, building the tables (`--accel tables`).
+    pub tables_s: f64,
     pub counts: Option<Counts>,
 }
 
@@ -260,6 +270,8 @@ pub struct Whole {
 #[derive(Debug, Clone, Copy, serde::Serialize)]
 pub struct CpuTimes {
     pub setup_s: f64,
+    /// Of the setup, building the tables (`--accel tables`).
+    pub tables_s: f64,
     pub render_s: f64,
 }
 
@@ -288,20 +300,21 @@ pub fn render_cpu_timed(
         count: bool,
         start: Instant,
         progress: &(dyn Fn(u64) + Sync),
-    ) -> (Image, Option<Counts>, f64) {
+    ) -> (Image, Option<Counts>, f64, f64) {
         let prepared = progress::waiting("preparing the scene (BVH)", || {
             cpu::Prepared::<R>::new(scene, accel)
         });
         let setup_s = start.elapsed().as_secs_f64();
+        let tables_s = prepared.tables_s();
         if count {
             let (image, counts) = prepared.render_counted(progress);
-            (image, Some(counts), setup_s)
+            (image, Some(counts), setup_s, tables_s)
         } else {
-            (prepared.render(progress), None, setup_s)
+            (prepared.render(progress), None, setup_s, tables_s)
         }
     }
     let progress = |n| bar.inc(n);
-    let (image, counts, setup_s) = match precision {
+    let (image, counts, setup_s, tables_s) = match precision {
         Precision::F32 => go::<f32>(scene, accel, count, start, &progress),
         Precision::F64 => go::<f64>(scene, accel, count, start, &progress),
     };
@@ -311,7 +324,11 @@ pub fn render_cpu_timed(
     CpuRender {
         image,
         label: format!("CPU {precision:?} on {threads} threads").replace("F", "f"),
-        times: CpuTimes { setup_s, render_s },
+        times: CpuTimes {
+            setup_s,
+            tables_s,
+            render_s,
+        },
         counts,
     }
 }

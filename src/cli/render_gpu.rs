@@ -103,7 +103,12 @@ pub fn whole(
     Ok(super::render::Whole {
         label: r.label(precision),
         seconds: r.times.total_s(),
-        setup_s: setup.device_s + setup.compile_s + setup.pipeline_s + r.times.bvh_s,
+        setup_s: setup.device_s
+            + setup.compile_s
+            + setup.pipeline_s
+            + r.times.bvh_s
+            + r.times.tables_s,
+        tables_s: r.times.tables_s,
         image: r.image,
         counts: r.counts,
     })

@@ -58,3 +58,49 @@ fn leaf_order_does_not_matter() {
     }
     assert!(render_world(&world, &|_| {}) == reference);
 }
+
+/// The check that images do not depend on the tables (tests/accel.rs) can
+/// fail: lists that leave out a cell's last primitive, or an eye tile's,
+/// render another image; whole lists in reversed order render the same.
+#[test]
+fn lists_that_miss_a_primitive_change_the_image() {
+    let scene = crowd();
+    let reference: Image = render_rows::<f64>(&scene, Accel::None, &|_| {});
+    let whole = World::<f64>::new(&scene, Accel::Tables);
+    assert!(whole.tables.is_some());
+    assert!(render_world(&whole, &|_| {}) == reference);
+    for eye in [false, true] {
+        let mut world = World::<f64>::new(&scene, Accel::Tables);
+        let t = world.tables.as_mut().unwrap();
+        let first_eye = t
+            .eye
+            .map(|g| t.grids[g as usize].first_cell as usize)
+            .unwrap();
+        let range = if eye {
+            first_eye..t.cells.len()
+        } else {
+            0..first_eye
+        };
+        for cell in &mut t.cells[range] {
+            if cell.count != crate::accel::tables::WALK && cell.count > 0 {
+                cell.count -= 1;
+            }
+        }
+        assert!(render_world(&world, &|_| {}) != reference, "eye {eye}");
+    }
+    let mut world = World::<f64>::new(&scene, Accel::Tables);
+    let t = world.tables.as_mut().unwrap();
+    let walk = crate::accel::tables::WALK;
+    for cell in t.cells.clone() {
+        if cell.count != walk {
+            let (f, n) = (cell.first as usize, cell.count as usize);
+            t.entries[f..f + n].reverse();
+        }
+    }
+    // Reversed, a list's keys no longer end its scan early where they
+    // should: each entry is tested, so the image stays.
+    for e in &mut t.entries {
+        e.key = f32::NEG_INFINITY;
+    }
+    assert!(render_world(&world, &|_| {}) == reference);
+}

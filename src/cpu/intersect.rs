@@ -3,6 +3,7 @@
 //! kind's own intersect and normal are in its module of `crate::prim`.
 
 use crate::accel::bvh::{Bvh, Child, EMPTY, MAX_DEPTH, WIDTH};
+use crate::accel::tables::{Lookup, KEY_SLACK};
 use crate::prim::{PrimId, KINDS};
 use crate::stats::{Counter, Tally};
 
@@ -26,10 +27,39 @@ pub fn intersect_scene<R: Real, T: Tally>(
     t_max: R,
     tally: &mut T,
 ) -> Option<Hit<R>> {
+    nearest(w, ray, from, t_max, Lookup::Walk, tally)
+}
+
+/// The nearest hit of an eye ray: through its tile's list where the scene
+/// has the eye's tiles (`accel::tables`), else as `intersect_scene`. Mirrors
+/// intersect_eye() in shaders/intersect.glsl.
+pub fn intersect_eye<R: Real, T: Tally>(
+    w: &World<R>,
+    ray: &Ray<R>,
+    tally: &mut T,
+) -> Option<Hit<R>> {
+    let lookup = match &w.tables {
+        Some(t) if w.bvh.is_some() && t.eye.is_some() => {
+            tally.count(Counter::Cell);
+            t.eye(ray.dir)
+        }
+        _ => Lookup::Walk,
+    };
+    nearest(w, ray, PrimId::NONE, R::infinity(), lookup, tally)
+}
+
+fn nearest<R: Real, T: Tally>(
+    w: &World<R>,
+    ray: &Ray<R>,
+    from: PrimId,
+    t_max: R,
+    lookup: Lookup<R>,
+    tally: &mut T,
+) -> Option<Hit<R>> {
     let mut best: Option<Hit<R>> = None;
     let mut limit = t_max;
     if let Some(tree) = &w.bvh {
-        limit = walk(tree, ray, limit, tally, |id, limit, tally| {
+        let mut visit = |id: PrimId, limit: &mut R, tally: &mut T| {
             tally.count(Counter::Test(id.kind));
             if let Some(t) = w.prims.intersect(id, ray, from) {
                 let tie = t == *limit && best.is_some_and(|b| id < b.prim);
@@ -39,7 +69,22 @@ pub fn intersect_scene<R: Real, T: Tally>(
                 }
             }
             true
-        });
+        };
+        match (lookup, &w.tables) {
+            (Lookup::List(range, _), Some(tables)) => {
+                // Nearest first: a leaf that starts beyond the hit (with
+                // slack for rounding) cannot hold a nearer one, nor a tie.
+                for e in &tables.entries[range] {
+                    if R::of(e.key.into()) > limit * R::of(KEY_SLACK) {
+                        break;
+                    }
+                    for id in leaf_prims(tree, e.leaf) {
+                        visit(id, &mut limit, tally);
+                    }
+                }
+            }
+            _ => limit = walk(tree, ray, limit, tally, visit),
+        }
     }
     // The kinds the tree does not hold, in the table's order: a strict `<`
     // leaves a tie to the earlier.
@@ -53,22 +98,61 @@ pub fn intersect_scene<R: Real, T: Tally>(
     best
 }
 
-/// Whether anything lies on the shadow ray strictly between 0 and `dist`:
-/// the any-hit walk of the BVH, then the scan of what it does not hold.
+/// The primitives of the leaf `word` names, by their ids in the scene.
+fn leaf_prims(tree: &Bvh, word: u32) -> impl Iterator<Item = PrimId> + '_ {
+    let (kind, range) = match Child::of(word) {
+        Child::Leaf(kind, range) => (kind, range),
+        _ => (0, 0..0),
+    };
+    tree.orders[kind][range].iter().map(move |&index| PrimId {
+        kind: kind as u32,
+        index,
+    })
+}
+
+/// Whether anything lies on the shadow ray to light `light` strictly
+/// between 0 and `dist`: the light's cell where it has a light buffer
+/// (`accel::tables`), else the any-hit walk of the BVH; then the scan of
+/// what the tree does not hold.
 pub fn occluded<R: Real, T: Tally>(
     w: &World<R>,
     ray: &Ray<R>,
     from: PrimId,
     dist: R,
+    light: usize,
     tally: &mut T,
 ) -> bool {
     let mut blocked = false;
     if let Some(tree) = &w.bvh {
-        walk(tree, ray, dist, tally, |id, _, tally| {
+        let lookup = match &w.tables {
+            Some(t) if t.lights.get(light).copied().flatten().is_some() => {
+                tally.count(Counter::Cell);
+                t.shadow(light, ray.origin, ray.dir, dist)
+            }
+            _ => Lookup::Walk,
+        };
+        let mut test = |id: PrimId, tally: &mut T| {
             tally.count(Counter::Test(id.kind));
             blocked = w.prims.intersect(id, ray, from).is_some_and(|t| t < dist);
             !blocked
-        });
+        };
+        match (lookup, &w.tables) {
+            (Lookup::List(range, bound), Some(tables)) => {
+                'list: for e in &tables.entries[range] {
+                    if R::of(e.key.into()) > bound {
+                        break;
+                    }
+                    for id in leaf_prims(tree, e.leaf) {
+                        if !test(id, tally) {
+                            break 'list;
+                        }
+                    }
+                }
+            }
+            _ => {
+                walk(tree, ray, dist, tally, |id, _, tally| test(id, tally));
+            }
+        }
     }
     if !blocked {
         w.prims.scan(w.bvh.is_some(), ray, from, tally, |_, t| {

@@ -70,6 +70,12 @@ impl<R: Real> Prepared<R> {
         Self(World::new(scene, accel))
     }
 
+    /// Seconds spent building the light buffers and the eye's tiles
+    /// (`Accel::Tables`); 0 without them.
+    pub fn tables_s(&self) -> f64 {
+        self.0.tables.as_ref().map_or(0.0, |t| t.build_s)
+    }
+
     /// The image, calling `progress(rows_done)` as rows finish.
     pub fn render(&self, progress: &(dyn Fn(u64) + Sync)) -> Image {
         render_world(&self.0, progress)

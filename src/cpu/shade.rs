@@ -40,7 +40,7 @@ pub fn shade<R: Real, T: Tally>(
     tally: &mut T,
 ) -> Vec3<R> {
     let mut local = Vec3::zero();
-    for light in &w.lights {
+    for (index, light) in w.lights.iter().enumerate() {
         let (l, dist, att) = match light.kind {
             LightKind::Directional => (-light.direction, R::infinity(), R::one()),
             LightKind::Point | LightKind::Spot => {
@@ -78,7 +78,7 @@ pub fn shade<R: Real, T: Tally>(
         let shadowed = direct && w.shadows && {
             tally.count(Counter::Shadow);
             tally.ray_type(RayType::Shadow);
-            occluded(w, &Ray { origin: p, dir: l }, from, dist, tally)
+            occluded(w, &Ray { origin: p, dir: l }, from, dist, index, tally)
         };
         if direct && !shadowed {
             contribution += light.diffuse * m.diffuse * n_dot_l

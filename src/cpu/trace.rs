@@ -2,7 +2,7 @@
 //! shaders/trace.glsl, in the same order: the reflection ray is followed at
 //! once, and refraction rays wait on a stack, the most recent first.
 
-use super::intersect::{intersect_scene, lift, surface};
+use super::intersect::{intersect_eye, intersect_scene, lift, surface};
 use super::shade::shade;
 use super::texture::at_hit;
 use super::world::World;
@@ -49,7 +49,13 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
         // Whether this path goes on with the reflection ray.
         let mut follow = false;
         tally.ray_type(ray_type);
-        match intersect_scene(w, &ray, from, R::infinity(), tally) {
+        // An eye ray reads its tile's list where the scene has them.
+        let met = if depth == 1 {
+            intersect_eye(w, &ray, tally)
+        } else {
+            intersect_scene(w, &ray, from, R::infinity(), tally)
+        };
+        match met {
             None => color += w.background * weight,
             Some(hit) => {
                 if depth == 1 {

@@ -1,11 +1,14 @@
 //! The scene in the reference's scalar type: what the shader's buffers hold.
 
 use super::texture::TextureR;
-use crate::accel::{self, bvh::Bvh, Accel};
+use crate::accel::{self, bvh::Bvh, tables::Tables, Accel};
 use crate::prim::CpuPrims;
 use crate::scene::{LightKind, Scene};
 
 use crate::base::real::{Real, Vec3};
+
+/// Whether `auto` takes the tables on the CPU (`Accel::uses_tables`).
+const TABLES_PAY: bool = false;
 
 pub struct World<R: Real> {
     pub eye: Vec3<R>,
@@ -17,6 +20,9 @@ pub struct World<R: Real> {
     pub prims: CpuPrims<R>,
     /// The BVH over the bounded kinds, where the scene is traced through one.
     pub bvh: Option<Bvh>,
+    /// The light buffers and the eye's tiles (`accel::tables`), where the
+    /// scene reads them.
+    pub tables: Option<Tables>,
     pub materials: Vec<MaterialR<R>>,
     pub textures: Vec<TextureR<R>>,
     /// The images' texels (`Scene::texels`), shared with the scene.
@@ -82,6 +88,10 @@ impl<R: Real> World<R> {
         let bvh = accel
             .uses_bvh(&scene.prims)
             .then(|| accel::relative_bvh(&scene.prims, origin));
+        let tables = bvh
+            .as_ref()
+            .filter(|_| accel.uses_tables(&scene.prims, TABLES_PAY))
+            .and_then(|tree| scene.tables(tree, origin, (scene.width, scene.height)));
         let cam = &scene.camera;
         let (eye, screen_center) = (cam.eye - origin, cam.screen_center - origin);
         Self {
@@ -91,6 +101,7 @@ impl<R: Real> World<R> {
             screen_up: Vec3::of(cam.screen_up),
             prims: scene.prims.relative_cpu(origin),
             bvh,
+            tables,
             materials: scene
                 .materials
                 .iter()

@@ -19,7 +19,7 @@
 
 use std::fmt::Write;
 
-use super::layout::{light, material, texel, texture};
+use super::layout::{light, material, table_word, texel, texture};
 use super::variant::Block;
 use crate::accel::quantize::packed;
 use crate::base::interface::{words, GpuStruct, Member};
@@ -98,6 +98,10 @@ impl ArrayDecl {
             Block::Nodes => ArrayDecl {
                 by_words: true,
                 ..of::<packed::Values>("Nodes", "nodes", "node")
+            },
+            Block::Tables => ArrayDecl {
+                by_words: true,
+                ..of::<table_word::Values>("Tables", "tables", "table")
             },
             _ => return None,
         })

@@ -32,6 +32,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("texture.glsl", include_str!("../../shaders/texture.glsl")),
     ("adaptive.glsl", include_str!("../../shaders/adaptive.glsl")),
     ("bvh.glsl", include_str!("../../shaders/bvh.glsl")),
+    ("tables.glsl", include_str!("../../shaders/tables.glsl")),
     ("budget.glsl", include_str!("../../shaders/budget.glsl")),
     (
         "wavefront.glsl",

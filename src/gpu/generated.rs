@@ -78,6 +78,7 @@ impl Variant {
         s += &declaration::<crate::prim::triangle::uvs::Values>();
         s += &declaration::<refine::Values>();
         s += &declaration::<packed::Values>();
+        s += &declaration::<super::layout::table_word::Values>();
         for kind in KINDS {
             let _ = writeln!(
                 s,
@@ -137,7 +138,8 @@ impl Variant {
                 | Block::Textures
                 | Block::Texels
                 | Block::Uvs
-                | Block::Nodes => {
+                | Block::Nodes
+                | Block::Tables => {
                     let array = ArrayDecl::of(block).expect("a read-only array");
                     s += &access::declare(&array, binding, self.form(block), self.precision);
                     Ok(())

@@ -6,6 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::UVec4;
 
 use super::Intersect;
+use crate::accel::tables::Tables;
 use crate::accel::{self, Accel};
 use crate::base::interface::{self, Array, GpuStruct};
 use crate::base::Precision;
@@ -29,6 +30,25 @@ crate::base::interface::gpu_struct!(
         kinds_lo: uvec4,
         /// primitives of kinds 4..8
         kinds_hi: uvec4,
+        /// x the first word of the tables' cells, y of their entries, z 1
+        /// where the eye has its tiles (shaders/tables.glsl)
+        tables: uvec4,
+        /// The eye's grid (src/accel/tables.rs): a0, b0, sa, sb
+        eye_range: float4,
+        /// its first cell, na, nb
+        eye_cells: uvec4,
+        /// the rows of its map from a direction to (λ, μ, ν)
+        eye_r0: float4,
+        eye_r1: float4,
+        eye_r2: float4,
+    }
+);
+
+crate::base::interface::gpu_struct!(
+    /// A 16-byte word of the light buffers and the eye's tiles
+    /// (src/accel/tables.rs, shaders/tables.glsl).
+    pub mod table_word: "TableWord" {
+        w: uvec4,
     }
 );
 
@@ -97,7 +117,8 @@ crate::base::interface::gpu_struct!(
         attenuation: real4,
         /// x cos(cutoff), y exponent
         spot: real4,
-        /// x LIGHT_*, y 1 if it has a diffuse or specular term
+        /// x LIGHT_*, y 1 if it has a diffuse or specular term, z its light
+        /// buffer's first grid + 1 (0: none), w the buffer's reach (f32 bits)
         meta: uvec4,
     }
 );
@@ -122,9 +143,10 @@ fn xyz(v: glam::DVec3) -> [f64; 4] {
 
 /// The globals of `scene` translated by `-origin` (as `camera_relative`
 /// moves the camera where `origin` is the eye).
-fn globals(scene: &Scene, origin: glam::DVec3) -> globals::Values {
+fn globals(scene: &Scene, origin: glam::DVec3, tables: Option<&Tables>) -> globals::Values {
     let cam = &scene.camera;
     let (eye, screen_center) = (cam.eye - origin, cam.screen_center - origin);
+    let eye_grid = tables.and_then(|t| Some(&t.grids[t.eye? as usize]));
     let mut kinds = [0u32; 8];
     for (n, c) in kinds.iter_mut().zip(scene.prims.counts()) {
         *n = c as u32;
@@ -144,7 +166,54 @@ fn globals(scene: &Scene, origin: glam::DVec3) -> globals::Values {
         ],
         kinds_lo: [kinds[0], kinds[1], kinds[2], kinds[3]],
         kinds_hi: [kinds[4], kinds[5], kinds[6], kinds[7]],
+        tables: tables.map_or([0; 4], |t| {
+            let (cells, entries) = table_bases(t);
+            [cells, entries, u32::from(t.eye.is_some()), 0]
+        }),
+        eye_range: eye_grid.map_or([0.0; 4], |g| [g.a0, g.b0, g.sa, g.sb]),
+        eye_cells: eye_grid.map_or([0; 4], |g| [g.first_cell, g.na, g.nb, 0]),
+        eye_r0: eye_grid.map_or([0.0; 4], |g| row(g.rows[0])),
+        eye_r1: eye_grid.map_or([0.0; 4], |g| row(g.rows[1])),
+        eye_r2: eye_grid.map_or([0.0; 4], |g| row(g.rows[2])),
     }
+}
+
+fn row(r: [f32; 3]) -> [f32; 4] {
+    [r[0], r[1], r[2], 0.0]
+}
+
+/// The first words of the tables' cells and entries in their array.
+fn table_bases(t: &Tables) -> (u32, u32) {
+    let cells = 5 * t.grids.len();
+    (cells as u32, (cells + t.cells.len().div_ceil(2)) as u32)
+}
+
+/// The tables as the shader reads them: each grid in five words (its
+/// range, its cells, its three rows: a cube's face reads the first two
+/// alone), then the cells and the entries two to a word
+/// (shaders/tables.glsl).
+fn table_words(t: &Tables) -> Vec<table_word::Values> {
+    let mut words = Vec::with_capacity(crate::accel::tables::device_bytes(t) / 16);
+    let f = |x: f32| x.to_bits();
+    for gr in &t.grids {
+        words.push([f(gr.a0), f(gr.b0), f(gr.sa), f(gr.sb)]);
+        words.push([gr.first_cell, gr.na, gr.nb, 0]);
+        for r in gr.rows {
+            words.push([f(r[0]), f(r[1]), f(r[2]), 0]);
+        }
+    }
+    for pair in t.cells.chunks(2) {
+        let b = pair.get(1).copied().unwrap_or_default();
+        words.push([pair[0].first, pair[0].count, b.first, b.count]);
+    }
+    for pair in t.entries.chunks(2) {
+        let b = pair.get(1).map_or([0, 0], |e| [e.leaf, f(e.key)]);
+        words.push([pair[0].leaf, f(pair[0].key), b[0], b[1]]);
+    }
+    words
+        .into_iter()
+        .map(|w| table_word::Values { w })
+        .collect()
 }
 
 /// The push constant: the tile's origin x, y, width and height, and the
@@ -176,6 +245,11 @@ pub struct Uploads<'a> {
     pub bvh_stack: usize,
     /// Seconds spent building the BVH.
     pub bvh_s: f64,
+    /// The light buffers and the eye's tiles (`accel::tables`), where the
+    /// scene reads them.
+    pub tables: Option<Array<'a>>,
+    /// Seconds spent building them.
+    pub tables_s: f64,
 }
 
 impl<'a> Uploads<'a> {
@@ -183,7 +257,15 @@ impl<'a> Uploads<'a> {
     /// `Scene::camera_relative`); the naive ones trace it as written.
     /// Everything is moved item by item as it is laid out: no translated
     /// copy of the scene is held (a million triangles are 192 MB).
-    pub fn new(scene: &'a Scene, intersect: Intersect, precision: Precision, accel: Accel) -> Self {
+    /// `tables_pay`: whether `auto` takes the tables on this device
+    /// (`DeviceInfo::tables_pay`).
+    pub fn new(
+        scene: &'a Scene,
+        intersect: Intersect,
+        precision: Precision,
+        accel: Accel,
+        tables_pay: bool,
+    ) -> Self {
         // A plane's rebase moves its point, so the naive forms take the
         // primitives as written; elsewhere subtracting zero keeps every bit.
         let relative = matches!(intersect, Intersect::Robust).then_some(scene.camera.eye);
@@ -193,6 +275,10 @@ impl<'a> Uploads<'a> {
             .uses_bvh(&scene.prims)
             .then(|| accel::relative_bvh(&scene.prims, origin));
         let bvh_s = t0.elapsed().as_secs_f64();
+        let tables = bvh
+            .as_ref()
+            .filter(|_| accel.uses_tables(&scene.prims, tables_pay))
+            .and_then(|tree| scene.tables(tree, origin, (scene.width, scene.height)));
         // Moved out of the BVH, not copied: a million triangles' order is 4 MB.
         let orders: Vec<Option<Vec<u32>>> = (0..KINDS.len())
             .map(|k| {
@@ -200,7 +286,7 @@ impl<'a> Uploads<'a> {
                 (!order.is_empty()).then_some(order)
             })
             .collect();
-        let globals = globals(scene, origin);
+        let globals = globals(scene, origin, tables.as_ref());
         let globals = match precision {
             Precision::F32 => bytemuck::bytes_of(&globals.f32()).to_vec(),
             Precision::F64 => bytemuck::bytes_of(&globals.f64()).to_vec(),
@@ -265,6 +351,22 @@ impl<'a> Uploads<'a> {
             spot: [l.cos_cutoff, l.exponent, 0.0, 0.0],
             meta: [kind_code(l.kind), u32::from(l.has_direct_term()), 0, 0],
         });
+        // Each light's first grid + 1 and its reach, where it has a table.
+        let light_tables: Vec<[u32; 2]> = (0..scene.lights.len())
+            .map(|i| {
+                tables
+                    .as_ref()
+                    .map_or([0, 0], |t| match t.lights.get(i).copied().flatten() {
+                        Some(g) => [g + 1, t.grids[g as usize].reach.to_bits()],
+                        None => [0, 0],
+                    })
+            })
+            .collect();
+        let lights = lights.zip(light_tables).map(|(mut l, [table, reach])| {
+            l.meta[2] = table;
+            l.meta[3] = reach;
+            l
+        });
         Uploads {
             globals,
             kinds: scene.prims.gpu_arrays(orders, precision, relative),
@@ -285,6 +387,10 @@ impl<'a> Uploads<'a> {
                 )
             }),
             bvh_s,
+            tables_s: tables.as_ref().map_or(0.0, |t| t.build_s),
+            tables: tables
+                .as_ref()
+                .map(|t| interface::array(table_words(t).into_iter(), Precision::F32)),
         }
     }
 
@@ -310,19 +416,19 @@ impl<'a> Uploads<'a> {
     /// materials, the lights, the textures, the BVH's nodes, the texels and
     /// the uvs.
     fn named_arrays(&self) -> impl Iterator<Item = (&'static str, &Array<'a>)> {
-        let names = KINDS.iter().map(|k| k.key).chain([
-            "materials",
-            "lights",
-            "textures",
-            "BVH nodes",
-            "texels",
-            "uvs",
-        ]);
-        names.zip(
-            self.arrays()
-                .chain(self.nodes.as_ref())
-                .chain([&self.texels, &self.uvs]),
-        )
+        let names = KINDS
+            .iter()
+            .map(|k| k.key)
+            .chain(["materials", "lights", "textures"]);
+        // The nodes and the tables where the scene has them, under their
+        // names (a name is never given to the array after a missing one).
+        let nodes = self.nodes.as_ref().map(|n| ("BVH nodes", n));
+        let tables = self.tables.as_ref().map(|t| ("tables", t));
+        names
+            .zip(self.arrays())
+            .chain(nodes)
+            .chain([("texels", &self.texels), ("uvs", &self.uvs)])
+            .chain(tables)
     }
 
     /// Whether every read-only array fits a texel buffer of at most
@@ -362,7 +468,7 @@ pub(super) mod tests {
     fn f64_structs_are_rounded_to_dvec4_alignment() {
         use crate::prim::{plane, sphere};
         use std::mem::size_of;
-        assert_eq!(size_of::<globals::F64>(), 5 * 32 + 4 * 16);
+        assert_eq!(size_of::<globals::F64>(), 5 * 32 + 10 * 16);
         assert_eq!(size_of::<sphere::gpu::F64>(), 64);
         assert_eq!(size_of::<plane::gpu::F64>(), 128);
         assert_eq!(size_of::<material::F64>(), 160);
@@ -416,6 +522,7 @@ pub(super) mod tests {
             ("Texel", <texel::Values as GpuStruct>::FIELDS),
             ("Refine", <refine::Values as GpuStruct>::FIELDS),
             ("PackedNode", <packed::Values as GpuStruct>::FIELDS),
+            ("TableWord", <table_word::Values as GpuStruct>::FIELDS),
             (
                 "TriangleUv",
                 <crate::prim::triangle::uvs::Values as GpuStruct>::FIELDS,
@@ -469,7 +576,7 @@ pub(super) mod tests {
     fn arrays_over_the_storage_range_are_named() {
         let scene = row();
         for (precision, sphere_bytes) in [(Precision::F32, 32), (Precision::F64, 64)] {
-            let up = Uploads::new(&scene, Intersect::Robust, precision, Accel::Bvh);
+            let up = Uploads::new(&scene, Intersect::Robust, precision, Accel::Bvh, false);
             let nodes = up.nodes.as_ref().unwrap().byte_len();
             let spheres = up.kinds[0].byte_len();
             assert_eq!(spheres, 64 * sphere_bytes);

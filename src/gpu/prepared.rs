@@ -111,8 +111,9 @@ impl Prepared {
             settings.intersect,
             settings.precision,
             settings.accel,
+            shared.device.info.tables_pay,
         );
-        let layout_s = t0.elapsed().as_secs_f64() - up.bvh_s;
+        let layout_s = t0.elapsed().as_secs_f64() - up.bvh_s - up.tables_s;
         let (variant, defines) = shared.variant(traced, settings, &up, settings.count);
         let (pipeline, setup) = shared.pipeline(&variant, &defines)?;
         let t1 = Instant::now();
@@ -155,6 +156,7 @@ impl Prepared {
                 ..setup
             },
             bvh_s: up.bvh_s,
+            tables_s: up.tables_s,
             upload_s,
             ..RenderTimes::default()
         });

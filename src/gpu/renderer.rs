@@ -182,6 +182,7 @@ impl Renderer {
             settings.intersect,
             settings.precision,
             settings.accel,
+            self.shared.device.info.tables_pay,
         );
         self.shared.variant(scene, settings, &up, settings.count)
     }

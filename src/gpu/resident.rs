@@ -75,6 +75,7 @@ pub(crate) fn scene_blocks(
             Block::Texels => Some(&up.texels),
             Block::Uvs => Some(&up.uvs),
             Block::Nodes => Some(up.nodes.as_ref().expect("a BVH variant has nodes")),
+            Block::Tables => Some(up.tables.as_ref().expect("a tables variant has tables")),
             _ => continue,
         };
         // The arrays are written straight into the (staging) buffer.

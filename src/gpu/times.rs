@@ -34,6 +34,9 @@ pub struct RenderTimes {
     pub setup: SetupTimes,
     /// Building the BVH: a setup cost, apart from the render's total.
     pub bvh_s: f64,
+    /// Building the light buffers and the eye's tiles (`--accel tables`):
+    /// a setup cost like the BVH's.
+    pub tables_s: f64,
     /// Laying the scene out (apart from the BVH) and uploading it.
     pub upload_s: f64,
     /// The dispatches, with their submissions and waits.

@@ -34,6 +34,8 @@ pub enum Block {
     Uvs,
     /// The BVH's nodes.
     Nodes,
+    /// The light buffers and the eye's tiles (src/accel/tables.rs).
+    Tables,
     /// The counters of `--stats` (src/stats.rs), where the variant counts.
     Counts,
     /// The points of a level of adaptive sampling's refinement.
@@ -62,6 +64,7 @@ impl Block {
             Block::Texels => "texels",
             Block::Uvs => "uvs",
             Block::Nodes => "BVH nodes",
+            Block::Tables => "tables",
             Block::Counts => "the counters",
             Block::Refine => "the points to refine",
             Block::PathReals => "the paths",
@@ -84,6 +87,9 @@ pub struct Variant {
     /// each node on the tree's deepest path, where the bounded kinds are
     /// traced through one; 0: a linear scan.
     pub bvh_stack: usize,
+    /// Whether shadow and eye rays read the light buffers and the eye's
+    /// tiles (src/accel/tables.rs) before the walk.
+    pub tables: bool,
     /// None: the generic shader.
     pub features: Option<Features>,
     /// Counts rays, tests and BVH nodes (shaders/count.glsl).
@@ -129,6 +135,7 @@ impl Variant {
             intersect,
             precision,
             bvh_stack: uploads.bvh_stack,
+            tables: uploads.tables.is_some(),
             features: (!generic).then(|| Features::of(scene, uploads, device)),
             count,
             // The generic shader takes it too: a scene's variant renders the
@@ -149,6 +156,7 @@ impl Variant {
             intersect: Intersect::Robust,
             precision: Precision::F32,
             bvh_stack: 0,
+            tables: false,
             features: None,
             count: false,
             power_filter: false,
@@ -173,6 +181,9 @@ impl Variant {
         if self.bvh_stack > 0 {
             d.push(("USE_BVH".to_owned(), None));
             d.push(("BVH_STACK".to_owned(), Some(format!("{}u", self.bvh_stack))));
+            if self.tables {
+                d.push(("USE_TABLES".to_owned(), None));
+            }
         }
         if self.count {
             d.push(("COUNT_RAYS".to_owned(), None));
@@ -271,6 +282,11 @@ impl Variant {
             (Block::Uvs, uvs, scene_type(Block::Uvs)),
             (Block::Lights, lights, scene_type(Block::Lights)),
             (Block::Nodes, self.bvh_stack > 0, scene_type(Block::Nodes)),
+            (
+                Block::Tables,
+                self.bvh_stack > 0 && self.tables,
+                scene_type(Block::Tables),
+            ),
             (
                 Block::Counts,
                 self.count,
@@ -372,6 +388,9 @@ impl Variant {
         }
         if self.bvh_stack > 0 {
             parts.push(format!("bvh{}", self.bvh_stack));
+            if self.tables {
+                parts.push("tables".to_owned());
+            }
         }
         if self.count {
             parts.push("counted".to_owned());
@@ -431,7 +450,7 @@ mod tests {
     #[test]
     fn an_array_longer_than_a_texel_buffer_makes_them_storage_buffers() {
         let scene = super::super::layout::tests::row();
-        let up = Uploads::new(&scene, Intersect::Robust, Precision::F32, Accel::Bvh);
+        let up = Uploads::new(&scene, Intersect::Robust, Precision::F32, Accel::Bvh, false);
         let mut device = DeviceInfo {
             max_texel_buffer_elements: u32::MAX,
             ..DeviceInfo::default()

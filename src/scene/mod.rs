@@ -9,6 +9,7 @@ pub mod nff;
 mod rebase;
 pub mod refine;
 mod split;
+mod tables;
 pub mod texture;
 mod validate;
 

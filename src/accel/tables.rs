@@ -1,0 +1,779 @@
+//! Tables that answer shadow and eye rays without walking the tree: Haines
+//! and Greenberg's light buffer ("The Light Buffer: A Shadow-Testing
+//! Accelerator", IEEE CG&A 1986) and a screen-tile list (Weghorst, Hooper
+//! and Greenberg, "Improved Computational Methods for Ray Tracing", ACM TOG
+//! 1984), built once on the host from the BVH's leaves and read by both
+//! renderers (shaders/tables.glsl, `cpu::intersect`).
+//!
+//! Every table is a grid of cells over what a ray's direction (or, for a
+//! directional light, its origin) says, each cell a list of the BVH's leaf
+//! words whose boxes such a ray can meet, sorted by a key that ends the
+//! scan early:
+//!
+//! - a point or spot light has a direction cube: six perspective grids
+//!   around the light, one a face; a shadow ray reads the cell of its
+//!   direction seen from the light, and stops at the first blocker or at
+//!   the first leaf that starts farther from the light than its surface
+//!   point;
+//! - a directional light has a parallel grid across its direction; a
+//!   shadow ray reads the cell of its origin, and stops at the first leaf
+//!   that lies wholly behind the origin;
+//! - the eye has one perspective grid over the virtual screen, one cell per
+//!   tile of pixels; an eye ray reads its tile and stops once its hit is
+//!   nearer than the next leaf's near distance.
+//!
+//! The lists are conservative: each leaf's box is padded by `pad` (2^-14 of
+//! the scene's largest coordinate, far beyond what f32 rounding moves a ray
+//! within `reach`), and its cell range by 2^-12 of a cell coordinate (far
+//! beyond the rounding of the lookup). So a list holds every leaf that the
+//! walk would have found a hit in, any hit ends a shadow ray whichever is
+//! found first, and a tie between hits goes to the same primitive (the
+//! lower key) in every order: the image is the tree walk's, bit for bit.
+//! A cell whose list would be longer than `CELL_CAP`, a shadow ray from
+//! beyond the table's reach, and a direction behind a perspective grid fall
+//! back to the walk.
+
+use glam::{DMat3, DVec3};
+use rayon::prelude::*;
+
+use super::bvh::{Bvh, Child, EMPTY};
+use crate::base::real::{Real, Vec3};
+
+/// A cell's count that says "walk the tree": its list would be too long.
+pub const WALK: u32 = u32::MAX;
+
+/// Entries a cell lists at most; a longer list is left to the walk. (8 and
+/// 24 walked most of rings' and balls' shadow rays again, and lost their
+/// gain; docs/performance.md, Shadow and eye rays from tables.)
+pub const CELL_CAP: usize = 96;
+
+/// Pixels on a side of the eye grid's tiles, before the budget doubles
+/// them: 2 tested 3.2 primitives an eye ray on tetra where 8 tested 5.5.
+pub const TILE: u32 = 2;
+
+/// A light grid's cells a side: this times the square root of the
+/// primitives it sees (8 took balls' shadow rays from 8.3 tests and 2.2
+/// node visits a ray at 2 to 4.5 tests), at most `MAX_SIDE` for a face of
+/// a cube and four times that for a parallel grid.
+const LIGHT_SCALE: f64 = 8.0;
+const MAX_SIDE: u32 = 256;
+
+/// How a grid reads a ray.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Form {
+    /// Rows take a point to (along, a, b): a directional light's grid.
+    Parallel = 0,
+    /// Rows take a direction to (λ, μ, ν), and (a, b) = (μ/λ, ν/λ).
+    Perspective = 1,
+}
+
+/// One grid: how a ray finds its cell, and where its cells are.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grid {
+    /// The rows of the map from a direction (perspective) or a point
+    /// (parallel) to the grid's coordinates.
+    pub rows: [[f32; 3]; 3],
+    /// Where the cells start in a and b, and cells per unit of each.
+    pub a0: f32,
+    pub b0: f32,
+    pub sa: f32,
+    pub sb: f32,
+    /// The first of its cells in `Tables::cells`, row by row (b) of `na`.
+    pub first_cell: u32,
+    pub na: u32,
+    pub nb: u32,
+    /// A shadow ray whose surface point is farther than this from the
+    /// light (perspective), or has a coordinate larger than this
+    /// (parallel), walks the tree: the padding covers rounding up to here.
+    pub reach: f32,
+    pub form: Form,
+}
+
+/// A cell's list: where it starts in `Tables::entries` and how long it is
+/// (or `WALK`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Cell {
+    pub first: u32,
+    pub count: u32,
+}
+
+/// A list's entry: a BVH leaf word, and its key (near distance from the
+/// apex for a perspective grid, minus the far end along the light for a
+/// parallel one), rounded down.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Entry {
+    pub leaf: u32,
+    pub key: f32,
+}
+
+/// The tables of one scene and view.
+#[derive(Debug, Clone, Default)]
+pub struct Tables {
+    pub grids: Vec<Grid>,
+    pub cells: Vec<Cell>,
+    pub entries: Vec<Entry>,
+    /// Each light's first grid, where it has a table (a point or spot
+    /// light's six faces follow, +x, -x, +y, -y, +z, -z).
+    pub lights: Vec<Option<u32>>,
+    /// The eye grid, where eye rays read one.
+    pub eye: Option<u32>,
+    /// Seconds spent building them.
+    pub build_s: f64,
+}
+
+/// A light, as the tables see it.
+#[derive(Debug, Clone, Copy)]
+pub struct LightSpec {
+    /// Point and spot lights: the position; else None.
+    pub position: Option<DVec3>,
+    /// A directional light's direction of travel.
+    pub direction: DVec3,
+    /// Whether it casts shadow rays at all.
+    pub casts: bool,
+}
+
+/// The camera, as the tables see it (`Globals`' eye and screen vectors).
+#[derive(Debug, Clone, Copy)]
+pub struct CameraSpec {
+    pub eye: DVec3,
+    pub to_screen: DVec3,
+    pub right: DVec3,
+    pub up: DVec3,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// What to build tables for.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Want {
+    pub lights: bool,
+    pub eye: bool,
+}
+
+/// A primitive of the tree, as a leaf of its own, and its padded box.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Leaf {
+    pub word: u32,
+    pub lo: DVec3,
+    pub hi: DVec3,
+}
+
+/// A leaf's place in one grid: its (a, b) range and its key.
+#[derive(Debug, Clone, Copy)]
+struct Span {
+    a: (f64, f64),
+    b: (f64, f64),
+    key: f64,
+}
+
+/// Each primitive of the tree's leaves, as a leaf of its own (a word of
+/// count 1), with its own padded box (`bvh::padded`): a list then names the
+/// primitives whose boxes a cell's rays can meet, not their leaves'.
+/// `boxes[kind][i]` is the box of primitive `i` of that kind in the scene.
+pub(crate) fn leaves(tree: &Bvh, boxes: &[Vec<([f32; 3], [f32; 3])>]) -> Vec<Leaf> {
+    let v = |c: [f32; 3]| DVec3::new(c[0].into(), c[1].into(), c[2].into());
+    let mut out = Vec::new();
+    for node in &tree.nodes {
+        for &word in &node.child {
+            if word == EMPTY {
+                continue;
+            }
+            if let Child::Leaf(kind, range) = Child::of(word) {
+                for slot in range {
+                    let (lo, hi) = boxes[kind][tree.orders[kind][slot] as usize];
+                    out.push(Leaf {
+                        word: (slot as u32) << 8 | (kind as u32) << 4 | 1,
+                        lo: v(lo),
+                        hi: v(hi),
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// `x` rounded to f32, never up.
+fn f32_down(x: f64) -> f32 {
+    super::bvh::round_down(x)
+}
+
+/// The distance from `p` to the box (lo, hi); 0 inside it.
+fn box_distance(p: DVec3, lo: DVec3, hi: DVec3) -> f64 {
+    (lo - p).max(p - hi).max(DVec3::ZERO).length()
+}
+
+fn corners(lo: DVec3, hi: DVec3) -> [DVec3; 8] {
+    std::array::from_fn(|i| {
+        DVec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        )
+    })
+}
+
+const FULL: (f64, f64) = (f64::NEG_INFINITY, f64::INFINITY);
+
+/// A padded leaf seen through the perspective map `rows` from `apex`:
+/// None where it lies wholly behind; the whole grid where it reaches
+/// behind the apex's plane.
+fn perspective_span(rows: &DMat3, apex: DVec3, lo: DVec3, hi: DVec3) -> Option<Span> {
+    let key = box_distance(apex, lo, hi);
+    let mapped = corners(lo, hi).map(|c| *rows * (c - apex));
+    let (mut lam_min, mut lam_max) = (f64::INFINITY, f64::NEG_INFINITY);
+    for m in &mapped {
+        lam_min = lam_min.min(m.x);
+        lam_max = lam_max.max(m.x);
+    }
+    if lam_max <= 0.0 {
+        return None;
+    }
+    if lam_min <= 0.0 {
+        return Some(Span {
+            a: FULL,
+            b: FULL,
+            key,
+        });
+    }
+    // μ/λ over a box in front of the apex is extreme at its corners.
+    let (mut a, mut b) = (
+        (f64::INFINITY, f64::NEG_INFINITY),
+        (f64::INFINITY, f64::NEG_INFINITY),
+    );
+    for m in &mapped {
+        let (u, v) = (m.y / m.x, m.z / m.x);
+        a = (a.0.min(u), a.1.max(u));
+        b = (b.0.min(v), b.1.max(v));
+    }
+    Some(Span { a, b, key })
+}
+
+/// A padded leaf seen along `rows` (along, a, b).
+fn parallel_span(rows: &DMat3, lo: DVec3, hi: DVec3) -> Span {
+    let (mut along, mut a, mut b) = (
+        f64::NEG_INFINITY,
+        (f64::INFINITY, f64::NEG_INFINITY),
+        (f64::INFINITY, f64::NEG_INFINITY),
+    );
+    for c in corners(lo, hi) {
+        let m = *rows * c;
+        along = along.max(m.x);
+        a = (a.0.min(m.y), a.1.max(m.y));
+        b = (b.0.min(m.z), b.1.max(m.z));
+    }
+    Span { a, b, key: -along }
+}
+
+/// The lookup's margin around a coordinate: far beyond its rounding.
+fn margin(x: f64) -> f64 {
+    (1.0 + x.abs()) / 4096.0
+}
+
+/// A grid under construction: its map and each primitive's span.
+struct Plan {
+    rows: DMat3,
+    form: Form,
+    reach: f64,
+    /// The grid's extent in (a, b), where it is fixed (the eye's screen).
+    domain: Option<((f64, f64), (f64, f64))>,
+    /// The eye's pixels across a and b, `tile` to a cell; else the cells
+    /// come from the spans' count.
+    pixels: Option<(u32, u32)>,
+    /// How far a fitted extent may reach (a cube face's: just past ±1).
+    clamp: f64,
+    spans: Vec<(u32, Span)>,
+}
+
+/// A plan at one resolution: where its cells are, and how many
+/// primitives each lists.
+struct Counted {
+    a0: f32,
+    b0: f32,
+    sa: f32,
+    sb: f32,
+    na: u32,
+    nb: u32,
+    counts: Vec<u32>,
+}
+
+impl Counted {
+    /// The entries it keeps: the lists no longer than `CELL_CAP`.
+    fn entries(&self) -> usize {
+        self.counts
+            .iter()
+            .filter(|&&n| n as usize <= CELL_CAP)
+            .map(|&n| n as usize)
+            .sum()
+    }
+
+    /// Its bytes on the device (`device_bytes`).
+    fn bytes(&self) -> usize {
+        80 + 8 * (self.counts.len() + self.entries())
+    }
+
+    /// The cells a span covers, from its (a, b) range widened by the
+    /// lookup's margin, as the lookup computes them from the stored f32s.
+    fn cover(&self, s: &Span) -> (std::ops::RangeInclusive<u32>, std::ops::RangeInclusive<u32>) {
+        let index = |x: f64, x0: f32, sc: f32, n: u32| -> u32 {
+            let c = ((x - f64::from(x0)) * f64::from(sc)).floor();
+            c.clamp(0.0, f64::from(n - 1)) as u32
+        };
+        let a = index(s.a.0 - margin(s.a.0), self.a0, self.sa, self.na)
+            ..=index(s.a.1 + margin(s.a.1), self.a0, self.sa, self.na);
+        let b = index(s.b.0 - margin(s.b.0), self.b0, self.sb, self.nb)
+            ..=index(s.b.1 + margin(s.b.1), self.b0, self.sb, self.nb);
+        (a, b)
+    }
+}
+
+/// One grid laid out: its cells and entries count from 0.
+struct Laid {
+    grid: Grid,
+    cells: Vec<Cell>,
+    entries: Vec<Entry>,
+}
+
+/// Cells on a side of a light's grid for `n` primitives seen, at `scale`.
+fn side_for(n: usize, scale: f64, max: u32) -> u32 {
+    ((n as f64).sqrt() * scale)
+        .round()
+        .clamp(1.0, f64::from(max)) as u32
+}
+
+impl Plan {
+    fn perspective(rows: DMat3, apex: DVec3, leaves: &[Leaf], pad: f64, reach: f64) -> Self {
+        let spans = leaves
+            .iter()
+            .filter_map(|l| {
+                let (lo, hi) = (l.lo - pad, l.hi + pad);
+                perspective_span(&rows, apex, lo, hi).map(|mut s| {
+                    s.key -= pad;
+                    (l.word, s)
+                })
+            })
+            .collect();
+        Plan {
+            rows,
+            form: Form::Perspective,
+            reach,
+            domain: None,
+            pixels: None,
+            clamp: 1.0 + 1.0 / 1024.0,
+            spans,
+        }
+    }
+
+    /// Its resolution at `side` cells a side (the eye's: `tile` pixels a
+    /// cell), and each cell's count: a difference array over the spans'
+    /// rectangles, summed.
+    fn count(&self, side: u32, tile: u32) -> Counted {
+        let ((a0, a1), (b0, b1)) = self.domain.unwrap_or_else(|| {
+            let mut a = (f64::INFINITY, f64::NEG_INFINITY);
+            let mut b = a;
+            for (_, s) in &self.spans {
+                a = (
+                    a.0.min(s.a.0 - margin(s.a.0)),
+                    a.1.max(s.a.1 + margin(s.a.1)),
+                );
+                b = (
+                    b.0.min(s.b.0 - margin(s.b.0)),
+                    b.1.max(s.b.1 + margin(s.b.1)),
+                );
+            }
+            let fit = |r: (f64, f64)| {
+                let (lo, hi) = (r.0.max(-self.clamp), r.1.min(self.clamp));
+                if lo < hi {
+                    (lo, hi)
+                } else if r.0 <= r.1 {
+                    (lo, lo + 1.0)
+                } else {
+                    (0.0, 1.0)
+                }
+            };
+            (fit(a), fit(b))
+        });
+        let (na, nb) = self
+            .pixels
+            .map_or((side, side), |(w, h)| (w.div_ceil(tile), h.div_ceil(tile)));
+        let (a0, b0) = (a0 as f32, b0 as f32);
+        let mut c = Counted {
+            a0,
+            b0,
+            sa: (f64::from(na) / (a1 - f64::from(a0))) as f32,
+            sb: (f64::from(nb) / (b1 - f64::from(b0))) as f32,
+            na,
+            nb,
+            counts: Vec::new(),
+        };
+        let (w, h) = (na as usize + 1, nb as usize + 1);
+        let mut diff = vec![0i64; w * h];
+        for (_, s) in &self.spans {
+            let (ra, rb) = c.cover(s);
+            let (i0, i1, j0, j1) = (
+                *ra.start() as usize,
+                *ra.end() as usize + 1,
+                *rb.start() as usize,
+                *rb.end() as usize + 1,
+            );
+            diff[j0 * w + i0] += 1;
+            diff[j0 * w + i1] -= 1;
+            diff[j1 * w + i0] -= 1;
+            diff[j1 * w + i1] += 1;
+        }
+        for j in 0..h {
+            for i in 0..w {
+                let mut v = diff[j * w + i];
+                if i > 0 {
+                    v += diff[j * w + i - 1];
+                }
+                if j > 0 {
+                    v += diff[(j - 1) * w + i];
+                }
+                if i > 0 && j > 0 {
+                    v -= diff[(j - 1) * w + i - 1];
+                }
+                diff[j * w + i] = v;
+            }
+        }
+        c.counts = (0..nb as usize)
+            .flat_map(|j| (0..na as usize).map(move |i| (i, j)))
+            .map(|(i, j)| diff[j * w + i] as u32)
+            .collect();
+        c
+    }
+
+    /// Lays the plan out at the resolution `c` counted: each list nearest
+    /// key first, a list longer than `CELL_CAP` left to the walk.
+    fn fill(&self, c: Counted) -> Laid {
+        let mut cells: Vec<Cell> = Vec::with_capacity(c.counts.len());
+        let mut at = 0u32;
+        for &n in &c.counts {
+            if n as usize > CELL_CAP {
+                cells.push(Cell {
+                    first: 0,
+                    count: WALK,
+                });
+            } else {
+                cells.push(Cell {
+                    first: at,
+                    count: 0,
+                });
+                at += n;
+            }
+        }
+        let mut entries = vec![Entry { leaf: 0, key: 0.0 }; at as usize];
+        for &(leaf, s) in &self.spans {
+            let (ra, rb) = c.cover(&s);
+            let entry = Entry {
+                leaf,
+                key: f32_down(s.key),
+            };
+            for j in rb {
+                for i in ra.clone() {
+                    let cell = &mut cells[(j * c.na + i) as usize];
+                    if cell.count != WALK {
+                        entries[(cell.first + cell.count) as usize] = entry;
+                        cell.count += 1;
+                    }
+                }
+            }
+        }
+        for cell in &cells {
+            if cell.count != WALK {
+                let (f, n) = (cell.first as usize, cell.count as usize);
+                entries[f..f + n].sort_by(|x, y| x.key.total_cmp(&y.key).then(x.leaf.cmp(&y.leaf)));
+            }
+        }
+        let r = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32];
+        Laid {
+            grid: Grid {
+                rows: [
+                    r(self.rows.row(0)),
+                    r(self.rows.row(1)),
+                    r(self.rows.row(2)),
+                ],
+                a0: c.a0,
+                b0: c.b0,
+                sa: c.sa,
+                sb: c.sb,
+                first_cell: 0,
+                na: c.na,
+                nb: c.nb,
+                reach: self.reach as f32,
+                form: self.form,
+            },
+            cells,
+            entries,
+        }
+    }
+}
+
+/// The six faces of a direction cube: +x, -x, +y, -y, +z, -z, each the map
+/// from a direction to (λ, μ, ν) with λ along the face's axis.
+fn cube_faces() -> [DMat3; 6] {
+    std::array::from_fn(|f| {
+        let axis = f / 2;
+        let sign = if f % 2 == 0 { 1.0 } else { -1.0 };
+        let e = |i: usize| DVec3::AXES[i % 3];
+        DMat3::from_cols(e(axis) * sign, e(axis + 1), e(axis + 2)).transpose()
+    })
+}
+
+/// The bytes the tables take on the device: grids of five 16-byte words,
+/// cells and entries two to a word.
+pub fn device_bytes(t: &Tables) -> usize {
+    16 * (5 * t.grids.len() + t.cells.len().div_ceil(2) + t.entries.len().div_ceil(2))
+}
+
+/// Builds the tables of `tree` for `lights` and `camera` (all in the
+/// coordinates the tree is in), within `budget` bytes on the device; None
+/// where nothing was wanted or nothing fits. `boxes[kind][i]` is the padded
+/// box of primitive `i` of that kind in the scene.
+pub fn build(
+    tree: &Bvh,
+    boxes: &[Vec<([f32; 3], [f32; 3])>],
+    lights: &[LightSpec],
+    camera: Option<&CameraSpec>,
+    want: Want,
+    budget: usize,
+) -> Option<Tables> {
+    let t0 = std::time::Instant::now();
+    let leaves = leaves(tree, boxes);
+    if leaves.is_empty() || !(want.lights || want.eye) {
+        return None;
+    }
+    let mut scale = 0.0f64;
+    for l in &leaves {
+        scale = scale
+            .max(l.lo.abs().max_element())
+            .max(l.hi.abs().max_element());
+    }
+    for l in lights {
+        if let Some(p) = l.position {
+            scale = scale.max(p.abs().max_element());
+        }
+    }
+    if let Some(c) = camera {
+        scale = scale.max(c.eye.abs().max_element());
+    }
+    if !scale.is_finite() {
+        return None;
+    }
+    let pad = (scale / 16384.0).max(f64::from(f32::MIN_POSITIVE));
+    let reach = 16.0 * scale.max(pad);
+
+    // The plans: each light's six faces or one parallel grid, then the eye's.
+    let mut plans: Vec<(Option<usize>, Plan)> = Vec::new();
+    for (i, l) in lights.iter().enumerate() {
+        if !want.lights || !l.casts {
+            continue;
+        }
+        match l.position {
+            Some(apex) => plans.extend(
+                cube_faces()
+                    .into_par_iter()
+                    .map(|rows| (Some(i), Plan::perspective(rows, apex, &leaves, pad, reach)))
+                    .collect::<Vec<_>>(),
+            ),
+            None => {
+                let w = -l.direction.normalize();
+                if !w.is_finite() {
+                    continue;
+                }
+                let (u, v) = w.any_orthonormal_pair();
+                let rows = DMat3::from_cols(w, u, v).transpose();
+                let spans = leaves
+                    .par_iter()
+                    .map(|leaf| {
+                        let mut s = parallel_span(&rows, leaf.lo - pad, leaf.hi + pad);
+                        s.key -= pad;
+                        (leaf.word, s)
+                    })
+                    .collect();
+                plans.push((
+                    Some(i),
+                    Plan {
+                        rows,
+                        form: Form::Parallel,
+                        reach,
+                        domain: None,
+                        pixels: None,
+                        clamp: f64::INFINITY,
+                        spans,
+                    },
+                ));
+            }
+        }
+    }
+    if let Some(c) = camera.filter(|_| want.eye) {
+        let m = DMat3::from_cols(c.to_screen, c.right, c.up);
+        let det = m.determinant();
+        if det.is_finite() && det.abs() > 0.0 {
+            let mut plan = Plan::perspective(m.inverse(), c.eye, &leaves, pad, f64::INFINITY);
+            plan.domain = Some(((-1.0, 1.0), (-1.0, 1.0)));
+            plan.pixels = Some((c.width.max(1), c.height.max(1)));
+            plans.push((None, plan));
+        }
+    }
+
+    // The finest resolution that fits the budget: each try halves the
+    // lights' cells a side and doubles the eye's tile.
+    let mut light_scale = LIGHT_SCALE;
+    let mut tile = TILE;
+    for _ in 0..12 {
+        let counted: Vec<Counted> = plans
+            .par_iter()
+            .map(|(_, plan)| {
+                let side = match plan.form {
+                    Form::Perspective => side_for(plan.spans.len(), light_scale, MAX_SIDE),
+                    Form::Parallel => side_for(plan.spans.len(), light_scale, 4 * MAX_SIDE),
+                };
+                plan.count(side, tile)
+            })
+            .collect();
+        let bytes: usize = counted.iter().map(Counted::bytes).sum();
+        if bytes <= budget {
+            let laid: Vec<Laid> = plans
+                .par_iter()
+                .zip(counted)
+                .map(|((_, plan), c)| plan.fill(c))
+                .collect();
+            let mut t = Tables {
+                lights: vec![None; lights.len()],
+                ..Tables::default()
+            };
+            for ((light, _), mut l) in plans.iter().zip(laid) {
+                let g = t.grids.len() as u32;
+                match light {
+                    Some(i) => {
+                        t.lights[*i].get_or_insert(g);
+                    }
+                    None => t.eye = Some(g),
+                }
+                let (cells, entries) = (t.cells.len() as u32, t.entries.len() as u32);
+                l.grid.first_cell = cells;
+                t.grids.push(l.grid);
+                t.cells.extend(l.cells.into_iter().map(|c| match c.count {
+                    WALK => c,
+                    _ => Cell {
+                        first: c.first + entries,
+                        ..c
+                    },
+                }));
+                t.entries.extend(l.entries);
+            }
+            t.build_s = t0.elapsed().as_secs_f64();
+            return Some(t);
+        }
+        light_scale /= 2.0;
+        tile *= 2;
+    }
+    None
+}
+
+/// What a ray reads: a list to scan, with the bound that ends it, or the
+/// walk.
+pub enum Lookup<R> {
+    Walk,
+    /// The entries' range in `Tables::entries`; the scan ends at the first
+    /// entry whose key is over `bound`.
+    List(std::ops::Range<usize>, R),
+}
+
+/// The slack on a perspective key's bound: far beyond the rounding of a
+/// distance.
+pub const KEY_SLACK: f64 = 1.0 + 1.0 / 4096.0;
+
+impl Tables {
+    fn cell_of<R: Real>(&self, g: &Grid, a: R, b: R) -> Lookup<R> {
+        let index = |x: R, x0: f32, s: f32, n: u32| -> u32 {
+            let c = ((x - R::of(x0.into())) * R::of(s.into())).floor();
+            let c = c.max(R::zero()).min(R::of(f64::from(n - 1)));
+            c.to_f64() as u32
+        };
+        let i = index(a, g.a0, g.sa, g.na);
+        let j = index(b, g.b0, g.sb, g.nb);
+        let cell = self.cells[(g.first_cell + j * g.na + i) as usize];
+        if cell.count == WALK {
+            return Lookup::Walk;
+        }
+        let first = cell.first as usize;
+        Lookup::List(first..first + cell.count as usize, R::zero())
+    }
+
+    fn row<R: Real>(g: &Grid, k: usize, v: Vec3<R>) -> R {
+        let r = g.rows[k];
+        Vec3::new(R::of(r[0].into()), R::of(r[1].into()), R::of(r[2].into())).dot(v)
+    }
+
+    /// A perspective grid's cell for direction `d`.
+    fn perspective<R: Real>(&self, g: &Grid, d: Vec3<R>) -> Lookup<R> {
+        let lam = Self::row(g, 0, d);
+        if lam.is_nan() || lam <= R::zero() {
+            return Lookup::Walk;
+        }
+        self.cell_of(g, Self::row(g, 1, d) / lam, Self::row(g, 2, d) / lam)
+    }
+
+    /// The list a shadow ray from `p` to light `light` (unit direction `l`,
+    /// at distance `dist`) reads.
+    pub fn shadow<R: Real>(&self, light: usize, p: Vec3<R>, l: Vec3<R>, dist: R) -> Lookup<R> {
+        let Some(first) = self.lights.get(light).copied().flatten() else {
+            return Lookup::Walk;
+        };
+        let g = &self.grids[first as usize];
+        match g.form {
+            Form::Perspective => {
+                if dist.is_nan() || dist > R::of(g.reach.into()) {
+                    return Lookup::Walk;
+                }
+                let d = -l;
+                let face = cube_face(d);
+                let g = &self.grids[first as usize + face];
+                match self.perspective(g, d) {
+                    Lookup::List(r, _) => Lookup::List(r, dist * R::of(KEY_SLACK)),
+                    w => w,
+                }
+            }
+            Form::Parallel => {
+                let big = p.x.abs().max(p.y.abs()).max(p.z.abs());
+                if big.is_nan() || big > R::of(g.reach.into()) {
+                    return Lookup::Walk;
+                }
+                match self.cell_of(g, Self::row(g, 1, p), Self::row(g, 2, p)) {
+                    Lookup::List(r, _) => Lookup::List(r, -Self::row(g, 0, p)),
+                    w => w,
+                }
+            }
+        }
+    }
+
+    /// The list an eye ray of direction `d` reads, where the eye has one;
+    /// its bound is the slack on the hit's t (`KEY_SLACK`).
+    pub fn eye<R: Real>(&self, d: Vec3<R>) -> Lookup<R> {
+        match self.eye {
+            Some(g) => self.perspective(&self.grids[g as usize], d),
+            None => Lookup::Walk,
+        }
+    }
+}
+
+/// The face of the direction cube that `d` leaves through: the axis of its
+/// largest component (ties to the earlier axis), then its sign.
+pub fn cube_face<R: Real>(d: Vec3<R>) -> usize {
+    let (x, y, z) = (d.x.abs(), d.y.abs(), d.z.abs());
+    let axis = if x >= y && x >= z {
+        0
+    } else if y >= z {
+        1
+    } else {
+        2
+    };
+    let c = [d.x, d.y, d.z][axis];
+    2 * axis + usize::from(c < R::zero())
+}
+
+#[cfg(test)]
+#[path = "tables_tests.rs"]
+mod tests;

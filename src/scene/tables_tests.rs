@@ -1,0 +1,99 @@
+use glam::DVec3;
+
+use crate::accel::scene_bvh;
+use crate::accel::tables::{build, leaves, LightSpec, Lookup, Want};
+use crate::base::real::Vec3;
+use crate::scene::{Overrides, Scene};
+
+fn scene(text: &str) -> Scene {
+    super::super::parse(text, std::path::Path::new("t.toml"), &Overrides::default()).unwrap()
+}
+
+/// 64 small spheres in a ring around a point light, and a directional one.
+fn ring() -> Scene {
+    let mut text = String::from(
+        "[image]\nwidth = 32\nheight = 24\n[camera]\neye = [0, 2, 12]\nlook_at = [0, 0, 0]\nvfov = 50\n\
+         [materials.m]\ndiffuse = [1, 1, 1]\n\
+         [[lights]]\ntype = \"point\"\nposition = [0, 0, 0]\ndiffuse = [1, 1, 1]\n\
+         [[lights]]\ntype = \"directional\"\ndirection = [0.3, -1, 0.2]\ndiffuse = [1, 1, 1]\n",
+    );
+    for i in 0..64 {
+        let a = f64::from(i) * std::f64::consts::TAU / 64.0;
+        text += &format!(
+            "[[spheres]]\ncenter = [{}, {}, {}]\nradius = 0.2\nmaterial = \"m\"\n",
+            4.0 * a.cos(),
+            (f64::from(i) * 0.37).sin(),
+            4.0 * a.sin()
+        );
+    }
+    scene(&text)
+}
+
+/// Every leaf a ray from the light's side can meet is in the list the ray
+/// reads: for rays towards many points around the ring, the leaves whose
+/// boxes the segment crosses (sampled densely) are all listed, with keys
+/// under the bound.
+#[test]
+fn the_lists_hold_every_leaf_a_shadow_ray_crosses() {
+    let s = ring();
+    let tree = scene_bvh(&s.prims);
+    let t = s.tables(&tree, glam::DVec3::ZERO, (32, 24)).unwrap();
+    assert_eq!(t.lights.len(), 2);
+    assert!(t.lights.iter().all(Option::is_some) && t.eye.is_some());
+    let all = leaves(
+        &tree,
+        &crate::accel::prim_boxes(&s.prims, glam::DVec3::ZERO),
+    );
+    let light = DVec3::ZERO;
+    let mut listed_somewhere = 0;
+    for k in 0..2000 {
+        let a = f64::from(k) * 0.0137;
+        let p = DVec3::new(6.0 * a.cos(), (a * 3.1).sin() * 0.8, 6.0 * a.sin());
+        let to = light - p;
+        let dist = to.length();
+        let l = to / dist;
+        let pr = Vec3::<f64>::of(p);
+        let lr = Vec3::<f64>::of(l);
+        let Lookup::List(range, bound) = t.shadow(0, pr, lr, dist) else {
+            continue;
+        };
+        let listed: Vec<u32> = t.entries[range.clone()]
+            .iter()
+            .filter(|e| f64::from(e.key) <= bound)
+            .map(|e| e.leaf)
+            .collect();
+        listed_somewhere += listed.len();
+        for leaf in &all {
+            let crosses = (0..=400).any(|i| {
+                let q = p + l * (dist * f64::from(i) / 400.0);
+                q.cmpge(leaf.lo).all() && q.cmple(leaf.hi).all()
+            });
+            if crosses {
+                assert!(
+                    listed.contains(&leaf.word),
+                    "ray {k} crosses leaf {:#x} unlisted",
+                    leaf.word
+                );
+            }
+        }
+    }
+    assert!(listed_somewhere > 0, "no ray read a non-empty list");
+}
+
+#[test]
+fn a_budget_too_small_for_any_resolution_builds_nothing() {
+    let s = ring();
+    let tree = scene_bvh(&s.prims);
+    let lights = [LightSpec {
+        position: Some(DVec3::ZERO),
+        direction: DVec3::Y,
+        casts: true,
+    }];
+    let want = Want {
+        lights: true,
+        eye: false,
+    };
+    let boxes = crate::accel::prim_boxes(&s.prims, glam::DVec3::ZERO);
+    assert!(build(&tree, &boxes, &lights, None, want, 1 << 20).is_some());
+    assert!(build(&tree, &boxes, &lights, None, want, 16).is_none());
+}
