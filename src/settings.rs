@@ -95,7 +95,7 @@ impl Choice for Accel {
         (
             Accel::Auto,
             "auto",
-            "The BVH from 16 bounded primitives up, else the linear scan; on llvmpipe from Mesa 25.0 with the tables",
+            "The BVH from 16 bounded primitives up, else the linear scan",
         ),
         (
             Accel::Bvh,

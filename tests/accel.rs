@@ -127,7 +127,7 @@ fn auto_takes_the_bvh_from_its_threshold_up() {
     let few = small(&common::repo().join("scenes/seed-fig3.toml"));
     assert_eq!(common::variant(&r, &few).0.bvh_stack, 0);
     assert!(Accel::Auto.uses_bvh(&crowd().prims) && !Accel::Auto.uses_bvh(&few.prims));
-    // The tables where they were measured to pay (llvmpipe from Mesa 25.0).
+    // The tables where they were measured to pay (no driver yet).
     let pays = r.device_info().tables_pay;
     assert_eq!(common::variant(&r, &crowd()).0.tables, pays);
     assert!(!common::variant(&r, &few).0.tables);
