@@ -17,39 +17,21 @@ driver, the medians and each lane's ratio to the base, and the totals.
 
 import argparse
 import os
-import shlex
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
 
+# The lanes are choices.py's, and so are the two drivers.
+from choices import DEFAULT_ICD, old_icd, parse_lane
+
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-DEFAULT_ICD = "/usr/share/vulkan/icd.d/lvp_icd.json"
 SPD = ["balls", "gears", "mount", "rings", "teapot", "tetra", "tree"]
 
 
-def parse_lane(text, default_binary):
-    name, _, args = text.partition("=")
-    lane = {"name": name, "binary": default_binary, "env": {}, "args": []}
-    for word in shlex.split(args):
-        if word.startswith("bin:"):
-            lane["binary"] = word[4:]
-        elif word.startswith("env:"):
-            k, _, v = word[4:].partition("=")
-            lane["env"][k] = v
-        else:
-            lane["args"].append(word)
-    return lane
-
-
 def icd_of(driver):
-    if driver == "default":
-        return DEFAULT_ICD
-    out = subprocess.run([os.path.join(REPO, "ci", "old-lavapipe")], capture_output=True, text=True)
-    if out.returncode != 0:
-        sys.exit(f"ci/old-lavapipe: {out.stderr.strip()}")
-    return out.stdout.strip()
+    return DEFAULT_ICD if driver == "default" else old_icd()
 
 
 def render(lane, icd, scene, out):
