@@ -155,9 +155,8 @@ fn auto_takes_the_bvh_from_its_threshold_up() {
     let few = small(&common::repo().join("scenes/seed-fig3.toml"));
     assert_eq!(common::variant(&r, &few).0.bvh_stack, 0);
     assert!(Accel::Auto.uses_bvh(&crowd().prims) && !Accel::Auto.uses_bvh(&few.prims));
-    // The tables where they were measured to pay (no driver yet).
-    let pays = r.device_info().tables_pay;
-    assert_eq!(common::variant(&r, &crowd()).0.tables, pays);
+    // Never the tables (measured, they do not yet pay; docs/performance.md).
+    assert!(!common::variant(&r, &crowd()).0.tables);
     assert!(!common::variant(&r, &few).0.tables);
     let cpu = cpu::Prepared::<f32>::new(&crowd(), Accel::Auto);
     assert_eq!(cpu.tables_s(), 0.0, "auto takes no tables on the CPU");

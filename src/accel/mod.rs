@@ -16,19 +16,14 @@ use crate::prim::Prims;
 /// lavapipe, measured with spheres).
 pub const AUTO_MIN_BOUNDED: usize = 16;
 
-/// Up to this many bounded primitives `auto` takes the tables where they
-/// pay: the scenes they were measured on have up to 8,191 (the SPD's tree);
-/// a million-face mesh keeps the memory it had with the tree alone.
-pub const AUTO_MAX_TABLED: usize = 65_536;
-
 /// Which primitives each ray tests (scene management). The image is the
 /// same either way, bit for bit; only the time differs.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Accel {
     /// The BVH from 16 bounded primitives up (`AUTO_MIN_BOUNDED`), else the
-    /// linear scan; with the tables too where they pay (up to
-    /// `AUTO_MAX_TABLED` bounded primitives).
+    /// linear scan. Never the tables: measured, they do not yet pay back
+    /// their build and compile in a whole render (docs/performance.md).
     #[default]
     Auto,
     /// A BVH over the bounded primitives; the unbounded ones (planes) are
@@ -54,15 +49,9 @@ impl Accel {
     }
 
     /// Whether a scene of `prims` reads tables for its shadow and eye rays
-    /// (where it is traced through a BVH), on a renderer where they pay
-    /// (`pays`): `auto` takes them there, up to `AUTO_MAX_TABLED`
-    /// bounded primitives.
-    pub fn uses_tables(self, prims: &Prims, pays: bool) -> bool {
-        match self {
-            Accel::Tables => self.uses_bvh(prims),
-            Accel::Auto => pays && self.uses_bvh(prims) && prims.bounded_count() <= AUTO_MAX_TABLED,
-            Accel::Bvh | Accel::None => false,
-        }
+    /// (where it is traced through a BVH): with `tables` alone.
+    pub fn uses_tables(self, prims: &Prims) -> bool {
+        self == Accel::Tables && self.uses_bvh(prims)
     }
 }
 

@@ -632,7 +632,9 @@ pub fn build(
                 plan.count(side, tile)
             })
             .collect();
-        let bytes: usize = counted.iter().map(Counted::bytes).sum();
+        // Laid end to end, the cells and the entries each round up to a
+        // whole word once (`device_bytes`): 32 bytes at most.
+        let bytes: usize = counted.iter().map(Counted::bytes).sum::<usize>() + 32;
         if bytes <= budget {
             let laid: Vec<Laid> = plans
                 .par_iter()

@@ -7,9 +7,6 @@ use crate::scene::{LightKind, Scene};
 
 use crate::base::real::{Real, Vec3};
 
-/// Whether `auto` takes the tables on the CPU (`Accel::uses_tables`).
-const TABLES_PAY: bool = false;
-
 pub struct World<R: Real> {
     pub eye: Vec3<R>,
     /// screen_center - eye, taken in f64 before rounding, as the GPU gets it:
@@ -90,7 +87,7 @@ impl<R: Real> World<R> {
             .then(|| accel::relative_bvh(&scene.prims, origin));
         let tables = bvh
             .as_ref()
-            .filter(|_| accel.uses_tables(&scene.prims, TABLES_PAY))
+            .filter(|_| accel.uses_tables(&scene.prims))
             .and_then(|tree| scene.tables(tree, origin, (scene.width, scene.height)));
         let cam = &scene.camera;
         let (eye, screen_center) = (cam.eye - origin, cam.screen_center - origin);

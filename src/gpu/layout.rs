@@ -257,15 +257,7 @@ impl<'a> Uploads<'a> {
     /// `Scene::camera_relative`); the naive ones trace it as written.
     /// Everything is moved item by item as it is laid out: no translated
     /// copy of the scene is held (a million triangles are 192 MB).
-    /// `tables_pay`: whether `auto` takes the tables on this device
-    /// (`DeviceInfo::tables_pay`).
-    pub fn new(
-        scene: &'a Scene,
-        intersect: Intersect,
-        precision: Precision,
-        accel: Accel,
-        tables_pay: bool,
-    ) -> Self {
+    pub fn new(scene: &'a Scene, intersect: Intersect, precision: Precision, accel: Accel) -> Self {
         // A plane's rebase moves its point, so the naive forms take the
         // primitives as written; elsewhere subtracting zero keeps every bit.
         let relative = matches!(intersect, Intersect::Robust).then_some(scene.camera.eye);
@@ -277,7 +269,7 @@ impl<'a> Uploads<'a> {
         let bvh_s = t0.elapsed().as_secs_f64();
         let tables = bvh
             .as_ref()
-            .filter(|_| accel.uses_tables(&scene.prims, tables_pay))
+            .filter(|_| accel.uses_tables(&scene.prims))
             .and_then(|tree| scene.tables(tree, origin, (scene.width, scene.height)));
         // Moved out of the BVH, not copied: a million triangles' order is 4 MB.
         let orders: Vec<Option<Vec<u32>>> = (0..KINDS.len())
@@ -576,7 +568,7 @@ pub(super) mod tests {
     fn arrays_over_the_storage_range_are_named() {
         let scene = row();
         for (precision, sphere_bytes) in [(Precision::F32, 32), (Precision::F64, 64)] {
-            let up = Uploads::new(&scene, Intersect::Robust, precision, Accel::Bvh, false);
+            let up = Uploads::new(&scene, Intersect::Robust, precision, Accel::Bvh);
             let nodes = up.nodes.as_ref().unwrap().byte_len();
             let spheres = up.kinds[0].byte_len();
             assert_eq!(spheres, 64 * sphere_bytes);

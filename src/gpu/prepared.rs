@@ -111,7 +111,6 @@ impl Prepared {
             settings.intersect,
             settings.precision,
             settings.accel,
-            shared.device.info.tables_pay,
         );
         let layout_s = t0.elapsed().as_secs_f64() - up.bvh_s - up.tables_s;
         let (variant, defines) = shared.variant(traced, settings, &up, settings.count);

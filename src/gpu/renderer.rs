@@ -182,7 +182,6 @@ impl Renderer {
             settings.intersect,
             settings.precision,
             settings.accel,
-            self.shared.device.info.tables_pay,
         );
         self.shared.variant(scene, settings, &up, settings.count)
     }

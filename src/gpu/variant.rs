@@ -450,7 +450,7 @@ mod tests {
     #[test]
     fn an_array_longer_than_a_texel_buffer_makes_them_storage_buffers() {
         let scene = super::super::layout::tests::row();
-        let up = Uploads::new(&scene, Intersect::Robust, Precision::F32, Accel::Bvh, false);
+        let up = Uploads::new(&scene, Intersect::Robust, Precision::F32, Accel::Bvh);
         let mut device = DeviceInfo {
             max_texel_buffer_elements: u32::MAX,
             ..DeviceInfo::default()

@@ -39,14 +39,6 @@ pub struct DeviceInfo {
     /// before Mesa 25.0 aborts the process ("stack smashing detected") on
     /// scenes/glass.toml's naive wavefront variant, so there it is refused.
     pub runs_the_wavefront: bool,
-    /// Whether `--accel auto` takes the light buffers and the eye's tiles
-    /// (`accel::tables`) where it takes the BVH: on no driver yet
-    /// (docs/performance.md, Shadow and eye rays from tables). On Mesa 25.0
-    /// they cut the trace (rings 0.51, balls 0.59) but their build and the
-    /// larger shader's compile made the seven SPD databases' whole
-    /// `glint render` 1.08x slower; on Mesa 22.3 they cost up to 1.7x the
-    /// walk; no other driver has been measured.
-    pub tables_pay: bool,
     /// Whether compute shaders have the subgroup ballot operations
     /// (`subgroupBallot`, `subgroupBallotExclusiveBitCount`), with which the
     /// wavefront schedule compacts its queues; Vulkan 1.1 requires only the
@@ -95,14 +87,6 @@ fn runs_loops_to_the_end(name: &str, info: &str) -> bool {
 /// llvmpipe before Mesa 24.3 (see `DeviceInfo::skips_untaken_branches`).
 fn skips_untaken_branches(name: &str, info: &str) -> bool {
     name != "llvmpipe" || mesa_version(info) >= (24, 3)
-}
-
-/// Whether the tables were measured to pay on a driver, whole process
-/// counted: on none yet (see `DeviceInfo::tables_pay`). The trace alone
-/// gains on llvmpipe from Mesa 25.0, which is where to measure again.
-fn tables_pay(name: &str, info: &str) -> bool {
-    let _ = (name, info);
-    false
 }
 
 /// Whether a driver runs the wavefront schedule: every driver but llvmpipe
@@ -209,7 +193,6 @@ pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
                 loop_budget: !runs_loops_to_the_end(&driver_name, &driver_info),
                 skips_untaken_branches: skips_untaken_branches(&driver_name, &driver_info),
                 runs_the_wavefront: runs_the_wavefront(&driver_name, &driver_info),
-                tables_pay: tables_pay(&driver_name, &driver_info),
                 buffer_device_address,
                 subgroup_ballot: subgroup
                     .supported_stages
@@ -378,14 +361,7 @@ impl Drop for Device {
 
 #[cfg(test)]
 mod tests {
-    use super::{runs_loops_to_the_end, runs_the_wavefront, skips_untaken_branches, tables_pay};
-
-    #[test]
-    fn the_tables_pay_on_no_driver_yet() {
-        assert!(!tables_pay("llvmpipe", "Mesa 25.0.7 (LLVM 19.1.7)"));
-        assert!(!tables_pay("llvmpipe", "Mesa 22.3.6 (LLVM 15.0.6)"));
-        assert!(!tables_pay("NVIDIA", "570.0"));
-    }
+    use super::{runs_loops_to_the_end, runs_the_wavefront, skips_untaken_branches};
 
     #[test]
     fn llvmpipe_runs_the_wavefront_from_mesa_25() {
