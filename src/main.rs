@@ -13,7 +13,7 @@ fn main() -> ExitCode {
     // cannot be installed only loses that clean-up.
     let _ = ctrlc::set_handler(|| {
         glint::output::remove_in_progress();
-        eprintln!("error: interrupted");
+        cli::console::last_words(format_args!("error: interrupted\n"));
         std::process::exit(130);
     });
     let argv: Vec<std::ffi::OsString> = std::env::args_os().collect();
@@ -30,13 +30,13 @@ fn main() -> ExitCode {
         Ok(args) => args,
         Err(e) => return usage_error(e),
     };
-    match cli::run(args) {
+    cli::console::catching(|| match cli::run(args) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            cli::console::last_words(format_args!("error: {e:#}\n"));
             ExitCode::from(2)
         }
-    }
+    })
 }
 
 /// clap's own text (usage, tips, or the help where a command is missing),
@@ -44,13 +44,15 @@ fn main() -> ExitCode {
 /// and `--version` print as clap prints them, exit status 0.
 fn usage_error(e: clap::Error) -> ExitCode {
     match e.kind() {
-        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
-            let _ = e.print();
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => cli::console::catching(|| {
+            cli::console::to_stdout(format_args!("{}", e.render()));
             ExitCode::SUCCESS
-        }
+        }),
         ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
-            eprintln!("{}", e.render().to_string().trim_end());
-            eprintln!("error: a command is missing (see the usage above)");
+            cli::console::last_words(format_args!(
+                "{}\nerror: a command is missing (see the usage above)\n",
+                e.render().to_string().trim_end()
+            ));
             ExitCode::from(2)
         }
         _ => {
@@ -60,9 +62,9 @@ fn usage_error(e: clap::Error) -> ExitCode {
             let rest: Vec<&str> = lines.collect();
             let rest = rest.join("\n");
             if !rest.trim().is_empty() {
-                eprintln!("{}\n", rest.trim());
+                cli::console::last_words(format_args!("{}\n\n", rest.trim()));
             }
-            eprintln!("{}", glint::printable::text(first));
+            cli::console::last_words(format_args!("{}\n", glint::printable::text(first)));
             ExitCode::from(2)
         }
     }

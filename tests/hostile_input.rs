@@ -171,7 +171,7 @@ fn shader_sources_are_read_within_bounds() {
     .unwrap();
     let o = render();
     assert_user_error(&o, "shade.glsl: error: macro A");
-    assert_user_error(&o, "past the bound of 16 MiB");
+    assert_user_error(&o, "past the bound of 512 KiB");
     assert!(!out.exists());
 }
 

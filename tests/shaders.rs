@@ -465,3 +465,47 @@ fn watch_renders_again_after_a_timeout() {
         "{err}"
     );
 }
+
+/// A same-size edit that keeps the file's time (`cp -p` of a version saved
+/// in the same second, `rsync -t`) re-renders (issue 41: the time and size
+/// alone were compared, and the old image stayed).
+#[test]
+fn watch_sees_an_edit_that_keeps_the_size_and_the_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("scene.toml");
+    let out = dir.path().join("out.pfm");
+    let original = small_seed_fig4();
+    std::fs::write(&scene, &original).unwrap();
+    let modified = std::fs::metadata(&scene).unwrap().modified().unwrap();
+    let mut child = watch(&scene, &out);
+    let result = std::panic::catch_unwind(|| {
+        let limit = Duration::from_secs(30);
+        assert!(wait_for(limit, || out.exists()), "first render");
+        let first = std::fs::read(&out).unwrap();
+        let changed = original.replace(
+            "background = [0.05, 0.05, 0.1]",
+            "background = [0.50, 0.05, 0.1]",
+        );
+        assert_eq!(changed.len(), original.len());
+        assert_ne!(changed, original);
+        // Written in place, then its time put back.
+        let mut f = std::fs::OpenOptions::new()
+            .write(true)
+            .open(&scene)
+            .unwrap();
+        std::io::Write::write_all(&mut f, changed.as_bytes()).unwrap();
+        f.set_modified(modified).unwrap();
+        drop(f);
+        assert_eq!(
+            std::fs::metadata(&scene).unwrap().modified().unwrap(),
+            modified
+        );
+        assert!(
+            wait_for(limit, || std::fs::read(&out).is_ok_and(|b| b != first)),
+            "re-render after a same-size, same-time edit"
+        );
+    });
+    child.kill().unwrap();
+    child.wait().unwrap();
+    result.unwrap();
+}

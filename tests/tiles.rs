@@ -159,6 +159,23 @@ fn render_tile_and_assemble_through_the_binary() {
         glint_in(d, &args, &[])
     };
     let no_output = |out: &str| assert!(!d.join(out).exists(), "{out} was written");
+    // Two bands of one size with their images swapped (a script's `mv`, a
+    // farm writing the wrong name): each sidecar is bound to its pixels
+    // (issue 41, defect 2: they assembled, 34 % of the pixels off).
+    std::fs::create_dir(d.join("swapped")).unwrap();
+    for (name, region) in [("top", "0,0,67,65"), ("bottom", "0,65,67,65")] {
+        let out = format!("swapped/{name}.exr");
+        ok(&render(&out, &["--region", region], &[]));
+    }
+    let swapped = |name: &str| d.join(format!("swapped/{name}.exr"));
+    std::fs::rename(swapped("top"), swapped("x")).unwrap();
+    std::fs::rename(swapped("bottom"), swapped("top")).unwrap();
+    std::fs::rename(swapped("x"), swapped("bottom")).unwrap();
+    fails_with(
+        &assemble(&["swapped"], "swapped.pfm"),
+        "its pixels are not the ones",
+    );
+    no_output("swapped.pfm");
     // A missing tile.
     fails_with(
         &assemble(&["tiles/0.exr", "tiles/2.exr"], "a.pfm"),

@@ -1,3 +1,4 @@
+use crate::cli::console::errln;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -62,7 +63,7 @@ pub fn run(a: &AssembleArgs) -> anyhow::Result<ExitCode> {
     io::stage(&mut outputs, &a.output, &image, whole.srgb)
         .with_context(|| "cannot write the image")?;
     outputs.commit()?;
-    eprintln!(
+    errln!(
         "assembled {} tiles of {} ({}x{}, {} {}) -> {}",
         tiles.len(),
         glint::printable::text(&whole.scene),

@@ -1,3 +1,4 @@
+use crate::cli::console::outln;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -18,7 +19,7 @@ use super::{progress, DeviceArgs};
 pub struct BenchArgs {
     /// Scene files [default: scenes/*.toml and scenes/spd/*.nff]
     scenes: Vec<PathBuf>,
-    /// Timed renders of each scene on each renderer (after a warm-up on the GPU); medians.
+    /// Timed renders of each scene on each renderer (after a warm-up on the GPU); medians (1..=1000).
     #[arg(long, default_value_t = 3)]
     runs: usize,
     /// Print one JSON object on stdout.
@@ -48,7 +49,12 @@ fn default_scenes() -> anyhow::Result<Vec<PathBuf>> {
 }
 
 pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
-    anyhow::ensure!(a.runs >= 1, "--runs {}: at least 1", a.runs);
+    anyhow::ensure!(
+        (1..=super::MAX_RUNS).contains(&a.runs),
+        "--runs {}: must be in 1..={}",
+        a.runs,
+        super::MAX_RUNS
+    );
     let scenes = if a.scenes.is_empty() {
         default_scenes()?
     } else {
@@ -128,7 +134,7 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
                 })
             })
             .collect();
-        println!(
+        outln!(
             "{}",
             json!({
                 "device": info,
@@ -147,19 +153,19 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<ExitCode> {
 }
 
 fn print_table(rows: &[Row], ceiling: Option<&Ceiling>, device: &str, forms: &str, runs: usize) {
-    println!(
+    outln!(
         "device {device}, CPU {} threads; medians of {runs}; GPU f32 with its warm-up apart",
         rayon::current_num_threads()
     );
     if let Some(ceiling) = ceiling {
-        println!(
+        outln!(
             "ceiling: {:.2} G {forms} ray-sphere tests/s with no memory traffic ({:.2e} tests in {:.3} s)",
             ceiling.tests_per_s() / 1e9,
             ceiling.tests as f64,
             ceiling.seconds
         );
     }
-    println!(
+    outln!(
         "{:<22} {:>9} {:>9} {:>8} {:>10} {:>9} {:>9} {:>8}  per ray type: rays, tests/ray, nodes/ray",
         "scene", "GPU f32", "CPU f32", "GPU/CPU", "rays", "Mrays/s", "Mtests/s", "ceiling"
     );
@@ -192,7 +198,7 @@ fn print_table(rows: &[Row], ceiling: Option<&Ceiling>, device: &str, forms: &st
         let share = ceiling.map_or("-".to_owned(), |c| {
             format!("{:.1}%", 100.0 * tests_per_s / c.tests_per_s())
         });
-        println!(
+        outln!(
             "{:<22} {:>8.3}s {:>9} {:>8} {:>10} {:>9.2} {:>9.1} {:>8}  {}",
             r.scene.file_name().unwrap_or_default().to_string_lossy(),
             r.gpu_s,

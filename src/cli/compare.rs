@@ -1,3 +1,4 @@
+use crate::cli::console::outln;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -108,9 +109,9 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             "pass": violations.is_empty(),
             "violations": violations,
         });
-        println!("{out}");
+        outln!("{out}");
     } else {
-        println!(
+        outln!(
             "scene      {} ({}x{}, {}, depth {})",
             a.scene.scene.display(),
             scene.width,
@@ -118,8 +119,8 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             scene.sampling_summary(),
             scene.max_depth
         );
-        println!("device     {} ({}, {})", info.name, info.kind, info.driver);
-        println!(
+        outln!("device     {} ({}, {})", info.name, info.kind, info.driver);
+        outln!(
             "shader     {variant}{}",
             if setup.spirv_cached {
                 " (SPIR-V from the cache)"
@@ -127,11 +128,11 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
                 ""
             }
         );
-        println!(
+        outln!(
             "setup      load {load_s:.3} s, device {:.3} s, shader compile {:.3} s, pipeline {:.3} s, BVH {:.3} s, tables {:.3} s (not in the times below)",
             setup.device_s, setup.compile_s, setup.pipeline_s, gpu_times.bvh_s, gpu_times.tables_s
         );
-        println!(
+        outln!(
             "gpu f32    {:.3} s  (upload {:.3}, dispatch {:.3}{}, readback {:.3}; the first render took {:.3} s)",
             gpu_times.total_s(),
             gpu_times.upload_s,
@@ -142,28 +143,26 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             gpu_times.readback_s,
             first.total_s()
         );
-        println!(
+        outln!(
             "cpu f32    {cpu32_s:.3} s  ({threads} threads)  {:.2}x the GPU's time",
             cpu32_s / gpu_times.total_s()
         );
-        println!("cpu f64    {cpu64_s:.3} s  ({threads} threads)  reference");
+        outln!("cpu f64    {cpu64_s:.3} s  ({threads} threads)  reference");
         if unit > 1.0 {
-            println!(
-                "unit       {unit:.3e}: the reference's peak, which the errors are relative to"
-            );
+            outln!("unit       {unit:.3e}: the reference's peak, which the errors are relative to");
         }
-        println!("gpu error  {}", super::diff::format_figures(&gpu_err));
-        println!("cpu32 err  {}", super::diff::format_figures(&cpu32_err));
+        outln!("gpu error  {}", super::diff::format_figures(&gpu_err));
+        outln!("cpu32 err  {}", super::diff::format_figures(&cpu32_err));
         if let Some(c) = &conditioned {
-            println!(
+            outln!(
                 "condition  {:.4}% of pixels ill-conditioned at f32 ({} perturbed f64 renders and the f32 one), {:.4}% over 1/255 among them",
                 100.0 * c.ill,
                 condition::TRIALS,
                 100.0 * c.over_and_ill
             );
-            println!("well-cond  {}", super::diff::format_figures(&c.error));
+            outln!("well-cond  {}", super::diff::format_figures(&c.error));
         }
-        println!(
+        outln!(
             "tolerance  over 1/255 <= {:.2}%, rmse <= {:.1e}, no non-finite value{}: {}",
             100.0 * tolerance.frac_over_1_255,
             tolerance.rmse,
@@ -179,7 +178,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             }
         );
         for v in &violations {
-            println!("           {v}");
+            outln!("           {v}");
         }
     }
     Ok(if violations.is_empty() {

@@ -1,6 +1,8 @@
 //! `glint convert`: an NFF scene written out as glint's TOML, which renders
 //! the same image (docs/scene-format.md, NFF).
 
+use crate::cli::console::errln;
+
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -49,7 +51,7 @@ pub fn run(a: &ConvertArgs) -> anyhow::Result<ExitCode> {
         .map_err(output::io_err(&a.output))
     })?;
     outputs.commit()?;
-    eprintln!(
+    errln!(
         "converted {} -> {}",
         glint::printable::path(&a.scene),
         glint::printable::path(&a.output)

@@ -1,3 +1,4 @@
+use crate::cli::console::outln;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -51,9 +52,9 @@ pub fn run(a: &DiffArgs) -> anyhow::Result<ExitCode> {
         outputs.commit()?;
     }
     if a.json {
-        println!("{}", serde_json::to_string(&figures)?);
+        outln!("{}", serde_json::to_string(&figures)?);
     } else {
-        println!("{}", format_figures(&figures));
+        outln!("{}", format_figures(&figures));
     }
     Ok(ExitCode::SUCCESS)
 }

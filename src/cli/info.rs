@@ -1,3 +1,4 @@
+use crate::cli::console::outln;
 use std::process::ExitCode;
 
 use clap::Args;
@@ -14,23 +15,23 @@ pub struct InfoArgs {
 pub fn run(a: &InfoArgs) -> anyhow::Result<ExitCode> {
     let devices = gpu::list_devices()?;
     if a.json {
-        println!("{}", serde_json::json!({ "devices": devices }));
+        outln!("{}", serde_json::json!({ "devices": devices }));
         return Ok(ExitCode::SUCCESS);
     }
     if devices.is_empty() {
-        println!("no Vulkan devices (glint render --backend cpu still works)");
+        outln!("no Vulkan devices (glint render --backend cpu still works)");
     }
     for (i, d) in devices.iter().enumerate() {
         let default = if i == 0 { "  (default)" } else { "" };
-        println!("{i}: {}{default}", d.name);
-        println!("   type              {}", d.kind);
-        println!("   Vulkan            {}", d.api_version);
-        println!("   driver            {}", d.driver);
-        println!(
+        outln!("{i}: {}{default}", d.name);
+        outln!("   type              {}", d.kind);
+        outln!("   Vulkan            {}", d.api_version);
+        outln!("   driver            {}", d.driver);
+        outln!(
             "   shaderFloat64     {}",
             if d.shader_float64 { "yes" } else { "no" }
         );
-        println!(
+        outln!(
             "   loop budget       {}",
             if d.loop_budget {
                 "may cut long loops short: shaders carry the canary"
@@ -38,23 +39,23 @@ pub fn run(a: &InfoArgs) -> anyhow::Result<ExitCode> {
                 "none (every loop runs to its end)"
             }
         );
-        println!("   storage range     {} bytes", d.max_storage_buffer_range);
-        println!("   uniform range     {} bytes", d.max_uniform_buffer_range);
-        println!(
+        outln!("   storage range     {} bytes", d.max_storage_buffer_range);
+        outln!("   uniform range     {} bytes", d.max_uniform_buffer_range);
+        outln!(
             "   texel buffers     {} texels",
             d.max_texel_buffer_elements
         );
         let [x, y, z] = d.max_compute_work_group_count;
-        println!(
+        outln!(
             "   workgroups        {x} x {y} x {z}, {} invocations each",
             d.max_compute_work_group_invocations
         );
-        println!(
+        outln!(
             "   compute queue     {}",
             d.compute_queue_family
                 .map_or("none".into(), |q| format!("family {q}"))
         );
-        println!(
+        outln!(
             "   timestamps        {}",
             d.timestamps
                 .map_or("none on the compute queue".to_owned(), |(period, bits)| {

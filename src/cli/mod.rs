@@ -7,6 +7,7 @@ mod bench;
 mod choice;
 #[cfg(feature = "gpu")]
 mod compare;
+pub mod console;
 mod convert;
 mod diff;
 #[cfg(feature = "gpu")]
@@ -280,6 +281,11 @@ impl DeviceArgs {
         Ok(options)
     }
 }
+
+/// The most timed runs `bench` and `report` take: a thousand of the
+/// slowest scene is hours already, and a larger count is a typo.
+#[cfg(feature = "gpu")]
+pub const MAX_RUNS: usize = 1000;
 
 /// A scene's name in tables and file names: its file's, without the extension.
 #[cfg(feature = "gpu")]

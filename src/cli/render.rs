@@ -1,3 +1,4 @@
+use crate::cli::console::errln;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -167,7 +168,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     io::stage(&mut outputs, &output, &image, scene.srgb)
         .with_context(|| "cannot write the image")?;
     outputs.commit()?;
-    eprintln!(
+    errln!(
         "rendered {}x{} ({}, depth {}) with {label} in {seconds:.3} s -> {}",
         scene.width,
         scene.height,
@@ -228,7 +229,7 @@ fn render_tile(
             };
             bar.finish_and_clear();
             let name = format!("{precision:?}").to_lowercase();
-            let sidecar = tile::sidecar(&a.scene.scene, scene, &name, None, region, tile);
+            let sidecar = tile::sidecar(&a.scene.scene, scene, &name, None, region, tile, &image);
             (image, format!("CPU {name}"), sidecar)
         }
     };
@@ -240,7 +241,7 @@ fn render_tile(
     stage_json(&mut outputs, &tiles::sidecar_path(output), &sidecar)
         .with_context(|| "cannot write the tile's sidecar")?;
     outputs.commit()?;
-    eprintln!(
+    errln!(
         "rendered region {},{},{},{} of {}x{} with {label} in {seconds:.3} s -> {}",
         region.x,
         region.y,

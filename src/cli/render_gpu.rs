@@ -131,7 +131,15 @@ pub fn tile(
     bar.finish_and_clear();
     let device = renderer.device_info().name.clone();
     let key = gpu_key(&options, &device);
-    let sidecar = tile::sidecar(scene_arg, scene, precision.name(), Some(key), region, tile);
+    let sidecar = tile::sidecar(
+        scene_arg,
+        scene,
+        precision.name(),
+        Some(key),
+        region,
+        tile,
+        &image,
+    );
     Ok((image, label(precision, &device), sidecar))
 }
 

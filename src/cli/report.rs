@@ -1,3 +1,4 @@
+use crate::cli::console::errln;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -17,7 +18,7 @@ pub struct ReportArgs {
     /// The directory to write report.md, report.csv, report.json, error_vs_time.svg, sampling_vs_time.svg (where the sampling axis is measured) and index.html into.
     #[arg(short, long, value_name = "DIR")]
     output: PathBuf,
-    /// Warm runs per variant (the median is reported).
+    /// Warm runs per variant (the median is reported; 1..=1000).
     #[arg(long, default_value_t = 5)]
     runs: usize,
     /// Small images (160x120), 2 runs, no depth or sample sweeps and no sampling axis: for tests and CI.
@@ -31,7 +32,13 @@ pub struct ReportArgs {
 }
 
 pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
-    anyhow::ensure!(a.runs >= 1, "--runs must be at least 1");
+    anyhow::ensure!(
+        (1..=super::MAX_RUNS).contains(&a.runs),
+        "--runs {}: must be in 1..={}",
+        a.runs,
+        super::MAX_RUNS
+    );
+    glint::output::check_folder(&a.output)?;
     let paths = if a.scenes.is_empty() {
         super::scene_files("scenes")?
     } else {
@@ -66,7 +73,7 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
         inputs.extend(scene.input_files.iter().cloned());
     }
     // Every output can be written, and none is an input, before minutes of measuring.
-    let outputs = Outputs::new(inputs, false);
+    let mut outputs = Outputs::new(inputs, false);
     for file in report::html::files(&names, &a.output, settings.sampling) {
         // The folder may not exist yet: it is made before the writes.
         if file.parent().is_some_and(|d| d.is_dir()) {
@@ -110,7 +117,7 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
     };
     report::html::write_all(&report, &a.output, outputs)?;
     let written = report::html::texts(report::html::measured_sampling(&report));
-    eprintln!(
+    errln!(
         "wrote {}/index.html, {}",
         a.output.display(),
         written.join(", ")

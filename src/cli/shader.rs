@@ -1,3 +1,4 @@
+use crate::cli::console::{errln, outln};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -67,7 +68,7 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
                 .collect::<anyhow::Result<Vec<_>>>()?;
             match compile::compile(&sources, &defines) {
                 Ok(c) => {
-                    println!(
+                    outln!(
                         "{}: compiles ({} words of SPIR-V)",
                         file.display(),
                         c.spirv.len()
@@ -75,7 +76,7 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
                     Ok(ExitCode::SUCCESS)
                 }
                 Err(GpuError::Shader(log)) => {
-                    eprintln!("{log}");
+                    errln!("{log}");
                     Ok(ExitCode::from(1))
                 }
                 Err(e) => Err(e.into()),
@@ -86,6 +87,7 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
             output,
             device,
         } => {
+            output::check_folder(output)?;
             let scene = scene_args.load()?;
             let options = device.options()?;
             let renderer = Renderer::new(&options)?;
@@ -122,7 +124,7 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
                 })?;
             }
             outputs.commit()?;
-            println!("{}\n{}", glsl.display(), spv.display());
+            outln!("{}\n{}", glsl.display(), spv.display());
             Ok(ExitCode::SUCCESS)
         }
     }

@@ -2,7 +2,6 @@
 //! both generated from the command line's own definition so that they
 //! cannot drift from it.
 
-use std::io::Write;
 use std::process::ExitCode;
 
 use anyhow::Context;
@@ -33,10 +32,6 @@ pub fn man() -> anyhow::Result<ExitCode> {
 }
 
 fn write_stdout(bytes: &[u8]) -> anyhow::Result<ExitCode> {
-    let mut stdout = std::io::stdout().lock();
-    stdout
-        .write_all(bytes)
-        .and_then(|()| stdout.flush())
-        .context("cannot write to stdout")?;
+    super::console::out_bytes(bytes);
     Ok(ExitCode::SUCCESS)
 }

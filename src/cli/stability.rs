@@ -1,3 +1,4 @@
+use crate::cli::console::outln;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -48,25 +49,30 @@ pub fn run(a: &StabilityArgs) -> anyhow::Result<ExitCode> {
             .iter()
             .map(|(p, r)| json!({ "scene": p, "peak": r.peak, "variants": r.rows }))
             .collect();
-        println!(
+        outln!(
             "{}",
             json!({ "device": renderer.device_info(), "scenes": rows })
         );
         return Ok(ExitCode::SUCCESS);
     }
-    println!(
+    outln!(
         "errors against CPU f64, relative to the reference's peak value; device {}",
         renderer.device_info().name
     );
-    println!(
+    outln!(
         "{:<24} {:<15} {:>10} {:>10} {:>11} {:>9}  tolerance",
-        "scene", "variant", "max_abs", "rmse", "over 1/255", "nonfinite"
+        "scene",
+        "variant",
+        "max_abs",
+        "rmse",
+        "over 1/255",
+        "nonfinite"
     );
     for (path, r) in &results {
         let name = path.file_stem().unwrap_or_default().to_string_lossy();
         for (i, row) in r.rows.iter().enumerate() {
             let e = &row.error;
-            println!(
+            outln!(
                 "{:<24} {:<15} {:>10.2e} {:>10.2e} {:>10.4}% {:>9}  {}",
                 if i == 0 { name.as_ref() } else { "" },
                 row.variant,

@@ -91,6 +91,7 @@ pub fn sidecar(
     gpu: Option<GpuKey>,
     region: Region,
     tile: Option<String>,
+    image: &glint::raster::Image,
 ) -> Sidecar {
     Sidecar {
         glint: env!("CARGO_PKG_VERSION").to_owned(),
@@ -106,5 +107,6 @@ pub fn sidecar(
         },
         region,
         tile,
+        pixels: glint::tiles::pixels_hash(image),
     }
 }

@@ -1,3 +1,4 @@
+use crate::cli::console::errln;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::mpsc;
@@ -25,20 +26,48 @@ pub struct WatchArgs {
 }
 
 /// What a render depends on: the scene file and every shader file of the
-/// user's, each with its modification time and size.
-fn stamp(scene: &Path, device: &DeviceArgs) -> Vec<(PathBuf, Option<SystemTime>, u64)> {
+/// user's, each with what says it changed.
+fn stamp(scene: &Path, device: &DeviceArgs) -> Vec<(PathBuf, Option<Stamp>)> {
     let mut files = vec![scene.to_owned()];
     files.extend(device.shader.iter().cloned());
     files.extend(glint::files::in_dirs(&device.include));
     files
         .into_iter()
         .map(|f| {
-            let meta = std::fs::metadata(&f).ok();
-            let modified = meta.as_ref().and_then(|m| m.modified().ok());
-            let len = meta.map_or(0, |m| m.len());
-            (f, modified, len)
+            let stamp = std::fs::metadata(&f).ok().map(|m| Stamp::of(&m));
+            (f, stamp)
         })
         .collect()
+}
+
+/// A file's modification time and size, and the two a writer cannot set:
+/// its inode (a file renamed over it is another) and its change time (any
+/// write sets it). Times and size alone missed a same-size edit that kept
+/// the time (`cp -p`, `rsync -t`, two saves in one second of a file
+/// system with 1-second times).
+#[derive(Debug, PartialEq, Eq)]
+struct Stamp {
+    modified: Option<SystemTime>,
+    len: u64,
+    #[cfg(unix)]
+    changed: (i64, i64),
+    #[cfg(unix)]
+    file: (u64, u64),
+}
+
+impl Stamp {
+    fn of(m: &std::fs::Metadata) -> Self {
+        #[cfg(unix)]
+        use std::os::unix::fs::MetadataExt;
+        Stamp {
+            modified: m.modified().ok(),
+            len: m.len(),
+            #[cfg(unix)]
+            changed: (m.ctime(), m.ctime_nsec()),
+            #[cfg(unix)]
+            file: (m.dev(), m.ino()),
+        }
+    }
 }
 
 /// The directories to watch, and how: the scene's and each shader file's
@@ -90,8 +119,8 @@ pub fn run(a: &WatchArgs) -> anyhow::Result<ExitCode> {
             .with_context(|| format!("cannot watch {}", glint::printable::path(dir)))?;
         identities.push(identity(dir));
     }
-    eprintln!("watching {} (Ctrl-C to stop)", a.scene.scene.display());
-    // An event is only a hint: the files' times and sizes decide whether a
+    errln!("watching {} (Ctrl-C to stop)", a.scene.scene.display());
+    // An event is only a hint: the files' stamps decide whether a
     // render's inputs changed (the output, written beside the scene, and
     // other files in these directories change nothing).
     let mut last = None;
@@ -100,23 +129,23 @@ pub fn run(a: &WatchArgs) -> anyhow::Result<ExitCode> {
         if last.as_ref() != Some(&now) {
             last = Some(now);
             match render_once(a, &mut renderer) {
-                Ok(seconds) => eprintln!("rendered in {seconds:.3} s -> {}", a.output.display()),
+                Ok(seconds) => errln!("rendered in {seconds:.3} s -> {}", a.output.display()),
                 Err(e) => {
-                    eprintln!("error: {e:#}\n(keeping the last good image)");
+                    errln!("error: {e:#}\n(keeping the last good image)");
                     // A timed-out render may run on, and its device takes no
                     // more work: the next change renders on a new one.
                     if e.downcast_ref::<GpuError>()
                         .is_some_and(GpuError::device_lost)
                     {
                         renderer = Renderer::new(&options)?;
-                        eprintln!("(the device was opened again for the next change)");
+                        errln!("(the device was opened again for the next change)");
                     }
                 }
             }
         }
         match changes.recv_timeout(RECHECK) {
             Ok(Ok(_)) | Err(mpsc::RecvTimeoutError::Timeout) => {}
-            Ok(Err(e)) => eprintln!("error: watching files: {e}"),
+            Ok(Err(e)) => errln!("error: watching files: {e}"),
             Err(mpsc::RecvTimeoutError::Disconnected) => anyhow::bail!("the file watcher stopped"),
         }
         // A folder deleted and made again is a new folder, which the old

@@ -252,8 +252,30 @@ pub struct Compiled {
     pub preprocessed: String,
 }
 
-/// Compiles the main shader with `defines`.
+/// The stack glslang compiles on. Its passes recurse once per level of an
+/// expression's tree, and a sum of 20,001 terms overflowed the main
+/// thread's 8 MiB (an abort, issue 41). Only the pages it touches are
+/// memory; the sources' bound (`MAX_SOURCE_BYTES`) bounds the depth, and
+/// `tests/hostile_round_four.rs` compiles the deepest sum that fits.
+pub const COMPILE_STACK: usize = 1 << 30;
+
+/// Compiles the main shader with `defines`, on a thread with a stack made
+/// for glslang's recursion (`COMPILE_STACK`).
 pub fn compile(sources: &Sources, defines: &Defines) -> Result<Compiled, GpuError> {
+    std::thread::scope(|scope| {
+        std::thread::Builder::new()
+            .name("glslang".into())
+            .stack_size(COMPILE_STACK)
+            .spawn_scoped(scope, || compile_here(sources, defines))
+            .map_err(|e| {
+                GpuError::Shader(format!("cannot start the shader compiler's thread: {e}"))
+            })?
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+    })
+}
+
+fn compile_here(sources: &Sources, defines: &Defines) -> Result<Compiled, GpuError> {
     let (main_path, main) = sources.main_source()?;
     let macros = std::cell::RefCell::new(super::macros::Macros::default());
     macros

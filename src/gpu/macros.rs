@@ -1,19 +1,26 @@
 //! A bound on what the shader's `#define`s can expand to, checked before
 //! glslang preprocesses them: glslang has no bound of its own, and forty
 //! lines of `#define A1 A0 A0`, `#define A2 A1 A1`, … expand to 2^40 tokens,
-//! which it tries to build in memory (issue 31, defect 6).
+//! which it tries to build in memory (issue 31, defect 6). And a bound on
+//! the whole compile: glslang took 2.35 GB and 10 s for a 16 MB include
+//! of straight-line arithmetic (issue 41, defect 10), so the text of every
+//! file read, each macro use counted at what it expands to, is held to
+//! `MAX_EXPANSION` (about 0.5 GB and 2.5 s of glslang here at the bound).
 
 use std::collections::HashMap;
 
-/// The most bytes one macro may expand to: glint's own largest are a few
+/// The most bytes one compile's sources may expand to, and so one macro:
+/// glint's own generic shader is about 150 KB, its largest macro a few
 /// kilobytes.
-pub const MAX_EXPANSION: u64 = 16 << 20;
+pub const MAX_EXPANSION: u64 = 512 << 10;
 
 /// The object- and function-like macros of the files read so far, each as
 /// its body's identifiers and the bytes of everything else.
 #[derive(Default)]
 pub struct Macros {
     bodies: HashMap<String, (Vec<String>, u64)>,
+    /// What the files read so far expand to, at most.
+    expanded: u64,
 }
 
 impl Macros {
@@ -43,7 +50,7 @@ impl Macros {
             let size = self.size(name, &mut memo, &mut Vec::new());
             if size > MAX_EXPANSION {
                 return Err(format!(
-                    "{file}: error: macro {} expands to {}, past the bound of {} MiB on what one \
+                    "{file}: error: macro {} expands to {}, past the bound of {} KiB on what one \
                      macro may expand to",
                     crate::printable::text(name),
                     if size == u64::MAX {
@@ -51,9 +58,29 @@ impl Macros {
                     } else {
                         format!("about {size} bytes")
                     },
-                    MAX_EXPANSION >> 20
+                    MAX_EXPANSION >> 10
                 ));
             }
+        }
+        // The text outside directives, each identifier at its expansion.
+        drop(memo);
+        let mut expanded = self.expanded;
+        for line in joined.lines().filter(|l| !l.trim_start().starts_with('#')) {
+            let (idents, other) = tokens(line);
+            let mut memo = HashMap::new();
+            let size = idents.iter().fold(other, |total, ident| {
+                total.saturating_add(self.size(ident, &mut memo, &mut Vec::new()))
+            });
+            expanded = expanded.saturating_add(size);
+        }
+        self.expanded = expanded;
+        if self.expanded > MAX_EXPANSION {
+            return Err(format!(
+                "{file}: error: the shader's sources, with this file, expand to about {} bytes, \
+                 past the bound of {} KiB on one compile",
+                self.expanded,
+                MAX_EXPANSION >> 10
+            ));
         }
         Ok(())
     }
@@ -134,7 +161,7 @@ mod tests {
         }
         let e = Macros::default().add("inc.glsl", &doubling).unwrap_err();
         assert!(e.starts_with("inc.glsl: error: macro A"), "{e}");
-        assert!(e.contains("past the bound of 16 MiB"), "{e}");
+        assert!(e.contains("past the bound of 512 KiB"), "{e}");
         let mut ok = Macros::default();
         ok.add(
             "a.glsl",
@@ -144,7 +171,7 @@ mod tests {
         // A macro that names itself is not expanded again.
         ok.add("b.glsl", "#define SELF SELF + 1\n").unwrap();
         // Across files: the second file's defines build on the first's.
-        let half = doubling.find("#define A20 ").unwrap();
+        let half = doubling.find("#define A16 ").unwrap();
         let mut split = Macros::default();
         split.add("a.glsl", &doubling[..half]).unwrap();
         let e = split.add("b.glsl", &doubling[half..]).unwrap_err();

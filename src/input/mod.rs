@@ -8,5 +8,6 @@ pub(crate) mod error;
 pub(crate) mod field;
 pub(crate) mod locate;
 mod read;
+pub(crate) mod triangles;
 
 pub use read::{check, open, read, read_text, Kind, MAX_PIXELS, MAX_SIDE};

@@ -49,6 +49,18 @@ pub enum OutputError {
         /// What it is instead.
         what: &'static str,
     },
+    /// An output folder, or a folder on its path, that is a file.
+    #[error(
+        "{}: cannot be an output folder: {} is not a folder",
+        crate::printable::path(output),
+        crate::printable::path(path)
+    )]
+    NotAFolder {
+        /// What is there instead of a folder.
+        path: PathBuf,
+        /// The output folder asked for.
+        output: PathBuf,
+    },
     /// Two outputs of one run that are the same file (through a link,
     /// say): the second would replace the first.
     #[error("{}: is another output of this run too; name two files", crate::printable::path(.0))]
@@ -85,13 +97,63 @@ pub enum TargetKind {
 /// An output written but not yet committed.
 enum Staged {
     File { tmp: Temp, target: PathBuf },
-    Stream { target: PathBuf, bytes: Vec<u8> },
+    Stream { target: Target, bytes: Vec<u8> },
 }
 
 impl Staged {
-    fn target(&self) -> &Path {
+    fn name(&self) -> Name {
         match self {
-            Staged::File { target, .. } | Staged::Stream { target, .. } => target,
+            Staged::File { target, .. } => Name::of(&Target::Path(target.clone())),
+            Staged::Stream { target, .. } => Name::of(target),
+        }
+    }
+}
+
+/// Where an output's bytes go once its symbolic links are followed.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Target {
+    /// A name in the file system.
+    Path(PathBuf),
+    /// One of this process's open descriptors, named as `/dev/stdout`,
+    /// `/dev/fd/N` or `/proc/self/fd/N` (`>(cat)` too): written into at its
+    /// own offset, never opened anew by the name it points to, which may be
+    /// a pipe's (`pipe:[N]`) or a log the shell opened for appending.
+    Descriptor(i32),
+}
+
+impl Target {
+    /// The path the target's metadata is read from.
+    fn stat_path(&self) -> PathBuf {
+        match self {
+            Target::Path(p) => p.clone(),
+            Target::Descriptor(fd) => PathBuf::from(format!("/proc/self/fd/{fd}")),
+        }
+    }
+}
+
+/// What makes two outputs one: the same descriptor, or the same name in
+/// the same folder however the path is spelled (`./x.png`, an absolute
+/// path, a folder reached through a link).
+#[derive(Debug, PartialEq, Eq)]
+enum Name {
+    Descriptor(i32),
+    Entry(PathBuf, std::ffi::OsString),
+    Spelled(PathBuf),
+}
+
+impl Name {
+    fn of(target: &Target) -> Name {
+        let path = match target {
+            Target::Descriptor(fd) => return Name::Descriptor(*fd),
+            Target::Path(p) => p,
+        };
+        let parent = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        match (std::fs::canonicalize(parent), path.file_name()) {
+            (Ok(dir), Some(name)) => Name::Entry(dir, name.to_owned()),
+            _ => Name::Spelled(path.clone()),
         }
     }
 }
@@ -101,6 +163,8 @@ impl Staged {
 pub struct Outputs {
     inputs: Vec<(PathBuf, Metadata)>,
     force: bool,
+    /// The outputs checked so far: a second check of one of them is refused.
+    checked: Vec<Name>,
     staged: Vec<Staged>,
 }
 
@@ -119,6 +183,7 @@ impl Outputs {
         Self {
             inputs,
             force,
+            checked: Vec::new(),
             staged: Vec::new(),
         }
     }
@@ -128,23 +193,46 @@ impl Outputs {
     /// file without `force`, not a file, character device or FIFO, or in a
     /// folder where no file can be made. A command calls it for every
     /// output before it starts its work.
-    pub fn check(&self, path: &Path) -> Result<TargetKind, OutputError> {
+    /// Two checks of one file (by its folder and name, or its descriptor)
+    /// are refused: the second output would replace the first.
+    pub fn check(&mut self, path: &Path) -> Result<TargetKind, OutputError> {
         let (kind, target, _) = self.target(path)?;
-        if kind == TargetKind::File {
-            // The folder takes a new file: proven by making one (removed at once).
-            temp_beside(&target, None)?;
+        let name = Name::of(&target);
+        if self.checked.contains(&name) {
+            return Err(OutputError::Twice(path.to_owned()));
         }
+        if let (TargetKind::File, Target::Path(file)) = (kind, &target) {
+            // The folder takes a new file: proven by making one (removed at once).
+            temp_beside(file, None)?;
+        }
+        self.checked.push(name);
         Ok(kind)
     }
 
     /// What `path` ends at, after its links, with its metadata where it
-    /// exists; every rule of `check` but the folder's.
-    fn target(&self, path: &Path) -> Result<(TargetKind, PathBuf, Option<Metadata>), OutputError> {
-        let target = follow_links(path);
-        if self.staged.iter().any(|s| s.target() == target) {
+    /// exists; every rule of `check` but the folder's and the repeat's.
+    fn target(&self, path: &Path) -> Result<(TargetKind, Target, Option<Metadata>), OutputError> {
+        if path.as_os_str().as_encoded_bytes().ends_with(b"/") {
+            return Err(OutputError::NotAFile {
+                path: path.to_owned(),
+                what: "a folder's name (it ends in /)",
+            });
+        }
+        let target = resolve(path);
+        let name = Name::of(&target);
+        if self.staged.iter().any(|s| s.name() == name) {
             return Err(OutputError::Twice(path.to_owned()));
         }
-        let meta = std::fs::metadata(&target).ok();
+        let meta = match std::fs::metadata(target.stat_path()) {
+            Ok(m) => Some(m),
+            Err(_) if matches!(target, Target::Descriptor(_)) => {
+                return Err(OutputError::NotAFile {
+                    path: path.to_owned(),
+                    what: "a descriptor this process does not have open",
+                })
+            }
+            Err(_) => None,
+        };
         if let Some(meta) = &meta {
             if let Some((input, _)) = self.inputs.iter().find(|(_, m)| same_file(m, meta)) {
                 return Err(OutputError::OverwritesInput {
@@ -153,15 +241,19 @@ impl Outputs {
                 });
             }
         }
-        let kind = match &meta {
-            None => TargetKind::File,
-            Some(m) => kind_of(&target, m)?,
+        let kind = match (&target, &meta) {
+            // An open descriptor is written into, whatever it holds.
+            (Target::Descriptor(_), _) => TargetKind::Stream,
+            (Target::Path(_), None) => TargetKind::File,
+            (Target::Path(p), Some(m)) => kind_of(p, m)?,
         };
-        if kind == TargetKind::File
-            && meta.as_ref().is_some_and(|m| m.permissions().readonly())
-            && !self.force
-        {
-            return Err(OutputError::ReadOnly(target));
+        if let Target::Path(file) = &target {
+            if kind == TargetKind::File
+                && meta.as_ref().is_some_and(|m| m.permissions().readonly())
+                && !self.force
+            {
+                return Err(OutputError::ReadOnly(file.clone()));
+            }
         }
         Ok((kind, target, meta))
     }
@@ -175,13 +267,13 @@ impl Outputs {
         fill: impl FnOnce(&mut dyn Write) -> Result<(), E>,
     ) -> Result<(), E> {
         let (kind, target, old) = self.target(path)?;
-        match kind {
-            TargetKind::Stream => {
+        match (kind, target) {
+            (TargetKind::Stream, target) | (TargetKind::File, target @ Target::Descriptor(_)) => {
                 let mut bytes = Vec::new();
                 fill(&mut bytes)?;
                 self.staged.push(Staged::Stream { target, bytes });
             }
-            TargetKind::File => {
+            (TargetKind::File, Target::Path(target)) => {
                 let tmp = temp_beside(&target, old.as_ref())?;
                 {
                     let mut out = BufWriter::new(tmp.file());
@@ -203,7 +295,10 @@ impl Outputs {
         for staged in self.staged {
             match staged {
                 Staged::File { tmp, target } => tmp.persist(&target)?,
-                Staged::Stream { target, bytes } => {
+                Staged::Stream {
+                    target: Target::Path(target),
+                    bytes,
+                } => {
                     // No create, no truncate: the device or FIFO stays what it is.
                     std::fs::OpenOptions::new()
                         .write(true)
@@ -211,6 +306,13 @@ impl Outputs {
                         .and_then(|mut f| f.write_all(&bytes))
                         .map_err(io_err(&target))?;
                 }
+                Staged::Stream {
+                    target: Target::Descriptor(fd),
+                    bytes,
+                } => write_descriptor(fd, &bytes).map_err(|cause| OutputError::Io {
+                    path: PathBuf::from(format!("/dev/fd/{fd}")),
+                    cause,
+                })?,
             }
         }
         Ok(())
@@ -261,13 +363,97 @@ pub fn write_one<E: From<OutputError>>(
     Ok(outputs.commit()?)
 }
 
+/// Fails where `dir` cannot be a folder of outputs (`report -o`, `shader
+/// dump -o`): it, or the nearest of its ancestors that exists, is not a
+/// folder. A command calls it before its work, as it checks its files.
+pub fn check_folder(dir: &Path) -> Result<(), OutputError> {
+    let mut p = dir;
+    loop {
+        match std::fs::metadata(p) {
+            Ok(m) if m.is_dir() => return Ok(()),
+            Ok(_) => {
+                return Err(OutputError::NotAFolder {
+                    path: p.to_owned(),
+                    output: dir.to_owned(),
+                })
+            }
+            Err(_) => match p.parent() {
+                Some(up) if !up.as_os_str().is_empty() => p = up,
+                _ => return Ok(()),
+            },
+        }
+    }
+}
+
 /// What `path` names after its links, where it exists and an output may
 /// be written as it (a file, a character device or a FIFO); nothing is
 /// made or opened.
 pub fn target_kind(path: &Path) -> Option<TargetKind> {
-    let target = follow_links(path);
-    let meta = std::fs::metadata(&target).ok()?;
-    kind_of(&target, &meta).ok()
+    match resolve(path) {
+        Target::Descriptor(fd) => std::fs::metadata(format!("/proc/self/fd/{fd}"))
+            .ok()
+            .map(|_| TargetKind::Stream),
+        Target::Path(target) => {
+            let meta = std::fs::metadata(&target).ok()?;
+            kind_of(&target, &meta).ok()
+        }
+    }
+}
+
+/// Where `path` ends: a descriptor where its chain of links names one
+/// (`/dev/stdout` → `/proc/self/fd/1`), else the file the chain ends at.
+fn resolve(path: &Path) -> Target {
+    let mut p = path.to_owned();
+    for _ in 0..40 {
+        if let Some(fd) = descriptor_named(&p) {
+            return Target::Descriptor(fd);
+        }
+        match std::fs::read_link(&p) {
+            Ok(next) => {
+                p = match p.parent() {
+                    Some(dir) if next.is_relative() => dir.join(next),
+                    _ => next,
+                }
+            }
+            Err(_) => break,
+        }
+    }
+    Target::Path(p)
+}
+
+/// The descriptor `path` names: `/dev/fd/N`, `/proc/self/fd/N`,
+/// `/proc/thread-self/fd/N` or `/proc/<this pid>/fd/N`.
+fn descriptor_named(path: &Path) -> Option<i32> {
+    let text = path.to_str()?;
+    let own = format!("/proc/{}/fd/", std::process::id());
+    let number = [
+        "/dev/fd/",
+        "/proc/self/fd/",
+        "/proc/thread-self/fd/",
+        own.as_str(),
+    ]
+    .iter()
+    .find_map(|prefix| text.strip_prefix(prefix))?;
+    number.parse().ok()
+}
+
+/// Writes `bytes` into this process's open descriptor `fd`, at its offset
+/// (the end, for a file the shell opened with `>>`).
+#[cfg(unix)]
+fn write_descriptor(fd: i32, bytes: &[u8]) -> std::io::Result<()> {
+    use std::os::fd::BorrowedFd;
+    // The descriptor was seen open when the output was checked (its
+    // /proc entry was read); a copy of it is written through, so the
+    // process's own stays open. A descriptor closed since fails the dup.
+    // SAFETY: borrow_raw needs `fd` open for the borrow's life, which ends
+    // with this statement; dup of a closed one returns EBADF, not UB.
+    let owned = unsafe { BorrowedFd::borrow_raw(fd) }.try_clone_to_owned()?;
+    File::from(owned).write_all(bytes)
+}
+
+#[cfg(not(unix))]
+fn write_descriptor(_: i32, _: &[u8]) -> std::io::Result<()> {
+    Err(std::io::ErrorKind::Unsupported.into())
 }
 
 /// What an existing target is, or why no output can be written as it.

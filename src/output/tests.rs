@@ -158,7 +158,7 @@ fn an_input_is_refused_by_inode_through_links() {
     std::fs::hard_link(&scene, &hard).unwrap();
     let soft = dir.path().join("soft.png");
     std::os::unix::fs::symlink(&scene, &soft).unwrap();
-    let outputs = Outputs::new([&scene], false);
+    let mut outputs = Outputs::new([&scene], false);
     for p in [&scene, &hard, &soft] {
         assert!(matches!(
             outputs.check(p),

@@ -94,6 +94,18 @@ pub fn load(
     let shown = crate::printable::path(&path);
     let file = crate::input::open(&path, crate::input::Kind::Mesh)
         .or_else(|e| at.invalid("file", format!("cannot read {shown}: {e}")))?;
+    // The faces' triangles are counted before tobj makes them.
+    {
+        use crate::input::triangles;
+        let bytes = std::fs::metadata(&path).map_or(0, |m| m.len());
+        let counted = crate::input::open(&path, crate::input::Kind::Mesh)
+            .and_then(|f| triangles::obj_past(BufReader::new(f), triangles::allowed(bytes)))
+            .or_else(|e| at.invalid("file", format!("cannot read {shown}: {e}")))?;
+        if let Some(past) = counted {
+            let why = triangles::message(past, bytes);
+            return at.invalid("file", format!("{shown}:{}: {why}", past.line));
+        }
+    }
     let options = tobj::LoadOptions {
         triangulate: true,
         ignore_points: true,

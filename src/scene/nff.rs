@@ -16,6 +16,7 @@ use super::file::{
 use super::SceneError;
 use crate::input::field::Triple;
 use crate::input::locate::{KeyPath, LineCol, Locate, Seg};
+use crate::input::triangles;
 use crate::prim::cylinder::CylinderFile;
 use crate::prim::sphere::SphereFile;
 use crate::prim::triangle::{Triangle, TriangleFile};
@@ -95,6 +96,7 @@ pub fn read(text: &str, file: &Path) -> Result<Nff, SceneError> {
             .collect(),
         next: 0,
         last_line: text.lines().count().max(1),
+        bytes: text.len() as u64,
     };
     r.scene()
 }
@@ -105,6 +107,8 @@ struct Reader<'a> {
     lines: Vec<(usize, &'a str)>,
     next: usize,
     last_line: usize,
+    /// The text's size, which bounds the triangles it may make.
+    bytes: u64,
 }
 
 /// The view (`v`), as NFF gives it.
@@ -254,6 +258,9 @@ impl<'a> Reader<'a> {
         let mut spheres = Vec::new();
         let mut triangles = Vec::new();
         let mut cylinders = Vec::new();
+        // Triangles made so far, and how many the file may make.
+        let mut made = 0u64;
+        let allowed = triangles::allowed(self.bytes);
 
         while self.next < self.lines.len() {
             let (line, words) = self.line("an entity")?;
@@ -335,6 +342,14 @@ impl<'a> Reader<'a> {
                             line,
                             format!("{keyword}: the vertex count must be an integer of at least 3, got {count}"),
                         );
+                    }
+                    made += count as u64 - 2;
+                    if made > allowed {
+                        let past = triangles::Past {
+                            line,
+                            triangles: made,
+                        };
+                        return self.error(line, triangles::message(past, self.bytes));
                     }
                     let smooth = keyword == "pp";
                     let corners = self.vertices(count as usize, smooth, keyword)?;

@@ -137,6 +137,18 @@ pub enum TileError {
         /// The image's height.
         h: u32,
     },
+    /// A tile whose pixels are not the ones its sidecar was written with:
+    /// another tile's image under its name, or one rendered again since.
+    #[error(
+        "{tile}: its pixels are not the ones {sidecar} was written with (a tile renamed over \
+         another's, or rendered again while being read); render it again"
+    )]
+    NotItsPixels {
+        /// The tile's image.
+        tile: PathBuf,
+        /// Its sidecar.
+        sidecar: PathBuf,
+    },
     /// No tiles at all.
     #[error("no tiles given")]
     NoTiles,
@@ -190,6 +202,12 @@ pub fn read_tile(path: &Path) -> Result<Tile, TileError> {
             y,
         });
     }
+    if super::pixels_hash(&image) != sidecar.pixels {
+        return Err(TileError::NotItsPixels {
+            tile: path.to_owned(),
+            sidecar: sidecar_path,
+        });
+    }
     Ok(Tile {
         path: path.to_owned(),
         sidecar,
@@ -207,6 +225,7 @@ pub fn assemble(tiles: &[Tile]) -> Result<(Image, Sidecar), TileError> {
         let map = v.as_object_mut().expect("an object");
         map.remove("region");
         map.remove("tile");
+        map.remove("pixels");
         v
     };
     let want = key(&first.sidecar);
@@ -256,12 +275,14 @@ pub fn assemble(tiles: &[Tile]) -> Result<(Image, Sidecar), TileError> {
             pixels[start..start + r.width as usize].copy_from_slice(src);
         }
     }
+    let image = Image::new(width, height, pixels);
     let whole = Sidecar {
         region: Region::whole(width, height),
         tile: None,
+        pixels: super::pixels_hash(&image),
         ..first.sidecar.clone()
     };
-    Ok((Image::new(width, height, pixels), whole))
+    Ok((image, whole))
 }
 
 /// The tiles of `n` not `present`, as "I/N" for the first few and a count

@@ -14,6 +14,7 @@ pub use assemble::{assemble, read_tile, Tile, TileError};
 
 use crate::fnv::Fnv;
 use crate::raster::region::Region;
+use crate::raster::Image;
 use crate::scene::Scene;
 
 /// What a tile's sidecar says of it.
@@ -36,6 +37,10 @@ pub struct Sidecar {
     pub render: RenderKey,
     /// The pixels this tile holds.
     pub region: Region,
+    /// [`pixels_hash`] of the tile's image: what binds this sidecar to
+    /// its pixels, so that a tile renamed over another's name, or
+    /// re-rendered while it was read, is caught.
+    pub pixels: String,
     /// `I/N` where it was rendered as tile I of N.
     pub tile: Option<String>,
 }
@@ -73,6 +78,20 @@ pub struct GpuKey {
 pub fn scene_hash(scene: &Scene) -> String {
     let mut h = Fnv::default();
     h.write(format!("{scene:?}").as_bytes());
+    format!("{:016x}", h.finish())
+}
+
+/// A hash of an image's pixels (every channel's f32 bits, row by row)
+/// and size.
+pub fn pixels_hash(image: &Image) -> String {
+    let mut h = Fnv::default();
+    h.write_u32(image.width);
+    h.write_u32(image.height);
+    for p in &image.pixels {
+        for c in p {
+            h.write_u32(c.to_bits());
+        }
+    }
     format!("{:016x}", h.finish())
 }
 

@@ -3,6 +3,8 @@
 //! f64 reference with `compare`'s tolerance, and a reproducer for each
 //! failure (docs/drivers.md).
 
+use crate::cli::console::{out, outln};
+
 mod icd;
 pub mod probe;
 mod repro;
@@ -122,7 +124,7 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
     let inputs = inputs_of(&paths, &scenes, a);
-    let outputs = Outputs::new(inputs.iter(), false);
+    let mut outputs = Outputs::new(inputs.iter(), false);
     for f in table::files(&a.output) {
         if f.parent().is_some_and(|d| d.is_dir()) {
             outputs.check(&f)?;
@@ -239,8 +241,8 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
         validation: probe::validation_layer(),
     };
     table::write_all(&matrix, &a.output, outputs)?;
-    print!("{}", table::summary(&matrix));
-    println!(
+    out!("{}", table::summary(&matrix));
+    outln!(
         "wrote {}/index.html, drivers.md, drivers.csv, drivers.json{} in {:.1} s",
         a.output.display(),
         if matrix
