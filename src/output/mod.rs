@@ -100,15 +100,6 @@ enum Staged {
     Stream { target: Target, bytes: Vec<u8> },
 }
 
-impl Staged {
-    fn name(&self) -> Name {
-        match self {
-            Staged::File { target, .. } => Name::of(&Target::Path(target.clone())),
-            Staged::Stream { target, .. } => Name::of(target),
-        }
-    }
-}
-
 /// Where an output's bytes go once its symbolic links are followed.
 #[derive(Debug, Clone, PartialEq, Eq)]
 enum Target {
@@ -165,7 +156,8 @@ pub struct Outputs {
     force: bool,
     /// The outputs checked so far: a second check of one of them is refused.
     checked: Vec<Name>,
-    staged: Vec<Staged>,
+    /// Each staged output with its name, which a later one may not share.
+    staged: Vec<(Name, Staged)>,
 }
 
 impl Outputs {
@@ -196,8 +188,7 @@ impl Outputs {
     /// Two checks of one file (by its folder and name, or its descriptor)
     /// are refused: the second output would replace the first.
     pub fn check(&mut self, path: &Path) -> Result<TargetKind, OutputError> {
-        let (kind, target, _) = self.target(path)?;
-        let name = Name::of(&target);
+        let (kind, target, _, name) = self.target(path)?;
         if self.checked.contains(&name) {
             return Err(OutputError::Twice(path.to_owned()));
         }
@@ -210,8 +201,12 @@ impl Outputs {
     }
 
     /// What `path` ends at, after its links, with its metadata where it
-    /// exists; every rule of `check` but the folder's and the repeat's.
-    fn target(&self, path: &Path) -> Result<(TargetKind, Target, Option<Metadata>), OutputError> {
+    /// exists and its name; every rule of `check` but the folder's and the
+    /// repeat's.
+    fn target(
+        &self,
+        path: &Path,
+    ) -> Result<(TargetKind, Target, Option<Metadata>, Name), OutputError> {
         if path.as_os_str().as_encoded_bytes().ends_with(b"/") {
             return Err(OutputError::NotAFile {
                 path: path.to_owned(),
@@ -220,7 +215,7 @@ impl Outputs {
         }
         let target = resolve(path);
         let name = Name::of(&target);
-        if self.staged.iter().any(|s| s.name() == name) {
+        if self.staged.iter().any(|(staged, _)| *staged == name) {
             return Err(OutputError::Twice(path.to_owned()));
         }
         let meta = match std::fs::metadata(target.stat_path()) {
@@ -255,7 +250,7 @@ impl Outputs {
                 return Err(OutputError::ReadOnly(file.clone()));
             }
         }
-        Ok((kind, target, meta))
+        Ok((kind, target, meta, name))
     }
 
     /// Checks `path` (as `check`), then has `fill` write its contents: into
@@ -266,14 +261,10 @@ impl Outputs {
         path: &Path,
         fill: impl FnOnce(&mut dyn Write) -> Result<(), E>,
     ) -> Result<(), E> {
-        let (kind, target, old) = self.target(path)?;
-        match (kind, target) {
-            (TargetKind::Stream, target) | (TargetKind::File, target @ Target::Descriptor(_)) => {
-                let mut bytes = Vec::new();
-                fill(&mut bytes)?;
-                self.staged.push(Staged::Stream { target, bytes });
-            }
-            (TargetKind::File, Target::Path(target)) => {
+        let (kind, target, old, name) = self.target(path)?;
+        match target {
+            // `target` makes a descriptor a stream.
+            Target::Path(target) if kind == TargetKind::File => {
                 let tmp = temp_beside(&target, old.as_ref())?;
                 {
                     let mut out = BufWriter::new(tmp.file());
@@ -281,7 +272,12 @@ impl Outputs {
                     out.flush().map_err(io_err(&target))?;
                 }
                 tmp.file().sync_all().map_err(io_err(&target))?;
-                self.staged.push(Staged::File { tmp, target });
+                self.staged.push((name, Staged::File { tmp, target }));
+            }
+            target => {
+                let mut bytes = Vec::new();
+                fill(&mut bytes)?;
+                self.staged.push((name, Staged::Stream { target, bytes }));
             }
         }
         Ok(())
@@ -292,7 +288,7 @@ impl Outputs {
     /// removed meanwhile) leaves the outputs after the failed one as they
     /// were, and removes their temporary files.
     pub fn commit(self) -> Result<(), OutputError> {
-        for staged in self.staged {
+        for (_, staged) in self.staged {
             match staged {
                 Staged::File { tmp, target } => tmp.persist(&target)?,
                 Staged::Stream {
@@ -401,9 +397,13 @@ pub fn target_kind(path: &Path) -> Option<TargetKind> {
 }
 
 /// Where `path` ends: a descriptor where its chain of links names one
-/// (`/dev/stdout` → `/proc/self/fd/1`), else the file the chain ends at.
+/// (`/dev/stdout` → `/proc/self/fd/1`), else the file the chain ends at
+/// (the path itself where it is none, or where a link cannot be read). A
+/// dangling link ends at the name it points to, which the write then
+/// creates.
 fn resolve(path: &Path) -> Target {
     let mut p = path.to_owned();
+    // Forty links, as Linux allows, before a loop is left to the write to report.
     for _ in 0..40 {
         if let Some(fd) = descriptor_named(&p) {
             return Target::Descriptor(fd);
@@ -525,26 +525,6 @@ fn temp_beside(target: &Path, old: Option<&Metadata>) -> Result<Temp, OutputErro
             .map_err(io_err(target))?;
     }
     Ok(tmp)
-}
-
-/// The file a chain of symbolic links ends at (the path itself where it is
-/// none, or where a link cannot be read). A dangling link ends at the name
-/// it points to, which the write then creates.
-pub fn follow_links(path: &Path) -> PathBuf {
-    let mut p = path.to_owned();
-    // Forty links, as Linux allows, before a loop is left to the write to report.
-    for _ in 0..40 {
-        match std::fs::read_link(&p) {
-            Ok(next) => {
-                p = match p.parent() {
-                    Some(dir) if next.is_relative() => dir.join(next),
-                    _ => next,
-                }
-            }
-            Err(_) => break,
-        }
-    }
-    p
 }
 
 #[cfg(unix)]

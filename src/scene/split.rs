@@ -238,6 +238,22 @@ mod tests {
         assert_eq!(sphere_blocks(&big).map(|b| b.len()), Some(100));
     }
 
+    /// A 100-sphere scene with `junk` inserted near byte `at`, parsed
+    /// block by block and whole (each as its Debug text, None on failure).
+    fn parsed_with_junk(at: usize, junk: &str) -> (Option<String>, Option<String>) {
+        let mut text = scene(100);
+        let at = (0..=at.min(text.len()))
+            .rev()
+            .find(|i| text.is_char_boundary(*i))
+            .unwrap_or(0);
+        text.insert_str(at, junk);
+        let split = parse(&text).map(|s| format!("{s:?}")).ok();
+        let whole = toml::from_str::<SceneFile>(&text)
+            .map(|s| format!("{s:?}"))
+            .ok();
+        (split, whole)
+    }
+
     proptest::proptest! {
         #![proptest_config(proptest::test_runner::Config {
             cases: 512,
@@ -250,11 +266,7 @@ mod tests {
         /// parses to whole, or both fail.
         #[test]
         fn block_parse_agrees_with_the_whole_parse(at in 0usize..6000, junk in "\\PC{0,12}") {
-            let mut text = scene(100);
-            let at = (0..=at.min(text.len())).rev().find(|i| text.is_char_boundary(*i)).unwrap_or(0);
-            text.insert_str(at, &junk);
-            let split = parse(&text).map(|s| format!("{s:?}")).ok();
-            let whole = toml::from_str::<SceneFile>(&text).map(|s| format!("{s:?}")).ok();
+            let (split, whole) = parsed_with_junk(at, &junk);
             proptest::prop_assert_eq!(split, whole);
         }
 
@@ -265,11 +277,7 @@ mod tests {
             at in 0usize..6000,
             junk in "[#\"'\\\\\\[\\]{}\n =a1]{0,12}",
         ) {
-            let mut text = scene(100);
-            let at = (0..=at.min(text.len())).rev().find(|i| text.is_char_boundary(*i)).unwrap_or(0);
-            text.insert_str(at, &junk);
-            let split = parse(&text).map(|s| format!("{s:?}")).ok();
-            let whole = toml::from_str::<SceneFile>(&text).map(|s| format!("{s:?}")).ok();
+            let (split, whole) = parsed_with_junk(at, &junk);
             proptest::prop_assert_eq!(split, whole);
         }
     }
