@@ -2,7 +2,9 @@
 // src/cpu/shade.rs.
 
 // x^n with the scene format's conventions: x^0 = 1 (also for x = 0), and 0 for x <= 0
-// otherwise; GLSL's pow leaves both undefined.
+// otherwise; GLSL's pow leaves both undefined. x is a cosine, taken at most
+// 1: the rounding of unit vectors can put their dot product an ulp past it,
+// and a large n would raise that past the shading's bound.
 real spec_pow(real x, real n) {
     if (n == 0.0) {
         return 1.0;
@@ -10,6 +12,7 @@ real spec_pow(real x, real n) {
     if (x <= 0.0) {
         return 0.0;
     }
+    x = min(x, 1.0);
 #ifdef GLINT_F64
     // GLSL has no double pow: the specular power is taken in float.
     return real(pow(float(x), float(n)));
@@ -66,7 +69,8 @@ vec3r shade(vec3r p, vec3r n, vec3r v, Material m, uint from) {
         }
 #endif
         if (direct) {
-            contribution += light.diffuse.rgb * m.diffuse.rgb * n_dot_l
+            // A cosine: at most 1, whatever the rounding (spec_pow).
+            contribution += light.diffuse.rgb * m.diffuse.rgb * min(n_dot_l, 1.0)
                           + light.specular.rgb * m.specular.rgb * specular(n, l, v, m.params.x);
         }
         local += contribution * (att * spot);

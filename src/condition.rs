@@ -12,10 +12,14 @@
 //! The f64 reference finds them by experiment, as Monte Carlo arithmetic
 //! does (Parker, Pierce and Eggert, 2000). It renders the scene again
 //! [`TRIALS`] times, in camera-relative coordinates, with the eye rays'
-//! directions (the camera's screen vectors, each moved apart) and every
-//! primitive moved at random by [`MOVE`] of their size: as much as f32
+//! directions (the camera's screen vectors, each moved apart), every
+//! primitive, every hit point and the direction of every ray that leaves a
+//! surface moved at random by [`MOVE`] of their size: as much as f32
 //! rounds a hit point (camera-relative coordinates are of the size of the
-//! distance from the eye) and a primitive's coordinates. One more trial is
+//! distance from the eye), a primitive's coordinates and a direction. The
+//! directions matter over long rays: a shadow ray from a wall 1e6 away
+//! crosses a ball's edge where f32 rounds its direction, as no move of the
+//! ball or of the wall makes it (`World::hit_move`). One more trial is
 //! the CPU's own f32 render: the same code as the reference, so whatever it
 //! changes, rounding changed, and it samples f32's roundings as no random
 //! move does (in balls, three bounces between small spheres can push a path
@@ -69,7 +73,7 @@ pub fn ill_conditioned(
         let moved = if trial == TRIALS {
             cpu::render_rows::<f32>(scene, accel, progress)
         } else {
-            cpu::render_rows::<f64>(&perturbed(scene, trial), accel, progress)
+            cpu::render_moved(&perturbed(scene, trial), accel, hit_seed(trial), progress)
         };
         let errors = pixel_errors(&moved, reference).expect("the same size");
         for (flag, e) in ill.iter_mut().zip(errors) {
@@ -77,6 +81,11 @@ pub fn ill_conditioned(
         }
     }
     ill
+}
+
+/// The seed of a trial's moves of hit points.
+fn hit_seed(trial: u32) -> u64 {
+    0x51_7cc1_b727_220a ^ u64::from(trial + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15)
 }
 
 /// `scene` in camera-relative coordinates (as both renderers trace it)

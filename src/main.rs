@@ -8,6 +8,15 @@ use clap::error::ErrorKind;
 use clap::{CommandFactory, FromArgMatches};
 
 fn main() -> ExitCode {
+    let code = run();
+    #[cfg(feature = "gpu")]
+    if glint::gpu::open_abandoned() {
+        cli::console::exit_past_a_stuck_open(code);
+    }
+    code
+}
+
+fn run() -> ExitCode {
     // On SIGINT or SIGTERM, remove the temporary file of any write in
     // progress, so that an output is whole or absent. A handler that
     // cannot be installed only loses that clean-up.

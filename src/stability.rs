@@ -4,6 +4,7 @@
 
 use serde::Serialize;
 
+use crate::accel::Accel;
 use crate::cpu;
 use crate::gpu::{GpuError, Intersect, RenderSettings, Renderer};
 use crate::raster::diff::{figures, ErrorFigures, Tolerance};
@@ -31,7 +32,7 @@ pub struct SceneRows {
 
 /// GPU f32 robust, GPU f32 naive and CPU f32 against CPU f64 on `scene`.
 pub fn evaluate(renderer: &mut Renderer, scene: &Scene) -> Result<SceneRows, GpuError> {
-    let reference = cpu::render::<f64>(scene);
+    let reference = cpu::reference(scene, Accel::Auto)?;
     let peak = reference.peak();
     let reference = reference.scaled(peak);
     let mut images = Vec::new();
@@ -46,7 +47,9 @@ pub fn evaluate(renderer: &mut Renderer, scene: &Scene) -> Result<SceneRows, Gpu
         let rendered = renderer.prepare(scene, &how)?.render(None, &|_| {})?;
         images.push((variant, rendered.image));
     }
-    images.push(("cpu f32", cpu::render::<f32>(scene)));
+    let cpu32 = cpu::render::<f32>(scene);
+    cpu::within::check(scene, &cpu32, "f32")?;
+    images.push(("cpu f32", cpu32));
     let tolerance = Tolerance::default();
     let rows = images
         .into_iter()

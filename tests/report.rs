@@ -212,6 +212,36 @@ fn the_sampling_axis_is_measured_against_a_converged_render() {
     );
     let svg = std::fs::read_to_string(dir.path().join("sampling_vs_time.svg")).unwrap();
     assert!(svg.contains("adaptive sampling") && svg.contains("at 16x16 samples"));
+    // Issue 41: the axis's Pareto front is its own, inside the axes (the
+    // main plot's front was drawn here, off them), and each plot says what
+    // it shows.
+    let main = std::fs::read_to_string(dir.path().join("error_vs_time.svg")).unwrap();
+    for plot in [&svg, &main] {
+        let fronts: Vec<&str> = plot
+            .split("<polyline points=\"")
+            .skip(1)
+            .map(|p| p.split('"').next().unwrap())
+            .collect();
+        assert!(!fronts.is_empty(), "no Pareto front drawn");
+        for point in fronts.iter().flat_map(|f| f.split(' ')) {
+            let (x, y) = point.split_once(',').unwrap();
+            let (x, y): (f64, f64) = (x.parse().unwrap(), y.parse().unwrap());
+            assert!(
+                (80.0..=670.0).contains(&x) && (40.0..=540.0).contains(&y),
+                "{point} is off the axes"
+            );
+        }
+    }
+    let title = |plot: &str| {
+        plot.split("font-size=\"15\">")
+            .nth(1)
+            .unwrap()
+            .split('<')
+            .next()
+            .unwrap()
+            .to_owned()
+    };
+    assert_ne!(title(&svg), title(&main));
     let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
     assert!(html.contains("sampling_vs_time.svg"));
     let csv = std::fs::read_to_string(dir.path().join("report.csv")).unwrap();

@@ -59,8 +59,15 @@ vec4r sphere_shape(Sphere s) {
     return s.center_radius;
 }
 
+// As src/prim/sphere.rs's OFF_SURFACE: where a hit is off the surface by
+// more than about 5e-4 of the radius (a ray from far away places it only to
+// the rounding of its origin), the normal is the direction of p - c, not a
+// vector of another length that would shade past the model's bound.
+const real OFF_SURFACE = 1.0 / 1024.0;
+
 vec3r sphere_normal(uint i, vec4r shape, vec3r p) {
-    return (p - shape.xyz) / shape.w;
+    vec3r n = (p - shape.xyz) / shape.w;
+    return abs(dot(n, n) - 1.0) > OFF_SURFACE ? normalize(n) : n;
 }
 
 // Latitude and longitude, as SphereR::uv: u about the y axis from 0 at -z

@@ -53,8 +53,8 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         "two GPU renders of the same scene differ"
     );
     let accel = a.device.accel;
-    let cpu64 = render_cpu_timed(&scene, Precision::F64, accel, false);
-    let cpu32 = render_cpu_timed(&scene, Precision::F32, accel, false);
+    let cpu64 = render_cpu_timed(&scene, Precision::F64, accel, false)?;
+    let cpu32 = render_cpu_timed(&scene, Precision::F32, accel, false)?;
     let (reference, cpu32_image, cpu64, cpu32) =
         (cpu64.image, cpu32.image, cpu64.times, cpu32.times);
     let (cpu64_s, cpu32_s) = (cpu64.render_s, cpu32.render_s);

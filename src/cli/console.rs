@@ -86,6 +86,19 @@ fn unwind(stream: Stream, cause: io::Error) -> ! {
     std::panic::resume_unwind(Box::new(Unwritable { stream, cause }))
 }
 
+/// Ends the process with `code` (0, or 2 for any failure) without running
+/// its exit handlers, where an open of the Vulkan device was given up
+/// (`glint::gpu::vk::bounded`): the thread left in it may hold the dynamic
+/// loader's lock (a `dlopen` of a FIFO), which a normal exit waits on for
+/// ever. Everything glint prints is already written (each write flushes),
+/// and nothing is staged before the device is open.
+#[cfg(feature = "gpu")]
+pub fn exit_past_a_stuck_open(code: ExitCode) -> ! {
+    let status = if code == ExitCode::SUCCESS { 0 } else { 2 };
+    // SAFETY: _exit ends the process at once; nothing of Rust's runs after.
+    unsafe { libc::_exit(status) }
+}
+
 /// Runs `f`, turning an [`Unwritable`] unwind into its exit status; any
 /// other panic goes on unwinding.
 pub fn catching(f: impl FnOnce() -> ExitCode) -> ExitCode {

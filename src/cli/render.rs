@@ -12,6 +12,7 @@ use glint::cpu;
 use glint::output::{self, Outputs};
 use glint::raster::{io, Image};
 use glint::scene::Scene;
+use glint::settings::Choice;
 use glint::stats::{Counts, RayCounts, Work};
 use glint::tiles;
 
@@ -151,7 +152,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
         }
         (Backend::Cpu, p) => {
             let precision = p.unwrap_or(Precision::F64);
-            let r = render_cpu_timed(&scene, precision, a.device.accel, count);
+            let r = render_cpu_timed(&scene, precision, a.device.accel, count)?;
             let (setup, trace) = (r.times.setup_s, r.times.render_s);
             let tables = r.times.tables_s;
             let stats = r
@@ -228,8 +229,9 @@ fn render_tile(
                 Precision::F64 => cpu::render_region::<f64>(scene, accel, region, &progress),
             };
             bar.finish_and_clear();
-            let name = format!("{precision:?}").to_lowercase();
-            let sidecar = tile::sidecar(&a.scene.scene, scene, &name, None, region, tile, &image);
+            let name = precision.name();
+            cpu::within::check(scene, &image, name)?;
+            let sidecar = tile::sidecar(&a.scene.scene, scene, name, None, region, tile, &image);
             (image, format!("CPU {name}"), sidecar)
         }
     };
@@ -289,7 +291,7 @@ pub fn render_cpu_timed(
     precision: Precision,
     accel: Accel,
     count: bool,
-) -> CpuRender {
+) -> anyhow::Result<CpuRender> {
     let bar = progress::bar(
         u64::from(scene.height),
         &format!("cpu {precision:?}").to_lowercase(),
@@ -322,7 +324,8 @@ pub fn render_cpu_timed(
     let render_s = start.elapsed().as_secs_f64() - setup_s;
     bar.finish_and_clear();
     let threads = rayon::current_num_threads();
-    CpuRender {
+    cpu::within::check(scene, &image, precision.name())?;
+    Ok(CpuRender {
         image,
         label: format!("CPU {precision:?} on {threads} threads").replace("F", "f"),
         times: CpuTimes {
@@ -331,5 +334,5 @@ pub fn render_cpu_timed(
             render_s,
         },
         counts,
-    }
+    })
 }

@@ -9,6 +9,7 @@ pub(crate) mod ray;
 pub(crate) mod shade;
 pub(crate) mod texture;
 pub(crate) mod trace;
+pub mod within;
 pub(crate) mod world;
 
 use rayon::prelude::*;
@@ -34,6 +35,20 @@ pub fn render_rows<R: Real>(scene: &Scene, accel: Accel, progress: &(dyn Fn(u64)
     render_world(&World::<R>::new(scene, accel), progress)
 }
 
+/// The conditioning check's trial ([`crate::condition`]): `scene` in f64
+/// with every hit point moved by [`crate::condition::MOVE`] of its size,
+/// each its own way, as f32 rounds it (`World::hit_move`).
+pub(crate) fn render_moved(
+    scene: &Scene,
+    accel: Accel,
+    seed: u64,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Image {
+    let mut world = World::<f64>::new(scene, accel);
+    world.hit_move = Some((seed, crate::condition::MOVE));
+    render_world(&world, progress)
+}
+
 /// The pixels of `region` of `scene`'s image (which must hold it): bit
 /// for bit those of the whole render (docs/scale-out.md).
 pub fn render_region<R: Real>(
@@ -43,6 +58,14 @@ pub fn render_region<R: Real>(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Image {
     render_tallied::<R, ()>(&World::<R>::new(scene, accel), Some(region), progress).0
+}
+
+/// The f64 reference of `scene`, the oracle the other renders are measured
+/// against: refused where a pixel leaves the model's bound ([`within`]).
+pub fn reference(scene: &Scene, accel: Accel) -> Result<Image, within::PastBound> {
+    let image = render_rows::<f64>(scene, accel, &|_| {});
+    within::check(scene, &image, "f64")?;
+    Ok(image)
 }
 
 /// A scene laid out for the CPU reference in precision `R`: the primitives

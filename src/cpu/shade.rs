@@ -11,14 +11,16 @@ use crate::prim::PrimId;
 use crate::stats::{Counter, RayType, Tally};
 
 /// x^n with the scene format's conventions: x^0 = 1 (also for x = 0), and 0 for x <= 0
-/// otherwise; GLSL's pow leaves both undefined.
+/// otherwise; GLSL's pow leaves both undefined. x is a cosine, taken at
+/// most 1: the rounding of unit vectors can put their dot product an ulp
+/// past it, and a large n would raise that past the shading's bound.
 pub fn spec_pow<R: Real>(x: R, n: R) -> R {
     if n == R::zero() {
         R::one()
     } else if x <= R::zero() {
         R::zero()
     } else {
-        x.powf(n)
+        x.min(R::one()).powf(n)
     }
 }
 
@@ -78,10 +80,12 @@ pub fn shade<R: Real, T: Tally>(
         let shadowed = direct && w.shadows && {
             tally.count(Counter::Shadow);
             tally.ray_type(RayType::Shadow);
-            occluded(w, &Ray { origin: p, dir: l }, from, dist, index, tally)
+            let dir = w.moved_direction(l, p, 2 + index as u64);
+            occluded(w, &Ray { origin: p, dir }, from, dist, index, tally)
         };
         if direct && !shadowed {
-            contribution += light.diffuse * m.diffuse * n_dot_l
+            // A cosine: at most 1, whatever the rounding (spec_pow).
+            contribution += light.diffuse * m.diffuse * n_dot_l.min(R::one())
                 + light.specular * m.specular * specular(n, l, v, m.shininess);
         }
         local += contribution * (att * spot);

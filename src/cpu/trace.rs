@@ -61,7 +61,7 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
                 if depth == 1 {
                     tally.count(Counter::EyeHit);
                 }
-                let p = ray.at(hit.t);
+                let p = w.moved_point(ray.at(hit.t));
                 // The geometric normal says which side the ray is on; the
                 // shading normal is turned with it to face the ray.
                 let s = surface(w, hit.prim, p);
@@ -100,7 +100,7 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
                             stack.push(Branch {
                                 ray: Ray {
                                     origin: leave(-face),
-                                    dir: t,
+                                    dir: w.moved_direction(t, p, 1),
                                 },
                                 from: hit.prim,
                                 depth: depth + 1,
@@ -118,7 +118,7 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
                     let d = ray.dir - n * (R::of(2.0) * ray.dir.dot(n));
                     ray = Ray {
                         origin: above,
-                        dir: d.normalize(),
+                        dir: w.moved_direction(d.normalize(), p, 0),
                     };
                     from = hit.prim;
                     depth += 1;

@@ -39,6 +39,10 @@ pub struct World<R: Real> {
     /// Adaptive sampling's threshold (in steps of 1/255) and levels, where
     /// the scene samples so.
     pub adaptive: Option<(R, u32)>,
+    /// The conditioning check's moves ([`crate::condition`]): a trial's
+    /// seed and the move relative to a hit point's size and a direction's
+    /// length. None in every render.
+    pub hit_move: Option<(u64, f64)>,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -152,6 +156,42 @@ impl<R: Real> World<R> {
             samples: scene.samples,
             corners,
             adaptive,
+            hit_move: None,
         }
+    }
+}
+
+impl<R: Real> World<R> {
+    /// A trial's random unit vector for `p` and `salt`: drawn from their
+    /// bits, so that every hit moves its own way and a trial repeats.
+    fn trial_unit(seed: u64, p: Vec3<R>, salt: u64) -> glam::DVec3 {
+        use std::hash::Hasher;
+        let mut hash = crate::fnv::Fnv::from_state(seed);
+        for c in [p.x, p.y, p.z] {
+            hash.write_u64(c.to_f64().to_bits());
+        }
+        hash.write_u64(salt);
+        crate::rng::Xorshift(hash.finish() | 1).unit()
+    }
+
+    /// The hit point `p`, moved by the trial's share of its largest
+    /// coordinate, as f32 rounds it (`hit_move`); p itself in a render.
+    pub fn moved_point(&self, p: Vec3<R>) -> Vec3<R> {
+        let Some((seed, share)) = self.hit_move else {
+            return p;
+        };
+        let size = p.x.abs().max(p.y.abs()).max(p.z.abs()).to_f64();
+        p + Vec3::of(Self::trial_unit(seed, p, u64::MAX) * (share * size))
+    }
+
+    /// The unit direction `d` of a ray leaving `p` (`salt`: which of its
+    /// rays), turned by the trial's share, as f32 rounds a direction: over
+    /// a long ray (a shadow ray from a wall 1e6 away) that moves it across
+    /// a shadow's edge as moving p does not. `d` itself in a render.
+    pub fn moved_direction(&self, d: Vec3<R>, p: Vec3<R>, salt: u64) -> Vec3<R> {
+        let Some((seed, share)) = self.hit_move else {
+            return d;
+        };
+        (d + Vec3::of(Self::trial_unit(seed, p, salt) * share)).normalize()
     }
 }

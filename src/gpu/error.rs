@@ -77,6 +77,13 @@ pub enum GpuError {
         /// The wait that ran out.
         seconds: f64,
     },
+    /// Opening the Vulkan loader, instance and device took longer than its
+    /// limit (`vk::bounded::OPEN_LIMIT`).
+    #[error("opening the Vulkan device did not finish within {seconds:.0} s: a driver manifest or library the loader reads may be a FIFO or a driver may hang (see VK_DRIVER_FILES and the manifests in /usr/share/vulkan/icd.d); stopped")]
+    OpenTimeout {
+        /// The limit that ran out.
+        seconds: f64,
+    },
     /// An earlier wait on this device timed out: nothing more is submitted to it.
     #[error("an earlier render on this renderer timed out; open a new one")]
     Lost,
@@ -88,6 +95,10 @@ pub enum GpuError {
         /// The pixel's row.
         y: u32,
     },
+    /// The CPU reference that a GPU render is measured against left the
+    /// model's bound (`report`, `stability`): no figure is made of it.
+    #[error(transparent)]
+    Reference(#[from] crate::cpu::within::PastBound),
 }
 
 /// A Vulkan result code, by its name and number, so that no type of the

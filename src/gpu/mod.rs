@@ -44,16 +44,19 @@ pub use prepared::{Prepared, Rendered};
 pub use renderer::Renderer;
 pub use schedule::Schedule;
 pub use times::{RenderTimes, SetupTimes};
+pub use vk::bounded::{open_abandoned, OPEN_LIMIT};
 pub use vk::device::DeviceInfo;
 pub use work::{tile_timeout, COMPILE_TIMEOUT};
 
 /// Every Vulkan device, best first, for `glint info`.
 pub fn list_devices() -> Result<Vec<DeviceInfo>, GpuError> {
-    let instance = vk::instance::Instance::new(false)?;
-    Ok(vk::device::candidates(&instance)?
-        .into_iter()
-        .map(|c| c.info)
-        .collect())
+    vk::bounded::bounded(vk::bounded::OPEN_LIMIT, || {
+        let instance = vk::instance::Instance::new(false)?;
+        Ok(vk::device::candidates(&instance)?
+            .into_iter()
+            .map(|c| c.info)
+            .collect())
+    })
 }
 
 #[cfg(test)]

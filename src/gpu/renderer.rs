@@ -15,6 +15,7 @@ use super::prepared::Prepared;
 use super::schedule::Schedule;
 use super::times::{RenderTimes, SetupTimes};
 use super::variant::Variant;
+use super::vk::bounded::{bounded, OPEN_LIMIT};
 use super::vk::device::{Device, DeviceInfo};
 use super::vk::instance::Instance;
 use super::vk::pipeline::ComputePipeline;
@@ -95,8 +96,10 @@ impl Renderer {
             )));
         }
         let t0 = Instant::now();
-        let instance = Instance::new(opts.validate)?;
-        let device = Device::open(instance, opts.device.as_deref())?;
+        let (validate, wanted) = (opts.validate, opts.device.clone());
+        let device = bounded(OPEN_LIMIT, move || {
+            Device::open(Instance::new(validate)?, wanted.as_deref())
+        })?;
         let cache_file = opts
             .cache_dir
             .as_ref()

@@ -45,6 +45,12 @@ crate::base::interface::gpu_struct!(
     }
 );
 
+/// How far |(p − c)/r|² may be from 1 before the normal is taken as the
+/// direction of p − c instead: about 5e-4 of the radius off the surface,
+/// far past the rounding of a hit placed as well as its ray allows, so
+/// that such hits keep their bits. Mirrors shaders/prim/sphere.glsl.
+pub const OFF_SURFACE: f64 = 1.0 / 1024.0;
+
 pub struct SphereR<R> {
     pub center: Vec3<R>,
     pub radius: R,
@@ -144,8 +150,18 @@ impl<R: Real> Shape<R> for SphereR<R> {
         }
     }
 
+    /// (p − c)/r, or the direction of p − c where p is off the surface by
+    /// more than [`OFF_SURFACE`] of the radius: a ray from far away (a
+    /// reflection off a sphere of radius 1e17) places its hit only to the
+    /// rounding of its origin, and a normal of length 7 would shade 7^n
+    /// times too bright. Mirrors sphere_normal in shaders/prim/sphere.glsl.
     fn normal(&self, p: Vec3<R>) -> Vec3<R> {
-        (p - self.center) / self.radius
+        let n = (p - self.center) / self.radius;
+        if (n.dot(n) - R::one()).abs() > R::of(OFF_SURFACE) {
+            n.normalize()
+        } else {
+            n
+        }
     }
 
     /// Latitude and longitude (docs/scene-format.md, Textures): u runs

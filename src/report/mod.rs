@@ -9,6 +9,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
+use crate::accel::Accel;
 use crate::cpu;
 use crate::gpu::vk::device::DeviceInfo;
 use crate::gpu::{GpuError, Intersect, Precision, RenderSettings, Renderer, SetupTimes};
@@ -337,7 +338,7 @@ pub fn measure(
     settings: Settings,
     progress: &dyn Fn(&str),
 ) -> Result<SceneReport, GpuError> {
-    let reference = cpu::render::<f64>(scene);
+    let reference = cpu::reference(scene, Accel::Auto)?;
     let mut variants = vec![
         Variant::Gpu(Intersect::Robust),
         Variant::Gpu(Intersect::Naive),
@@ -370,7 +371,10 @@ pub fn measure(
     let mut sampling = Vec::new();
     if settings.sampling {
         progress("converged reference");
-        let converged = cpu::render::<f64>(&sampled(scene, Variant::GpuUniform(CONVERGED_SAMPLES)));
+        let converged = cpu::reference(
+            &sampled(scene, Variant::GpuUniform(CONVERGED_SAMPLES)),
+            Accel::Auto,
+        )?;
         let axis = SAMPLING_UNIFORM
             .map(Variant::GpuUniform)
             .into_iter()

@@ -45,55 +45,103 @@ const FAMILIES: [(Variant, &str); 10] = [
     (Variant::GpuAdaptive(0, 1), "gpu f32, adaptive sampling"),
 ];
 
+/// The marker shapes, one a scene: a circle, a square, a diamond, a
+/// triangle up, a triangle down and a cross; past six scenes the same
+/// shapes come again hollow, so that twelve scenes are told apart.
+const SHAPES: usize = 6;
+
+/// Scene `shape`'s marker at (x, y), filled with `fill`, its tooltip `title`.
 fn marker(shape: usize, x: f64, y: f64, fill: &str, title: &str) -> String {
     let r = 5.5;
-    let body = match shape % 4 {
-        0 => format!("<circle cx=\"{x:.1}\" cy=\"{y:.1}\" r=\"{r}\""),
-        1 => format!(
-            "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"",
-            x - r,
-            y - r,
-            2.0 * r,
-            2.0 * r
+    let points = |corners: &[(f64, f64)]| {
+        let list: Vec<String> = corners
+            .iter()
+            .map(|(dx, dy)| format!("{:.1},{:.1}", x + dx * r, y + dy * r))
+            .collect();
+        format!("<polygon points=\"{}\"", list.join(" "))
+    };
+    let (body, tag) = match shape % SHAPES {
+        0 => (
+            format!("<circle cx=\"{x:.1}\" cy=\"{y:.1}\" r=\"{r}\""),
+            "circle",
         ),
-        2 => format!(
-            "<polygon points=\"{x:.1},{:.1} {:.1},{y:.1} {x:.1},{:.1} {:.1},{y:.1}\"",
-            y - r * 1.3,
-            x + r * 1.3,
-            y + r * 1.3,
-            x - r * 1.3
+        1 => (
+            points(&[(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]),
+            "polygon",
         ),
-        _ => format!(
-            "<polygon points=\"{x:.1},{:.1} {:.1},{:.1} {:.1},{:.1}\"",
-            y - r * 1.3,
-            x + r * 1.2,
-            y + r,
-            x - r * 1.2,
-            y + r
+        2 => (
+            points(&[(0.0, -1.3), (1.3, 0.0), (0.0, 1.3), (-1.3, 0.0)]),
+            "polygon",
+        ),
+        3 => (points(&[(0.0, -1.3), (1.2, 1.0), (-1.2, 1.0)]), "polygon"),
+        4 => (points(&[(0.0, 1.3), (1.2, -1.0), (-1.2, -1.0)]), "polygon"),
+        _ => (
+            points(&[
+                (-0.4, -1.2),
+                (0.4, -1.2),
+                (0.4, -0.4),
+                (1.2, -0.4),
+                (1.2, 0.4),
+                (0.4, 0.4),
+                (0.4, 1.2),
+                (-0.4, 1.2),
+                (-0.4, 0.4),
+                (-1.2, 0.4),
+                (-1.2, -0.4),
+                (-0.4, -0.4),
+            ]),
+            "polygon",
         ),
     };
-    format!("{body} fill=\"{fill}\" fill-opacity=\"0.85\" stroke=\"#fff\" stroke-width=\"1\"><title>{title}</title></{}>\n", match shape % 4 {
-        0 => "circle",
-        1 => "rect",
-        _ => "polygon",
-    })
+    let paint = if shape / SHAPES % 2 == 0 {
+        format!("fill=\"{fill}\" fill-opacity=\"0.85\" stroke=\"#fff\" stroke-width=\"1\"")
+    } else {
+        format!("fill=\"#fff\" fill-opacity=\"0.85\" stroke=\"{fill}\" stroke-width=\"2\"")
+    };
+    format!("{body} {paint}><title>{title}</title></{tag}>\n")
 }
 
 /// The plot of every measurement's error (rmse) against its time, on log
 /// axes: a colour a variant's family, a marker shape a scene.
 pub fn plot(r: &Report) -> String {
-    plot_of(r, |s| &s.measurements, "RMSE against CPU f64")
+    plot_of(
+        r,
+        |s| &s.measurements,
+        "Every variant: error against run time",
+        "RMSE against CPU f64",
+    )
 }
 
 /// The sampling axis's plot (sampling_vs_time.svg): each scene's uniform
 /// and adaptive sampling against its converged render.
 pub fn plot_sampling(r: &Report) -> String {
-    plot_of(r, |s| &s.sampling, "RMSE against CPU f64 at 16x16 samples")
+    plot_of(
+        r,
+        |s| &s.sampling,
+        "Uniform and adaptive sampling: error against run time",
+        "RMSE against CPU f64 at 16x16 samples",
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 41: five scenes shared four shapes (seed-fig3 and
+    /// whitted-1980 were both circles); twelve are now told apart.
+    #[test]
+    fn twelve_scenes_have_twelve_markers() {
+        let shapes: std::collections::HashSet<String> = (0..12)
+            .map(|i| marker(i, 10.0, 10.0, "#123456", "t"))
+            .collect();
+        assert_eq!(shapes.len(), 12);
+    }
 }
 
 fn plot_of(
     r: &Report,
     pick: impl Fn(&super::SceneReport) -> &[Measurement],
+    title: &str,
     against: &str,
 ) -> String {
     let points: Vec<(usize, &Measurement)> = r
@@ -129,7 +177,7 @@ fn plot_of(
     let _ = writeln!(s, "<rect width=\"{W}\" height=\"{H}\" fill=\"#fff\"/>");
     let _ = writeln!(
         s,
-        "<text x=\"{LEFT}\" y=\"22\" font-size=\"15\">Error against run time ({}; {})</text>",
+        "<text x=\"{LEFT}\" y=\"22\" font-size=\"15\">{title} ({}; {})</text>",
         escape(&r.device.name),
         escape(&r.machine.cpu)
     );
@@ -148,18 +196,20 @@ fn plot_of(
     }
     let _ = writeln!(s, "<text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">median render time (s), log scale</text>", (LEFT + W - RIGHT) / 2.0, H - 18.0);
     let _ = writeln!(s, "<text transform=\"translate(22 {:.1}) rotate(-90)\" text-anchor=\"middle\">{against}, log scale (bottom row: exactly 0)</text>", (TOP + H - BOTTOM) / 2.0);
-    // Pareto fronts first, under the points.
-    for (i, scene) in r.scenes.iter().enumerate() {
-        let mut front: Vec<&Measurement> = scene.measurements.iter().filter(|m| m.pareto).collect();
+    // The plot area: nothing drawn in it may cross the axes.
+    let _ = writeln!(s, "<clipPath id=\"plot-area\"><rect x=\"{LEFT}\" y=\"{TOP}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>", W - LEFT - RIGHT, H - TOP - BOTTOM);
+    // Pareto fronts first, under the points: each scene's among the
+    // measurements this plot shows (the sampling axis has fronts of its own).
+    for scene in &r.scenes {
+        let mut front: Vec<&Measurement> = pick(scene).iter().filter(|m| m.pareto).collect();
         front.sort_by(|a, b| a.time.median_s.total_cmp(&b.time.median_s));
         let path: Vec<String> = front
             .iter()
             .map(|m| format!("{:.1},{:.1}", x(m.time.median_s), y(err(m))))
             .collect();
         if path.len() > 1 {
-            let _ = writeln!(s, "<polyline points=\"{}\" fill=\"none\" stroke=\"#888\" stroke-dasharray=\"5 4\" stroke-width=\"1.5\"><title>Pareto front of {}</title></polyline>", path.join(" "), escape(&scene.name));
+            let _ = writeln!(s, "<polyline points=\"{}\" clip-path=\"url(#plot-area)\" fill=\"none\" stroke=\"#888\" stroke-dasharray=\"5 4\" stroke-width=\"1.5\"><title>Pareto front of {}</title></polyline>", path.join(" "), escape(&scene.name));
         }
-        let _ = i;
     }
     for (i, m) in &points {
         let scene = &r.scenes[*i];

@@ -2,6 +2,7 @@
 //! form both renderers consume (materials by index, unit normals, the camera
 //! as an eye and a virtual screen).
 
+mod brightness;
 mod corners;
 mod file;
 pub mod images;

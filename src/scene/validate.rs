@@ -193,49 +193,12 @@ impl Check<'_> {
         Ok(())
     }
 
-    /// Refuses a scene whose brightest possible pixel passes
-    /// `MAX_BRIGHTNESS`. A bounce adds at most the background, or, for
-    /// each light, (Ia·Ka + Id·Kd + Is·Ks) / c (every other factor is at
-    /// most 1, and the reflection weights multiply to at most 1).
+    /// Refuses a scene whose brightest possible pixel
+    /// ([`Scene::brightest_pixel`]) passes `MAX_BRIGHTNESS`.
     fn brightness(&self, scene: &Scene) -> Result<()> {
         let max = |v: DVec3| v.max_element();
-        // A textured colour is at most its texture's brightest.
-        let brightest = |colour: DVec3, texture: Option<u32>| match texture {
-            Some(t) => max(scene.textures[t as usize].brightest()),
-            None => max(colour),
-        };
-        let (ka, kd, ks) = scene
-            .materials
-            .iter()
-            .fold((0.0f64, 0.0f64, 0.0f64), |m, mat| {
-                (
-                    m.0.max(brightest(mat.ambient, mat.ambient_texture)),
-                    m.1.max(brightest(mat.diffuse, mat.texture)),
-                    m.2.max(max(mat.specular)),
-                )
-            });
-        let per_light: Vec<f64> = scene
-            .lights
-            .iter()
-            .map(|l| {
-                let c = if l.kind == LightKind::Directional {
-                    1.0
-                } else {
-                    l.attenuation.x
-                };
-                (max(l.ambient) * ka + max(l.diffuse) * kd + max(l.specular) * ks) / c
-            })
-            .collect();
-        let bounce = per_light.iter().sum::<f64>().max(max(scene.background));
-        // The path weights of one depth sum to at most g^(depth - 1), where
-        // g is the largest reflectivity + transmittance (a ray spawns both,
-        // or one with their sum under total internal reflection).
-        let g = scene
-            .materials
-            .iter()
-            .map(|m| m.reflectivity + m.transmittance)
-            .fold(1.0f64, f64::max);
-        let bound = bounce * (0..scene.max_depth).map(|d| g.powi(d as i32)).sum::<f64>();
+        let per_light = scene.light_peaks();
+        let bound = scene.brightest_pixel();
         if bound.is_finite() && bound <= MAX_BRIGHTNESS {
             return Ok(());
         }

@@ -180,7 +180,7 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
     for (path, scene) in paths.iter().zip(&scenes) {
         let name = scene_name(path);
         bar.set_message(format!("{name}: the CPU f64 reference"));
-        let reference = reference(scene, a.device.accel);
+        let reference = reference(scene, a.device.accel)?;
         let mut cells = Vec::new();
         for (d, load_repro) in drivers.iter().zip(&load_repro) {
             bar.set_message(format!("{name} on {}", d.name));
@@ -402,7 +402,7 @@ impl Run<'_> {
         let mut size = first_size;
         while let Some(smaller) = size.smaller(scene).filter(|_| !self.args.no_shrink) {
             let small = Scene::load(path, &smaller.overrides())?;
-            let small_ref = self::reference(&small, self.args.device.accel);
+            let small_ref = self::reference(&small, self.args.device.accel)?;
             let tag = format!(
                 "{}x{}x{}",
                 smaller.width,
@@ -427,7 +427,7 @@ impl Run<'_> {
                 let Ok(small) = Scene::load(candidate, &size.overrides()) else {
                     return Ok(false);
                 };
-                let small_ref = self::reference(&small, self.args.device.accel);
+                let small_ref = self::reference(&small, self.args.device.accel)?;
                 let tag = format!("objects-{run}");
                 let (v, img, err) = self.scene(d, candidate, &small, &small_ref, &tag, size)?;
                 let same = v.word() == first.word();
@@ -480,8 +480,8 @@ impl Run<'_> {
 }
 
 /// The CPU f64 reference of `scene`.
-fn reference(scene: &Scene, accel: glint::accel::Accel) -> Image {
-    cpu::Prepared::<f64>::new(scene, accel).render(&|_| {})
+fn reference(scene: &Scene, accel: glint::accel::Accel) -> anyhow::Result<Image> {
+    Ok(cpu::reference(scene, accel)?)
 }
 
 /// The scene's name, safe for a folder.

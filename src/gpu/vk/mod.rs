@@ -1,6 +1,7 @@
 //! The Vulkan layer: one file per concept, thin RAII structs whose raw
 //! handles stay visible. Each frees its handles in reverse creation order.
 
+pub mod bounded;
 pub mod buffer;
 pub mod command;
 pub mod descriptor;
