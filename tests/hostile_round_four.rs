@@ -329,3 +329,39 @@ fn a_driver_manifest_or_library_that_is_a_fifo_ends_in_one_line() {
     });
     assert!(!out.exists());
 }
+
+/// Defect 13: a million identical faces (20 MB, within the triangles'
+/// allowance) make a tree that cannot separate them, so every ray tests
+/// them all. The CPU's bound counted rays alone, and 1024x768 (hours) was
+/// accepted; it now counts each ray at what it costs through the tree that
+/// was built, and refuses the render in one line, at once.
+#[test]
+fn a_tree_that_cannot_separate_its_faces_bounds_the_cpu_by_its_cost() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut obj = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    obj.push_str(&"f 1 2 3            \n".repeat(1_000_000));
+    std::fs::write(dir.path().join("same.obj"), obj).unwrap();
+    let scene = dir.path().join("same.toml");
+    std::fs::write(
+        &scene,
+        "[image]\nwidth = 1024\nheight = 768\n[render]\nmax_depth = 3\n\
+         [camera]\neye = [0.3, 0.3, 3]\nlook_at = [0.3, 0.3, 0]\nvfov = 40\n[materials.m]\n\
+         [[meshes]]\nfile = \"same.obj\"\nmaterial = \"m\"\n\
+         [[lights]]\ntype = \"point\"\nposition = [0, 0, 5]\ndiffuse = [1, 1, 1]\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out.png");
+    let o = glint(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--backend",
+        "cpu",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_refused(
+        &o,
+        "node visits and tests through its tree of 1000000 primitives",
+    );
+    assert!(!out.exists());
+}

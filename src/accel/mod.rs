@@ -6,6 +6,7 @@
 //! scene file, whatever order a walk meets them in.
 
 pub(crate) mod bvh;
+mod cost;
 pub(crate) mod quantize;
 pub(crate) mod tables;
 

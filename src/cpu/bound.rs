@@ -4,13 +4,25 @@
 //! double at every level of `max_depth`: 15 nested glass shells at depth
 //! 64 are a valid scene of about 10^19 rays a pixel. The GPU stops such a
 //! render at its watchdog; the CPU has none, so it refuses it up front.
+//!
+//! A ray's cost is bounded too, by the tree the scene's primitives make
+//! (issue 41, defect 13): a million identical faces cannot be split, and
+//! every ray tests them all.
 
+use crate::accel;
 use crate::scene::Scene;
 
 /// The most rays (eye, reflection, refraction and shadow) a CPU render may
 /// cast in the worst case: at the 10^7 rays a second of 2 cores, about a
 /// day.
 pub const MAX_RAYS: f64 = 1e12;
+
+/// The most ray–primitive tests and node visits a CPU render may make in
+/// the worst case: 2 cores make about 3·10^7 a second here (the SPD's
+/// balls, 9 a ray), so about 9 hours. A good tree costs 10–60 a ray, so
+/// this bound meets only scenes already near `MAX_RAYS` or trees that
+/// cannot separate their primitives.
+pub const MAX_TESTS: f64 = 1e12;
 
 /// A scene whose worst case is past `MAX_RAYS`.
 #[derive(Debug, thiserror::Error)]
@@ -30,6 +42,36 @@ pub struct TooManyRays {
     pub why: &'static str,
     /// What else would avoid the split.
     pub instead: &'static str,
+}
+
+/// A scene whose worst case costs more than `MAX_TESTS` through its tree.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "this scene can cost up to {tests:.1e} tests on the CPU ({rays:.1e} rays, each {per_ray:.3e} \
+     node visits and tests through its tree of {primitives} primitives), past its bound of \
+     {MAX_TESTS:.0e}: its primitives overlap so that no tree separates them; render fewer \
+     pixels or samples (--width, --height, --samples), a smaller max_depth, or on the GPU"
+)]
+pub struct TooManyTests {
+    /// The worst case.
+    pub tests: f64,
+    /// Its rays (`worst_case_rays`).
+    pub rays: f64,
+    /// What a ray costs through the tree (`Bvh::ray_cost`).
+    pub per_ray: f64,
+    /// The bounded primitives in the tree.
+    pub primitives: usize,
+}
+
+/// Why the CPU refuses a scene up front.
+#[derive(Debug, thiserror::Error)]
+pub enum Refused {
+    /// Its rays.
+    #[error(transparent)]
+    Rays(#[from] TooManyRays),
+    /// Its rays' cost through its tree.
+    #[error(transparent)]
+    Tests(#[from] TooManyTests),
 }
 
 /// Whether a ray can split in two at a bounce of `scene`: where a material
@@ -65,9 +107,41 @@ fn rays_at_depth(scene: &Scene, depth: u32) -> f64 {
     eye * per_eye_ray * (1.0 + scene.lights.len() as f64)
 }
 
-/// Fails where `scene`'s worst case is past `MAX_RAYS`, naming the depth
-/// that would fit.
-pub fn check(scene: &Scene) -> Result<(), TooManyRays> {
+/// Fails where `scene`'s worst case is past `MAX_RAYS` (naming the depth
+/// that would fit), or its rays through its tree past `MAX_TESTS`.
+pub fn check(scene: &Scene) -> Result<(), Refused> {
+    check_rays(scene)?;
+    check_tests(scene)?;
+    Ok(())
+}
+
+/// Fails where the worst case's rays, each at what a ray costs through
+/// the scene's tree, pass `MAX_TESTS`. The tree is built only where a
+/// ray testing every primitive could pass it.
+fn check_tests(scene: &Scene) -> Result<(), TooManyTests> {
+    let rays = worst_case_rays(scene);
+    let bounded = scene.prims.bounded_count();
+    let unbounded = (scene.prims.len() - bounded) as f64;
+    // A tree has fewer nodes than primitives: a ray can visit them all
+    // and test every primitive, and no more.
+    if rays * (2.0 * bounded as f64 + unbounded) <= MAX_TESTS || bounded == 0 {
+        return Ok(());
+    }
+    let tree = accel::relative_bvh(&scene.prims, scene.camera.eye);
+    let per_ray = tree.ray_cost() + unbounded;
+    let tests = rays * per_ray;
+    if tests <= MAX_TESTS {
+        return Ok(());
+    }
+    Err(TooManyTests {
+        tests,
+        rays,
+        per_ray,
+        primitives: bounded,
+    })
+}
+
+fn check_rays(scene: &Scene) -> Result<(), TooManyRays> {
     let rays = worst_case_rays(scene);
     if rays <= MAX_RAYS {
         return Ok(());

@@ -245,6 +245,9 @@ pub struct Uploads<'a> {
     pub bvh_stack: usize,
     /// Seconds spent building the BVH.
     pub bvh_s: f64,
+    /// What a ray costs through the BVH (`Bvh::ray_cost`), where the scene
+    /// has one: the watchdog's measure of the tree that was built.
+    pub ray_cost: Option<f64>,
     /// The light buffers and the eye's tiles (`accel::tables`), where the
     /// scene reads them.
     pub tables: Option<Array<'a>>,
@@ -368,6 +371,7 @@ impl<'a> Uploads<'a> {
             texels,
             uvs,
             bvh_stack: bvh.as_ref().map_or(0, |b| b.stack_size()),
+            ray_cost: bvh.as_ref().map(|b| b.ray_cost()),
             // Written from the BVH's own nodes, which the array keeps.
             nodes: bvh.map(|b| {
                 let packed = b.packed;

@@ -132,7 +132,7 @@ impl Prepared {
             &variant,
             &up,
         )?;
-        let work = Work::of(traced);
+        let work = Work::of(traced).through(up.ray_cost);
         let tile = work.tile_size(&variant, info.max_storage_buffer_range);
         let main = Stage::new(shared, pipeline, variant, &blocks, tile, None)?;
         let upload_s = layout_s + t1.elapsed().as_secs_f64();

@@ -36,6 +36,9 @@ pub(crate) struct Work {
     lights: usize,
     objects: usize,
     unbounded: usize,
+    /// Node visits and tests a ray makes through the built BVH
+    /// (`Bvh::ray_cost`), where it is known.
+    tree: Option<f64>,
 }
 
 impl Work {
@@ -48,12 +51,24 @@ impl Work {
             lights: scene.lights.len(),
             objects: scene.prims.len(),
             unbounded: scene.prims.len() - scene.prims.bounded_count(),
+            tree: None,
+        }
+    }
+
+    /// The same work, traced through a tree of `ray_cost` (the BVH that was
+    /// built, where there is one).
+    pub fn through(self, ray_cost: Option<f64>) -> Self {
+        Self {
+            tree: ray_cost,
+            ..self
         }
     }
 
     /// The longest wait for a tile of `pixels`: its rays (samples, bounces,
     /// a shadow ray a light) times the tests a ray makes (every object, or
-    /// about 64 node visits and 8 a doubling of the spheres through a BVH).
+    /// about 64 node visits and 8 a doubling of the spheres through a BVH,
+    /// or what the built tree costs where that is more: a tree of a million
+    /// identical faces costs a million).
     pub fn timeout(&self, pixels: u64, bvh: bool) -> Duration {
         let rays = pixels as f64
             * f64::from(self.samples * self.samples)
@@ -62,7 +77,8 @@ impl Work {
         let objects = self.objects.max(1) as f64;
         let per_ray = if bvh {
             // A walk visits at most every node (2 a primitive) and tests every one.
-            (64.0 + 8.0 * objects.log2()).min(3.0 * objects) + self.unbounded as f64
+            let good = (64.0 + 8.0 * objects.log2()).min(3.0 * objects);
+            good.max(self.tree.unwrap_or(0.0)) + self.unbounded as f64
         } else {
             objects
         };
@@ -102,4 +118,36 @@ impl Work {
 /// BVH where `bvh` (`Work::timeout`).
 pub fn tile_timeout(scene: &Scene, pixels: u64, bvh: bool) -> Duration {
     Work::of(scene).timeout(pixels, bvh)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 41, defect 13: a tile of a tree that costs a million a ray
+    /// (identical faces) waits for that cost, not for a good tree's.
+    #[test]
+    fn the_watchdog_waits_for_the_tree_that_was_built() {
+        let work = Work {
+            width: 64,
+            height: 48,
+            samples: 1,
+            max_depth: 3,
+            lights: 1,
+            objects: 1_000_000,
+            unbounded: 0,
+            tree: None,
+        };
+        let pixels = 64 * 48;
+        let rays = pixels as f64 * 3.0 * 2.0;
+        let good = work.timeout(pixels, true);
+        assert_eq!(good, MIN_TIMEOUT);
+        let bad = work.through(Some(1.1e6)).timeout(pixels, true);
+        assert!(
+            bad.as_secs_f64() >= rays * 1.1e6 / SLOWEST_TESTS_PER_S,
+            "{bad:?}"
+        );
+        // A good tree keeps its wait.
+        assert_eq!(work.through(Some(30.0)).timeout(pixels, true), good);
+    }
 }
