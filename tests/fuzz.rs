@@ -3,9 +3,12 @@
 //! textures) and shader sources. Every input must give a value or an error,
 //! never a panic; a scene that parses must render on the CPU to finite
 //! pixels, with the same image through the BVH as without it. The corpus
-//! below holds the hostile cases of issue 10 as fixed seeds. Each property
-//! runs 256 cases from a fixed seed (see `config`), well under a second in
-//! all.
+//! below holds the hostile cases of issue 10 as fixed seeds. Issue 41 added
+//! the command line's streams and outputs (stdout and stderr full, closed
+//! or read; images and statistics into /dev/stdout and /dev/stderr),
+//! polygon fans, deep and large shader sources, and swapped tiles. Each
+//! property runs 256 cases from a fixed seed (see `config`; 24 or 8 where a
+//! case is a process or a compile), a few seconds in all.
 
 use std::path::Path;
 
@@ -364,6 +367,204 @@ proptest! {
         };
         if let Err(e) = compile(&sources, &[]) {
             prop_assert!(!e.to_string().is_empty());
+        }
+    }
+}
+
+// Issue 41's surfaces: printing into streams that refuse it, outputs that
+// are descriptors, polygon fans, deep and large shader sources, and tiles
+// whose images were swapped.
+
+/// A stdout or stderr of one of three kinds: a pipe read to its end,
+/// /dev/full, or a pipe whose reader is gone.
+fn stream(kind: usize) -> std::process::Stdio {
+    use std::os::fd::{FromRawFd, OwnedFd};
+    match kind {
+        0 => std::process::Stdio::piped(),
+        1 => std::fs::File::options()
+            .write(true)
+            .open("/dev/full")
+            .unwrap()
+            .into(),
+        _ => {
+            let mut fds = [0i32; 2];
+            // SAFETY: pipe() fills both descriptors, each owned once below.
+            assert_eq!(unsafe { libc::pipe(fds.as_mut_ptr()) }, 0);
+            // SAFETY: both are open and owned by nothing else.
+            let (r, w) = unsafe { (OwnedFd::from_raw_fd(fds[0]), OwnedFd::from_raw_fd(fds[1])) };
+            drop(r);
+            w.into()
+        }
+    }
+}
+
+/// An OBJ of four corners whose one face fans over `corners` of them
+/// (`f 1 2 3 4 2 3 4 …`, a triangle for every 2 bytes), `pad` bytes of
+/// comment after it.
+fn fan(corners: usize, pad: usize) -> String {
+    let mut face = String::from("f 1");
+    for i in 1..corners {
+        face.push_str([" 2", " 3", " 4"][i % 3]);
+    }
+    format!(
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n{face}\n#{}\n",
+        "x".repeat(pad)
+    )
+}
+
+proptest! {
+    // A process or a load of megabytes a case: few cases.
+    #![proptest_config(ProptestConfig { cases: 24, ..config() })]
+
+    /// Any command of these, its stdout and stderr full, closed or read,
+    /// its outputs files or the open stdout and stderr: status 0, 2 or
+    /// 141 (a closed pipe), never a panic or an abort.
+    #[test]
+    fn any_stream_and_any_output_ends_in_a_known_status(
+        command in 0usize..4,
+        out in 0usize..3,
+        err in 0usize..2,
+        image_to in 0usize..3,
+        stats_to in 0usize..4,
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let scene = repo.join("scenes/seed-fig3.toml").display().to_string();
+        let png = repo.join("docs/img/seed-fig5.png").display().to_string();
+        let file = |name: &str| dir.path().join(name).display().to_string();
+        let to = |k: usize, name: &str| match k {
+            0 => "/dev/stdout".to_owned(),
+            1 => "/dev/stderr".to_owned(),
+            _ => file(name),
+        };
+        let mut args: Vec<String> = match command {
+            0 | 1 => ["render", &scene, "--backend", "cpu", "--width", "8", "--height", "6", "-o"]
+                .iter().map(|s| s.to_string()).chain([to(image_to, "x.png")]).collect(),
+            2 => vec!["diff".into(), png.clone(), png.clone()],
+            _ => vec!["--version".into()],
+        };
+        if command == 1 && stats_to < 3 {
+            args.extend(["--stats".to_owned(), to(stats_to, "s.json")]);
+        }
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_glint"))
+            .args(&args)
+            .stdin(std::process::Stdio::null())
+            .stdout(stream(out))
+            .stderr(stream(err))
+            .output()
+            .unwrap();
+        let code = o.status.code();
+        prop_assert!(matches!(code, Some(0 | 2 | 141)), "{args:?} out {out} err {err}: {:?}", o.status);
+        let text = String::from_utf8_lossy(&o.stderr);
+        prop_assert!(!text.contains("panicked") && !text.contains("RUST_BACKTRACE"), "{text}");
+    }
+
+    /// A polygon fan of any length, padded or not: within the file's
+    /// allowance of triangles (65,536 and one per 20 bytes past them) or
+    /// refused naming the face (issue 41, defect 11).
+    #[test]
+    fn a_polygon_fan_is_within_the_allowance_or_refused(
+        corners in 3usize..400_000,
+        pad in 0usize..4_000_000,
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        let obj = fan(corners, pad);
+        std::fs::write(dir.path().join("m.obj"), &obj).unwrap();
+        let text = "[image]\nwidth = 4\nheight = 4\n[camera]\neye = [0, 0, 4]\n\
+            look_at = [0, 0, 0]\nvfov = 45\n[materials.m]\n[[meshes]]\nfile = \"m.obj\"\n\
+            material = \"m\"\n";
+        match parse(text, &dir.path().join("s.toml"), &Overrides::default()) {
+            Ok(scene) => {
+                let made = scene.prims.bounded_count();
+                prop_assert!(made <= 65_536 + obj.len() / 20, "{made} triangles from {} bytes", obj.len());
+            }
+            Err(e) => prop_assert!(e.to_string().contains("m.obj:5: this face brings the file to"), "{e}"),
+        }
+    }
+
+    /// Band tiles of one size, their images in any order under their
+    /// names: assembled only where each is its own, else refused naming
+    /// the tile (issue 41, defect 2).
+    #[test]
+    fn swapped_tiles_assemble_only_in_their_own_places(order in Just([0usize, 1, 2]).prop_shuffle()) {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let scene = repo.join("scenes/seed-fig3.toml").display().to_string();
+        let glint = |args: &[&str]| {
+            std::process::Command::new(env!("CARGO_BIN_EXE_glint"))
+                .args(args)
+                .current_dir(d)
+                .output()
+                .unwrap()
+        };
+        for k in 0..3 {
+            let (tile, out) = (format!("{k}/3"), format!("t{k}.pfm"));
+            let o = glint(&["render", &scene, "--backend", "cpu", "--width", "16", "--height", "24", "--tile", &tile, "-o", &out]);
+            prop_assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        }
+        for k in 0..3 {
+            std::fs::rename(d.join(format!("t{k}.pfm")), d.join(format!("s{k}.pfm"))).unwrap();
+        }
+        for (k, from) in order.iter().enumerate() {
+            std::fs::rename(d.join(format!("s{from}.pfm")), d.join(format!("t{k}.pfm"))).unwrap();
+        }
+        let o = glint(&["assemble", "t0.pfm", "t1.pfm", "t2.pfm", "-o", "all.pfm"]);
+        if order == [0, 1, 2] {
+            prop_assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        } else {
+            let err = String::from_utf8_lossy(&o.stderr);
+            prop_assert_eq!(o.status.code(), Some(2));
+            prop_assert!(err.contains("its pixels are not the ones"), "{}", err);
+            prop_assert!(!d.join("all.pfm").exists());
+        }
+    }
+}
+
+#[cfg(feature = "gpu")]
+proptest! {
+    // A compile of up to half a megabyte: few cases.
+    #![proptest_config(ProptestConfig { cases: 8, ..config() })]
+
+    /// An include of one expression, a flat sum of any length or
+    /// parentheses nested any depth, and a macro that repeats it: compiled,
+    /// or refused in one error past the 512 KiB bound; never a crash of
+    /// glslang's stack (issue 41, defects 9 and 10).
+    #[test]
+    fn deep_and_large_shader_sources_compile_or_are_refused(
+        terms in 1usize..60_000,
+        nested in any::<bool>(),
+        repeats in prop_oneof![Just(1usize), 1usize..64],
+    ) {
+        use glint::gpu::compile::{compile, Sources};
+        let dir = tempfile::tempdir().unwrap();
+        let expression = if nested {
+            let depth = terms.min(3_000);
+            format!("{}1.0{}", "(1.0 + ".repeat(depth), ")".repeat(depth))
+        } else {
+            vec!["1.0"; terms].join(" + ")
+        };
+        let body = format!(
+            "#define BIG ({expression})\nfloat big() {{ return {}; }}\n",
+            vec!["BIG"; repeats].join(" + ")
+        );
+        std::fs::write(dir.path().join("big.glsl"), body).unwrap();
+        let main = dir.path().join("main.comp");
+        std::fs::write(
+            &main,
+            "#version 450\n#extension GL_GOOGLE_include_directive : require\n\
+             layout(local_size_x = 1) in;\nlayout(std430, binding = 0) buffer B { float v[]; };\n\
+             #include \"big.glsl\"\nvoid main() { v[0] = big(); }\n",
+        )
+        .unwrap();
+        let sources = Sources {
+            dirs: vec![dir.path().to_owned()],
+            main: Some(main),
+            ..Sources::default()
+        };
+        if let Err(e) = compile(&sources, &[]) {
+            let text = e.to_string();
+            prop_assert!(text.contains("past the bound of 512 KiB"), "{text}");
         }
     }
 }

@@ -123,21 +123,6 @@ pub fn plot_sampling(r: &Report) -> String {
     )
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Issue 41: five scenes shared four shapes (seed-fig3 and
-    /// whitted-1980 were both circles); twelve are now told apart.
-    #[test]
-    fn twelve_scenes_have_twelve_markers() {
-        let shapes: std::collections::HashSet<String> = (0..12)
-            .map(|i| marker(i, 10.0, 10.0, "#123456", "t"))
-            .collect();
-        assert_eq!(shapes.len(), 12);
-    }
-}
-
 fn plot_of(
     r: &Report,
     pick: impl Fn(&super::SceneReport) -> &[Measurement],
@@ -258,4 +243,19 @@ fn plot_of(
     let _ = writeln!(s, "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"9\" fill=\"none\" stroke=\"#444\"/><text x=\"{:.1}\" y=\"{:.1}\">Pareto front (dashed)</text>", lx + 6.0, ly + 6.0, lx + 18.0, ly + 10.0);
     s.push_str("</svg>\n");
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 41: five scenes shared four shapes (seed-fig3 and
+    /// whitted-1980 were both circles); twelve are now told apart.
+    #[test]
+    fn twelve_scenes_have_twelve_markers() {
+        let shapes: std::collections::HashSet<String> = (0..12)
+            .map(|i| marker(i, 10.0, 10.0, "#123456", "t"))
+            .collect();
+        assert_eq!(shapes.len(), 12);
+    }
 }
