@@ -73,7 +73,12 @@ pub fn ill_conditioned(
         let moved = if trial == TRIALS {
             cpu::render_rows::<f32>(scene, accel, progress)
         } else {
-            cpu::render_moved(&perturbed(scene, trial), accel, hit_seed(trial), progress)
+            cpu::render_moved(
+                &perturbed(scene, trial),
+                accel,
+                (hit_seed(trial), MOVE),
+                progress,
+            )
         };
         let errors = pixel_errors(&moved, reference).expect("the same size");
         for (flag, e) in ill.iter_mut().zip(errors) {

@@ -48,7 +48,7 @@ pub fn evaluate(renderer: &mut Renderer, scene: &Scene) -> Result<SceneRows, Gpu
         images.push((variant, rendered.image));
     }
     let cpu32 = cpu::render::<f32>(scene);
-    cpu::within::check(scene, &cpu32, "f32")?;
+    scene.within(&cpu32, "f32")?;
     images.push(("cpu f32", cpu32));
     let tolerance = Tolerance::default();
     let rows = images

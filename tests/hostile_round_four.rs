@@ -212,13 +212,13 @@ fn renders_inside_a_giant_sphere_stay_within_the_models_bound() {
 
 /// A CPU render past the bound is an error naming the pixel, never an
 /// image: shown on the check itself, since a render that leaves the bound
-/// is the defect fixed above (`src/cpu/within.rs` has the unit test).
+/// is the defect fixed above (`src/scene/brightness.rs` has the unit test).
 #[test]
 fn a_pixel_past_the_bound_is_an_error_naming_it() {
     let scene = mirror_in_a_dome(0);
     let mut image = glint::cpu::render::<f64>(&scene);
     image.pixels[5 * 32 + 7] = [1e22, 0.0, 0.0];
-    let e = glint::cpu::within::check(&scene, &image, "f64").unwrap_err();
+    let e = scene.within(&image, "f64").unwrap_err();
     assert_eq!((e.x, e.y), (7, 5));
     assert!(
         e.to_string()

@@ -230,7 +230,7 @@ fn render_tile(
             };
             bar.finish_and_clear();
             let name = precision.name();
-            cpu::within::check(scene, &image, name)?;
+            scene.within(&image, name)?;
             let sidecar = tile::sidecar(&a.scene.scene, scene, name, None, region, tile, &image);
             (image, format!("CPU {name}"), sidecar)
         }
@@ -324,7 +324,7 @@ pub fn render_cpu_timed(
     let render_s = start.elapsed().as_secs_f64() - setup_s;
     bar.finish_and_clear();
     let threads = rayon::current_num_threads();
-    cpu::within::check(scene, &image, precision.name())?;
+    scene.within(&image, precision.name())?;
     Ok(CpuRender {
         image,
         label: format!("CPU {precision:?} on {threads} threads").replace("F", "f"),

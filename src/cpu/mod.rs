@@ -9,7 +9,6 @@ pub(crate) mod ray;
 pub(crate) mod shade;
 pub(crate) mod texture;
 pub(crate) mod trace;
-pub mod within;
 pub(crate) mod world;
 
 use rayon::prelude::*;
@@ -17,7 +16,7 @@ use rayon::prelude::*;
 use crate::accel::Accel;
 use crate::raster::region::Region;
 use crate::raster::Image;
-use crate::scene::Scene;
+use crate::scene::{PastBound, Scene};
 
 pub use crate::base::real::Real;
 use crate::stats::{Counts, Tally};
@@ -35,17 +34,18 @@ pub fn render_rows<R: Real>(scene: &Scene, accel: Accel, progress: &(dyn Fn(u64)
     render_world(&World::<R>::new(scene, accel), progress)
 }
 
-/// The conditioning check's trial ([`crate::condition`]): `scene` in f64
-/// with every hit point moved by [`crate::condition::MOVE`] of its size,
-/// each its own way, as f32 rounds it (`World::hit_move`).
+/// The conditioning check's trial (`glint::condition`): `scene` in f64
+/// with every hit point and the direction of every ray that leaves a
+/// surface moved by `share` of its size, each its own way, as f32 rounds
+/// them (`World::hit_move`).
 pub(crate) fn render_moved(
     scene: &Scene,
     accel: Accel,
-    seed: u64,
+    (seed, share): (u64, f64),
     progress: &(dyn Fn(u64) + Sync),
 ) -> Image {
     let mut world = World::<f64>::new(scene, accel);
-    world.hit_move = Some((seed, crate::condition::MOVE));
+    world.hit_move = Some((seed, share));
     render_world(&world, progress)
 }
 
@@ -61,10 +61,10 @@ pub fn render_region<R: Real>(
 }
 
 /// The f64 reference of `scene`, the oracle the other renders are measured
-/// against: refused where a pixel leaves the model's bound ([`within`]).
-pub fn reference(scene: &Scene, accel: Accel) -> Result<Image, within::PastBound> {
+/// against: refused where a pixel leaves the model's bound ([`Scene::within`]).
+pub fn reference(scene: &Scene, accel: Accel) -> Result<Image, PastBound> {
     let image = render_rows::<f64>(scene, accel, &|_| {});
-    within::check(scene, &image, "f64")?;
+    scene.within(&image, "f64")?;
     Ok(image)
 }
 

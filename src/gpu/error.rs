@@ -98,7 +98,7 @@ pub enum GpuError {
     /// The CPU reference that a GPU render is measured against left the
     /// model's bound (`report`, `stability`): no figure is made of it.
     #[error(transparent)]
-    Reference(#[from] crate::cpu::within::PastBound),
+    Reference(#[from] crate::scene::PastBound),
 }
 
 /// A Vulkan result code, by its name and number, so that no type of the

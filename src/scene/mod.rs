@@ -23,6 +23,7 @@ use crate::base::real::{Real, Vec3};
 
 pub use crate::input::error::SceneError;
 pub use crate::input::field::{Triple, MAX_COORDINATE};
+pub use brightness::PastBound;
 pub use file::Sampling;
 pub use validate::{parse, parse_nff, Overrides};
 
