@@ -62,7 +62,7 @@ pub mod bench;
 pub mod condition;
 pub mod cpu;
 pub mod files;
-pub(crate) mod fnv;
+pub mod fnv;
 #[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod input;

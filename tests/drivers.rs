@@ -281,3 +281,69 @@ fn a_users_repro_folder_is_left_alone() {
     common::assert_user_error(&o, "is not one `glint drivers` wrote");
     assert!(out.join("repro/mine.txt").is_file());
 }
+
+/// Issue 42, defect 15: `--icd` naming a directory, a FIFO, a loop of
+/// links or nothing says which, in one line, before any driver runs.
+#[test]
+fn an_icd_that_is_not_a_manifest_is_named_for_what_it_is() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let fifo = d.join("fifo.json");
+    let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    // SAFETY: a NUL-terminated path for the call.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+    std::os::unix::fs::symlink(d.join("b.json"), d.join("a.json")).unwrap();
+    std::os::unix::fs::symlink(d.join("a.json"), d.join("b.json")).unwrap();
+    std::fs::create_dir(d.join("folder.json")).unwrap();
+    for (name, says) in [
+        ("folder.json", "is a directory, not a regular file"),
+        ("fifo.json", "is a FIFO, not a regular file"),
+        ("a.json", "symbolic links"),
+        ("missing.json", "No such file"),
+    ] {
+        let o = drivers(
+            &["scenes/seed-fig3.toml", "--quick"],
+            &[&d.join(name)],
+            &d.join("out"),
+            &[],
+        );
+        common::assert_user_error(&o, says);
+        assert!(!d.join("out").exists(), "{name}");
+    }
+}
+
+/// Issue 42, defect 3: two scenes of one stem (a/s.toml, b/s.toml) are two
+/// rows, each named by its path.
+#[test]
+fn two_scenes_of_one_name_are_two_rows() {
+    let Some(new) = current_lavapipe() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for sub in ["a", "b"] {
+        std::fs::create_dir(d.join(sub)).unwrap();
+        std::fs::copy(
+            common::repo().join("scenes/seed-fig3.toml"),
+            d.join(sub).join("s.toml"),
+        )
+        .unwrap();
+    }
+    let (a, b) = (d.join("a/s.toml"), d.join("b/s.toml"));
+    let out = d.join("m");
+    let o = drivers(
+        &[a.to_str().unwrap(), b.to_str().unwrap(), "--quick"],
+        &[&new],
+        &out,
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let m = matrix(&out);
+    let rows: Vec<&str> = m["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["scene"].as_str().unwrap())
+        .collect();
+    assert_eq!(rows, [a.to_str().unwrap(), b.to_str().unwrap()]);
+}

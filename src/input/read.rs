@@ -25,6 +25,9 @@ pub enum Kind {
     Mesh,
     /// A tile's sidecar: 1 MiB.
     Sidecar,
+    /// A Vulkan driver's manifest (an ICD's JSON file): 1 MiB (Mesa's
+    /// are under 200 bytes).
+    Manifest,
     /// A shader source (`--shader`, a file in an `-I` folder): 16 MiB
     /// (glint's own together are 0.2 MB).
     Shader,
@@ -41,7 +44,7 @@ impl Kind {
     pub const fn limit(self) -> u64 {
         match self {
             Kind::Scene | Kind::Mesh => 256 << 20,
-            Kind::Sidecar => 1 << 20,
+            Kind::Sidecar | Kind::Manifest => 1 << 20,
             Kind::Shader => 16 << 20,
             Kind::Pfm => MAX_PIXELS * 12 + 4096,
             Kind::Image => u64::MAX >> 1,
@@ -53,6 +56,7 @@ impl Kind {
             Kind::Scene => "a scene file",
             Kind::Mesh => "a mesh file",
             Kind::Sidecar => "a sidecar",
+            Kind::Manifest => "a driver manifest",
             Kind::Shader => "a shader file",
             Kind::Pfm | Kind::Image => "an image",
         }

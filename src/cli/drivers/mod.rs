@@ -92,12 +92,11 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
         deadline.is_finite() && deadline > 0.0 && deadline <= 1e6,
         "--deadline {deadline:?}: must be in (0, 1e6] seconds"
     );
+    // What the path is, where it is not a manifest (issue 42, defect 15:
+    // a directory, a FIFO and a loop of links were all "no such file").
     for f in &a.icd {
-        anyhow::ensure!(
-            f.is_file(),
-            "--icd {}: no such file",
-            glint::printable::path(f)
-        );
+        glint::input::check(f, glint::input::Kind::Manifest)
+            .map_err(|e| anyhow::anyhow!("--icd {}: {e}", glint::printable::path(f)))?;
     }
     let size = Overrides {
         width: Some(a.width.unwrap_or(if a.quick { 64 } else { 160 })),
@@ -164,7 +163,7 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
     for d in &drivers {
         load_repro.push(match &d.identity {
             Err(v) if v.is_failure() => {
-                let dir = repro_root.join(slug(&d.name)).join("load");
+                let dir = repro_root.join(folder(&d.name, &d.icd)).join("load");
                 let stderr = run
                     .work
                     .join(format!("identify-{}", d.index))
@@ -177,8 +176,8 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
     }
     let bar = progress::bar((scenes.len() * drivers.len()) as u64, "drivers");
     let mut rows = Vec::new();
-    for (path, scene) in paths.iter().zip(&scenes) {
-        let name = scene_name(path);
+    let names = row_names(&paths);
+    for ((path, scene), name) in paths.iter().zip(&scenes).zip(names) {
         bar.set_message(format!("{name}: the CPU f64 reference"));
         let reference = reference(scene, a.device.accel)?;
         let mut cells = Vec::new();
@@ -193,7 +192,9 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
                     let (verdict, image, stderr) =
                         run.scene(d, path, scene, &reference, "run", Size::of(scene))?;
                     let repro = if verdict.is_failure() {
-                        let dir = repro_root.join(slug(&d.name)).join(&name);
+                        let dir = repro_root
+                            .join(folder(&d.name, &d.icd))
+                            .join(folder(&scene_name(path), path));
                         bar.set_message(format!("{name} on {}: reproducer", d.name));
                         run.reproducer(
                             d, identity, path, scene, &verdict, image, &reference, stderr, &dir,
@@ -359,7 +360,11 @@ impl Run<'_> {
     ) -> anyhow::Result<(Verdict, Option<Image>, PathBuf)> {
         let out = self
             .work
-            .join(format!("{}-{}-{tag}", slug(&d.name), scene_name(path)));
+            .join(format!(
+                "{}-{}-{tag}",
+                folder(&d.name, &d.icd),
+                folder(&scene_name(path), path)
+            ));
         let mut args: Vec<OsString> = vec!["--scene".into(), path.as_os_str().to_owned()];
         for w in size.args() {
             args.push(w.into());
@@ -484,14 +489,42 @@ fn reference(scene: &Scene, accel: glint::accel::Accel) -> anyhow::Result<Image>
     Ok(cpu::reference(scene, accel)?)
 }
 
-/// The scene's name, safe for a folder.
+/// The scene's name: its file's stem.
 fn scene_name(path: &Path) -> String {
-    slug(&super::scene_name(path))
+    super::scene_name(path)
 }
 
-/// A name made safe for a folder: letters, digits, '.', '-' and '_'.
-fn slug(name: &str) -> String {
-    name.chars()
+/// Each scene's row: its stem, or the path as given where two scenes share
+/// a stem (issue 42, defect 3: a/s.toml and b/s.toml were two rows "s").
+fn row_names(paths: &[PathBuf]) -> Vec<String> {
+    let stems: Vec<String> = paths.iter().map(|p| scene_name(p)).collect();
+    paths
+        .iter()
+        .zip(&stems)
+        .map(|(p, stem)| {
+            if stems.iter().filter(|s| *s == stem).count() > 1 {
+                p.display().to_string()
+            } else {
+                stem.clone()
+            }
+        })
+        .collect()
+}
+
+/// The longest readable part of a folder name.
+const FOLDER_NAME: usize = 40;
+
+/// A folder's name for `name`, unique to `key` (the path it came from, as
+/// given): the name's letters, digits, '-', '_' and inner '.', at most
+/// [`FOLDER_NAME`] of them, and 8 hex digits of `key`'s hash. Never "." or
+/// "..", so never outside `repro/` (issue 42, defect 1); two inputs of one
+/// name, or of two names that the letters alone make one, get two folders
+/// (defect 3); and a name of any length makes a short one (defect 13).
+fn folder(name: &str, key: &Path) -> String {
+    use std::hash::Hasher;
+    use std::os::unix::ffi::OsStrExt;
+    let safe: String = name
+        .chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || "._-".contains(c) {
                 c
@@ -499,5 +532,30 @@ fn slug(name: &str) -> String {
                 '-'
             }
         })
-        .collect()
+        .collect();
+    let mut readable: String = safe.trim_matches('.').chars().take(FOLDER_NAME).collect();
+    if readable.is_empty() {
+        readable.push('x');
+    }
+    let mut hash = glint::fnv::Fnv::default();
+    hash.write(key.as_os_str().as_bytes());
+    format!("{readable}-{:08x}", hash.finish() as u32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::folder;
+    use std::path::Path;
+
+    #[test]
+    fn folders_stay_inside_are_short_and_unique_to_their_input() {
+        for name in ["..", ".", "...", "", "a/../..", "/"] {
+            let f = folder(name, Path::new(name));
+            assert!(!f.starts_with('.') && !f.contains('/'), "{name:?}: {f}");
+        }
+        assert_ne!(folder("s", Path::new("a/s.toml")), folder("s", Path::new("b/s.toml")));
+        assert_ne!(folder("x y", Path::new("x y.json")), folder("x-y", Path::new("x-y.json")));
+        let long = "n".repeat(245);
+        assert!(folder(&long, Path::new(&long)).len() <= 49);
+    }
 }

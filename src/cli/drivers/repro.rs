@@ -126,7 +126,7 @@ pub fn write(
     if let Some(stderr) = f.stderr {
         let _ = std::fs::copy(stderr, dir.join("stderr.txt"));
     }
-    let manifest = std::fs::read_to_string(f.icd).unwrap_or_default();
+    let manifest = manifest_text(f.icd);
     let driver = serde_json::json!({
         "icd": f.icd,
         "icd_manifest": manifest,
@@ -150,7 +150,7 @@ pub fn write(
 /// and the command, in `dir`.
 pub fn write_load(icd: &Path, verdict: &Verdict, stderr: &Path, dir: &Path) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let manifest = std::fs::read_to_string(icd).unwrap_or_default();
+    let manifest = manifest_text(icd);
     let driver = serde_json::json!({ "icd": icd, "icd_manifest": manifest });
     std::fs::write(
         dir.join("driver.json"),
@@ -317,4 +317,13 @@ mod tests {
         assert_eq!(quote("it's here"), r"'it'\''s here'");
         assert_eq!(quote(""), "''");
     }
+}
+
+/// A driver's manifest as the reproducer keeps it, read as every input is
+/// (a regular file, at most 1 MiB): a FIFO or a link to /dev/zero among
+/// the loader's folders would block the run or fill its memory (issue 42,
+/// defect 11). What cannot be read is said in its place.
+fn manifest_text(icd: &Path) -> String {
+    glint::input::read_text(icd, glint::input::Kind::Manifest)
+        .unwrap_or_else(|e| format!("(not read: {e})"))
 }
