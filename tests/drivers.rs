@@ -337,7 +337,12 @@ fn two_scenes_of_one_name_are_two_rows() {
         &out,
         &[],
     );
-    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let m = matrix(&out);
     let rows: Vec<&str> = m["rows"]
         .as_array()

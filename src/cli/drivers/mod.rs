@@ -358,13 +358,11 @@ impl Run<'_> {
         tag: &str,
         size: Size,
     ) -> anyhow::Result<(Verdict, Option<Image>, PathBuf)> {
-        let out = self
-            .work
-            .join(format!(
-                "{}-{}-{tag}",
-                folder(&d.name, &d.icd),
-                folder(&scene_name(path), path)
-            ));
+        let out = self.work.join(format!(
+            "{}-{}-{tag}",
+            folder(&d.name, &d.icd),
+            folder(&scene_name(path), path)
+        ));
         let mut args: Vec<OsString> = vec!["--scene".into(), path.as_os_str().to_owned()];
         for w in size.args() {
             args.push(w.into());
@@ -553,8 +551,14 @@ mod tests {
             let f = folder(name, Path::new(name));
             assert!(!f.starts_with('.') && !f.contains('/'), "{name:?}: {f}");
         }
-        assert_ne!(folder("s", Path::new("a/s.toml")), folder("s", Path::new("b/s.toml")));
-        assert_ne!(folder("x y", Path::new("x y.json")), folder("x-y", Path::new("x-y.json")));
+        assert_ne!(
+            folder("s", Path::new("a/s.toml")),
+            folder("s", Path::new("b/s.toml"))
+        );
+        assert_ne!(
+            folder("x y", Path::new("x y.json")),
+            folder("x-y", Path::new("x-y.json"))
+        );
         let long = "n".repeat(245);
         assert!(folder(&long, Path::new(&long)).len() <= 49);
     }
