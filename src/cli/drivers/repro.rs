@@ -283,6 +283,15 @@ fn readme(f: &Failure, command: &str, shader_problem: Option<String>) -> String 
     r
 }
 
+/// A driver's manifest as the reproducer keeps it, read as every input is
+/// (a regular file, at most 1 MiB): a FIFO or a link to /dev/zero among
+/// the loader's folders would block the run or fill its memory (issue 42,
+/// defect 11). What cannot be read is said in its place.
+fn manifest_text(icd: &Path) -> String {
+    glint::input::read_text(icd, glint::input::Kind::Manifest)
+        .unwrap_or_else(|e| format!("(not read: {e})"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -317,13 +326,4 @@ mod tests {
         assert_eq!(quote("it's here"), r"'it'\''s here'");
         assert_eq!(quote(""), "''");
     }
-}
-
-/// A driver's manifest as the reproducer keeps it, read as every input is
-/// (a regular file, at most 1 MiB): a FIFO or a link to /dev/zero among
-/// the loader's folders would block the run or fill its memory (issue 42,
-/// defect 11). What cannot be read is said in its place.
-fn manifest_text(icd: &Path) -> String {
-    glint::input::read_text(icd, glint::input::Kind::Manifest)
-        .unwrap_or_else(|e| format!("(not read: {e})"))
 }
