@@ -352,3 +352,21 @@ fn two_scenes_of_one_name_are_two_rows() {
         .collect();
     assert_eq!(rows, [a.to_str().unwrap(), b.to_str().unwrap()]);
 }
+
+/// Issue 42, defect 6: `--icd X --only`, where X gives no device, tested
+/// nothing and exited 0; it is one error, exit 2, and no table.
+#[test]
+fn a_run_that_can_test_no_driver_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let icd = d.join("nothing.json");
+    std::fs::write(
+        &icd,
+        r#"{"file_format_version": "1.0.0", "ICD": {"library_path": "/nonexistent/libvulkan_none.so", "api_version": "1.2.0"}}"#,
+    )
+    .unwrap();
+    let out = d.join("out");
+    let o = drivers(&["scenes/seed-fig3.toml", "--quick"], &[&icd], &out, &[]);
+    common::assert_user_error(&o, "no driver could be tested");
+    assert!(!out.join("drivers.json").exists());
+}

@@ -157,6 +157,30 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
     let (drivers, absent): (Vec<Driver>, Vec<Driver>) = all
         .into_iter()
         .partition(|d| !matches!(&d.identity, Err(Verdict::Error { .. })));
+    // A run that can test nothing is not a pass (issue 42, defect 6:
+    // `--icd X --only` where X gives no device exited 0 with an empty table).
+    if drivers.is_empty() {
+        let why: Vec<String> = absent
+            .iter()
+            .map(|d| {
+                let detail = d
+                    .identity
+                    .as_ref()
+                    .err()
+                    .map(|v| v.detail())
+                    .unwrap_or_default();
+                format!(
+                    "{}: {}",
+                    glint::printable::path(&d.icd),
+                    glint::printable::text(&detail)
+                )
+            })
+            .collect();
+        anyhow::bail!(
+            "no driver could be tested, so nothing was: {}",
+            why.join("; ")
+        );
+    }
     // A driver that crashed or hung while loading has one reproducer,
     // which each of its cells names.
     let mut load_repro = Vec::new();
