@@ -234,14 +234,7 @@ fn a_crashing_driver_is_a_row() {
         return;
     }
     let icd = dir.path().join("abort_icd.json");
-    std::fs::write(
-        &icd,
-        format!(
-            r#"{{"file_format_version": "1.0.0", "ICD": {{"library_path": "{}", "api_version": "1.3.0"}}}}"#,
-            lib.display()
-        ),
-    )
-    .unwrap();
+    common::write_icd_manifest(&icd, &lib);
     let out = dir.path().join("m");
     let o = drivers(
         &["scenes/seed-fig3.toml", "scenes/seed-fig4.toml", "--quick"],
@@ -288,10 +281,7 @@ fn a_users_repro_folder_is_left_alone() {
 fn an_icd_that_is_not_a_manifest_is_named_for_what_it_is() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let fifo = d.join("fifo.json");
-    let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
-    // SAFETY: a NUL-terminated path for the call.
-    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+    common::make_fifo(&d.join("fifo.json"));
     std::os::unix::fs::symlink(d.join("b.json"), d.join("a.json")).unwrap();
     std::os::unix::fs::symlink(d.join("a.json"), d.join("b.json")).unwrap();
     std::fs::create_dir(d.join("folder.json")).unwrap();
@@ -360,11 +350,7 @@ fn a_run_that_can_test_no_driver_is_an_error() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let icd = d.join("nothing.json");
-    std::fs::write(
-        &icd,
-        r#"{"file_format_version": "1.0.0", "ICD": {"library_path": "/nonexistent/libvulkan_none.so", "api_version": "1.2.0"}}"#,
-    )
-    .unwrap();
+    common::write_icd_manifest(&icd, Path::new("/nonexistent/libvulkan_none.so"));
     let out = d.join("out");
     let o = drivers(&["scenes/seed-fig3.toml", "--quick"], &[&icd], &out, &[]);
     common::assert_user_error(&o, "no driver could be tested");

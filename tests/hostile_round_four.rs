@@ -277,22 +277,13 @@ fn a_driver_manifest_or_library_that_is_a_fifo_ends_in_one_line() {
     let d = dir.path();
     let fifo = |name: &str| {
         let path = d.join(name);
-        let c = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
-        // SAFETY: a NUL-terminated path for the call.
-        assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+        common::make_fifo(&path);
         path
     };
     let manifest_fifo = fifo("fifo.json");
     let library_fifo = fifo("libfifo.so");
     let manifest = d.join("lib-is-fifo.json");
-    std::fs::write(
-        &manifest,
-        format!(
-            r#"{{"file_format_version": "1.0.0", "ICD": {{"library_path": "{}", "api_version": "1.2.0"}}}}"#,
-            library_fifo.display()
-        ),
-    )
-    .unwrap();
+    common::write_icd_manifest(&manifest, &library_fifo);
     let scene = common::repo().join("scenes/seed-fig3.toml");
     let out = d.join("out.png");
     let limit = glint::gpu::OPEN_LIMIT.as_secs();

@@ -110,16 +110,16 @@ fn rays_at_depth(scene: &Scene, depth: u32) -> f64 {
 /// Fails where `scene`'s worst case is past `MAX_RAYS` (naming the depth
 /// that would fit), or its rays through its tree past `MAX_TESTS`.
 pub fn check(scene: &Scene) -> Result<(), Refused> {
-    check_rays(scene)?;
-    check_tests(scene)?;
+    let rays = worst_case_rays(scene);
+    check_rays(scene, rays)?;
+    check_tests(scene, rays)?;
     Ok(())
 }
 
 /// Fails where the worst case's rays, each at what a ray costs through
 /// the scene's tree, pass `MAX_TESTS`. The tree is built only where a
 /// ray testing every primitive could pass it.
-fn check_tests(scene: &Scene) -> Result<(), TooManyTests> {
-    let rays = worst_case_rays(scene);
+fn check_tests(scene: &Scene, rays: f64) -> Result<(), TooManyTests> {
     let bounded = scene.prims.bounded_count();
     let unbounded = (scene.prims.len() - bounded) as f64;
     // A tree has fewer nodes than primitives: a ray can visit them all
@@ -141,8 +141,7 @@ fn check_tests(scene: &Scene) -> Result<(), TooManyTests> {
     })
 }
 
-fn check_rays(scene: &Scene) -> Result<(), TooManyRays> {
-    let rays = worst_case_rays(scene);
+fn check_rays(scene: &Scene, rays: f64) -> Result<(), TooManyRays> {
     if rays <= MAX_RAYS {
         return Ok(());
     }

@@ -306,3 +306,24 @@ pub fn passes(image: &Image, reference: &Image) -> bool {
         .violations(&f)
         .is_empty()
 }
+
+/// Makes a FIFO at `path`.
+pub fn make_fifo(path: &Path) {
+    let c = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+    // SAFETY: a NUL-terminated path for the call.
+    assert_eq!(
+        unsafe { libc::mkfifo(c.as_ptr(), 0o600) },
+        0,
+        "mkfifo {}",
+        path.display()
+    );
+}
+
+/// Writes a Vulkan driver manifest at `path` whose library is `library`.
+pub fn write_icd_manifest(path: &Path, library: &Path) {
+    let manifest = serde_json::json!({
+        "file_format_version": "1.0.0",
+        "ICD": { "library_path": library, "api_version": "1.3.0" },
+    });
+    std::fs::write(path, manifest.to_string()).unwrap();
+}
