@@ -356,3 +356,464 @@ fn a_run_that_can_test_no_driver_is_an_error() {
     common::assert_user_error(&o, "no driver could be tested");
     assert!(!out.join("drivers.json").exists());
 }
+
+/// The ways `tests/data/misbehaving_icd.c` misbehaves (its MODE), each
+/// with the cell it must give and what its reproducer's command says.
+const MISBEHAVIOURS: [(&str, u32, &str); 4] = [
+    ("skip", 1, "fault"),
+    ("lose", 2, "fault"),
+    ("hang", 3, "hung"),
+    ("garbage", 4, "fail"),
+];
+
+/// Builds the misbehaving forwarding ICD over `real` (a lavapipe manifest)
+/// in `dir`, once for each mode: the manifests, by mode's name; None
+/// where there is no C compiler.
+fn misbehaving_icds(real: &Path, dir: &Path) -> Option<Vec<PathBuf>> {
+    let manifest: Value = serde_json::from_str(&std::fs::read_to_string(real).unwrap()).unwrap();
+    let lib = manifest["ICD"]["library_path"].as_str().unwrap();
+    let lib = if lib.contains('/') {
+        real.parent().unwrap().join(lib).display().to_string()
+    } else {
+        lib.to_owned()
+    };
+    let mut icds = Vec::new();
+    for (name, mode, _) in MISBEHAVIOURS {
+        let so = dir.join(format!("lib{name}.so"));
+        let built = std::process::Command::new("cc")
+            .args(["-shared", "-fPIC", "-O1", "-Wall", "-Werror"])
+            .arg(format!("-DMODE={mode}"))
+            .arg(format!("-DREAL_LIBRARY=\"{lib}\""))
+            .arg("-o")
+            .arg(&so)
+            .arg(common::repo().join("tests/data/misbehaving_icd.c"))
+            .arg("-ldl")
+            .status();
+        if !built.is_ok_and(|s| s.success()) {
+            common::skip("a misbehaving driver", "no C compiler to build its ICD");
+            return None;
+        }
+        let icd = dir.join(format!("{name}.json"));
+        common::write_icd_manifest(&icd, &so);
+        icds.push(icd);
+    }
+    Some(icds)
+}
+
+/// Runs a reproducer's command.sh from its own folder, with this build's
+/// glint first on PATH, for at most `seconds`: its output (exit status
+/// 124 where it was still running, as timeout(1) says).
+fn run_reproducer(repro: &Path, seconds: u32) -> Output {
+    let bin = Path::new(env!("CARGO_BIN_EXE_glint")).parent().unwrap();
+    let path = format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    std::process::Command::new("timeout")
+        .args(["-k", "5", &seconds.to_string(), "sh", "command.sh"])
+        .current_dir(repro)
+        .env("PATH", path)
+        .env("GLINT_VALIDATION", "1")
+        .output()
+        .unwrap()
+}
+
+/// Issue 42, defects 8 and 9: a driver that skips the dispatch, loses the
+/// device, hangs in the fence wait or writes garbage is a failure (FAIL,
+/// hung), with a reproducer whose command, run from its own folder, fails
+/// the same way; with the scene's mesh copied, and the run's relative -I
+/// and --icd paths meaning the same there.
+#[test]
+fn a_misbehaving_driver_fails_in_each_way_with_a_reproducer_that_reproduces() {
+    let Some(real) = current_lavapipe() else {
+        common::skip("a misbehaving driver", "no lavapipe");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let Some(icds) = misbehaving_icds(&real, d) else {
+        return;
+    };
+    // The run is from the scene's folder, with relative paths.
+    let home = d.join("scene");
+    std::fs::create_dir_all(home.join("meshes")).unwrap();
+    std::fs::create_dir_all(d.join("include")).unwrap();
+    std::fs::copy(
+        common::repo().join("scenes/glass.toml"),
+        home.join("glass.toml"),
+    )
+    .unwrap();
+    std::fs::copy(
+        common::repo().join("scenes/meshes/icosphere-smooth.obj"),
+        home.join("meshes/icosphere-smooth.obj"),
+    )
+    .unwrap();
+    let mut c = common::cmd();
+    c.current_dir(&home)
+        .args(["drivers", "glass.toml", "--quick", "--deadline", "3"])
+        .args(["-I", "../include", "--only", "-o", "../out"]);
+    for icd in &icds {
+        c.arg("--icd")
+            .arg(Path::new("..").join(icd.file_name().unwrap()));
+    }
+    let o = c.output().unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let m = matrix(&d.join("out"));
+    for (i, (name, _, result)) in MISBEHAVIOURS.iter().enumerate() {
+        let cell = &m["rows"][0]["cells"][i];
+        assert_eq!(cell["result"], *result, "{name}: {cell}");
+        // As written: relative to where the run was, or absolute.
+        let repro = home.join(cell["repro"].as_str().unwrap());
+        assert!(
+            repro.join("meshes/icosphere-smooth.obj").is_file(),
+            "{name}: the mesh was not copied into {}",
+            repro.display()
+        );
+        let again = run_reproducer(&repro, 20);
+        let stderr = String::from_utf8_lossy(&again.stderr);
+        let same = match *name {
+            "skip" => stderr.contains("the shader wrote nothing"),
+            "lose" => stderr.contains("device has been lost"),
+            "hang" => again.status.code() == Some(124),
+            _ => again.status.code() == Some(1) && stderr.is_empty(),
+        };
+        assert!(same, "{name}: {:?} {stderr}", again.status);
+    }
+}
+
+/// The misbehaving ICD of `mode` ("skip", "lose", "hang", "garbage"),
+/// built in `dir`; None (the test skipped) without lavapipe or a compiler.
+fn misbehaving(mode: &str, dir: &Path) -> Option<PathBuf> {
+    let real = current_lavapipe()?;
+    let i = MISBEHAVIOURS.iter().position(|(n, _, _)| *n == mode)?;
+    misbehaving_icds(&real, dir).map(|v| v[i].clone())
+}
+
+/// Issue 42, defect 5: options that every child would refuse are one
+/// error from the parent, exit 2, before any driver runs; they turned
+/// every driver into "no device" or "refused", exit 0.
+#[test]
+fn options_every_driver_would_refuse_are_refused_once() {
+    let Some(new) = current_lavapipe() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    for (option, value, says) in [
+        ("-I", "missing-dir", "-I missing-dir: not a directory"),
+        ("--timeout", "0", "--timeout 0.0: must be in"),
+        ("--timeout", "nan", "--timeout NaN: must be in"),
+        (
+            "--shader",
+            "missing.comp",
+            "--shader missing.comp: no such file",
+        ),
+        ("-D", "=x", "-D =x: a define is NAME"),
+        ("-D", "MAX_DEPTH=1", "glint defines MAX_DEPTH itself"),
+    ] {
+        let o = drivers(
+            &["scenes/seed-fig3.toml", "--quick", option, value],
+            &[&new],
+            &out,
+            &[],
+        );
+        common::assert_user_error(&o, says);
+        assert!(!out.exists(), "{option} {value}");
+    }
+}
+
+/// Issue 42, defect 7: where the loader finds no validation layer (here
+/// $XDG_DATA_DIRS names an empty folder), the drivers run without it and
+/// the run says so; every child failed asking for the layer before.
+#[test]
+fn without_a_layer_where_the_loader_looks_the_run_says_so() {
+    let Some(new) = current_lavapipe() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let empty = dir.path().join("share");
+    std::fs::create_dir(&empty).unwrap();
+    let out = dir.path().join("out");
+    let o = drivers(
+        &["scenes/seed-fig3.toml", "--quick"],
+        &[&new],
+        &out,
+        &[("XDG_DATA_DIRS", empty.to_str().unwrap())],
+    );
+    common::assert_ok(&o);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("1 pass") && stdout.contains("not under the validation layer"),
+        "{stdout}"
+    );
+    let md = std::fs::read_to_string(out.join("drivers.md")).unwrap();
+    assert!(
+        md.contains("not under the Khronos validation layer"),
+        "{md}"
+    );
+    assert_eq!(matrix(&out)["validation"], false);
+}
+
+/// Issue 42, defect 2: an output linked to the library an --icd manifest
+/// names is refused like one linked to the manifest; the library was
+/// replaced by the CSV.
+#[test]
+fn an_output_onto_a_driver_library_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let lib = d.join("libdriver.so");
+    std::fs::write(&lib, "the driver").unwrap();
+    let icd = d.join("driver.json");
+    common::write_icd_manifest(&icd, &lib);
+    let out = d.join("out");
+    std::fs::create_dir(&out).unwrap();
+    std::os::unix::fs::symlink(&lib, out.join("drivers.csv")).unwrap();
+    let o = drivers(&["scenes/seed-fig3.toml", "--quick"], &[&icd], &out, &[]);
+    common::assert_user_error(&o, "refusing to overwrite an input");
+    assert_eq!(std::fs::read_to_string(&lib).unwrap(), "the driver");
+}
+
+/// Issue 42, defect 14: a driver's name with a terminal escape and a `|`
+/// is escaped on stdout and in drivers.md, where it would have cleared
+/// the screen and added a column.
+#[test]
+fn names_are_escaped_in_every_output() {
+    let Some(new) = current_lavapipe() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let icd = dir.path().join("x|y\u{1b}[2Jred.json");
+    std::fs::copy(&new, &icd).unwrap();
+    let out = dir.path().join("out");
+    let o = drivers(&["scenes/seed-fig3.toml", "--quick"], &[&icd], &out, &[]);
+    common::assert_ok(&o);
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        !stdout.contains('\u{1b}') && stdout.contains("x|y\\u{1b}[2Jred"),
+        "{stdout}"
+    );
+    let md = std::fs::read_to_string(out.join("drivers.md")).unwrap();
+    assert!(!md.contains('\u{1b}'), "{md}");
+    let header = md.lines().find(|l| l.starts_with("| scene |")).unwrap();
+    assert!(header.ends_with("/x\\|y\\u{1b}[2Jred |"), "{header}");
+    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(!page.contains('\u{1b}'));
+}
+
+/// Issue 42, defects 1 and 13: a scene named `...toml` and one of a
+/// 245-character name, on a failing driver, get reproducers inside
+/// repro/, and nothing is written beside the scenes; `...` was "..", and
+/// its reproducer replaced the README.md of the folder the run was in,
+/// and the long name failed the run ("File name too long").
+#[test]
+fn reproducers_stay_inside_repro_whatever_the_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let Some(icd) = misbehaving("garbage", d) else {
+        return;
+    };
+    let here = d.join("here");
+    std::fs::create_dir(&here).unwrap();
+    std::fs::write(here.join("README.md"), "mine").unwrap();
+    let scene = std::fs::read_to_string(common::repo().join("scenes/seed-fig3.toml")).unwrap();
+    let long = format!("{}.toml", "n".repeat(245));
+    for name in ["...toml", &long] {
+        std::fs::write(here.join(name), &scene).unwrap();
+    }
+    let o = common::cmd()
+        .current_dir(&here)
+        .args(["drivers", "./...toml", &long, "--quick", "--no-shrink"])
+        .arg("--icd")
+        .arg(&icd)
+        .args(["--only", "-o", "out"])
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert_eq!(
+        std::fs::read_to_string(here.join("README.md")).unwrap(),
+        "mine"
+    );
+    for name in ["...toml", &long] {
+        assert_eq!(std::fs::read_to_string(here.join(name)).unwrap(), scene);
+    }
+    let mut names: Vec<String> = std::fs::read_dir(&here)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    let mut want = vec![
+        "...toml".to_owned(),
+        long.clone(),
+        "README.md".into(),
+        "out".into(),
+    ];
+    want.sort();
+    assert_eq!(names, want);
+    let m = matrix(&here.join("out"));
+    for row in m["rows"].as_array().unwrap() {
+        let repro = here.join(row["cells"][0]["repro"].as_str().unwrap());
+        let inside = std::fs::canonicalize(&repro).unwrap();
+        assert!(
+            inside.starts_with(std::fs::canonicalize(here.join("out/repro")).unwrap()),
+            "{}",
+            repro.display()
+        );
+        assert!(repro.join("README.md").is_file() && repro.join("command.sh").is_file());
+    }
+}
+
+/// Issue 42, defect 11: a FIFO among the manifests of the folder the
+/// loader is given hangs its child, which is killed; its reproducer then
+/// read the FIFO and blocked the run for ever. It says what the file is.
+#[test]
+fn a_fifo_among_the_manifests_does_not_block_the_run() {
+    let Some(new) = current_lavapipe() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let icds = dir.path().join("icd.d");
+    std::fs::create_dir(&icds).unwrap();
+    std::fs::copy(&new, icds.join("a_lvp.json")).unwrap();
+    common::make_fifo(&icds.join("b_fifo.json"));
+    let out = dir.path().join("out");
+    let o = common::cmd()
+        .current_dir(common::repo())
+        .args([
+            "drivers",
+            "scenes/seed-fig3.toml",
+            "--quick",
+            "--deadline",
+            "3",
+        ])
+        .arg("-o")
+        .arg(&out)
+        .env("VK_DRIVER_FILES", &icds)
+        .env("HOME", dir.path())
+        .env_remove("XDG_CACHE_HOME")
+        .timeout(std::time::Duration::from_secs(120))
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let m = matrix(&out);
+    let fifo = cell(&m, "seed-fig3", column(&m, &icds.join("b_fifo.json")));
+    assert_eq!(fifo["result"], "hung", "{fifo}");
+    let repro = PathBuf::from(fifo["repro"].as_str().unwrap());
+    let driver = std::fs::read_to_string(repro.join("driver.json")).unwrap();
+    assert!(
+        driver.contains("(not read: ") && driver.contains("FIFO"),
+        "{driver}"
+    );
+    assert_eq!(
+        cell(&m, "seed-fig3", column(&m, &icds.join("a_lvp.json")))["result"],
+        "pass"
+    );
+}
+
+/// The command lines of the processes running now.
+fn command_lines() -> Vec<String> {
+    std::fs::read_dir("/proc")
+        .unwrap()
+        .filter_map(|e| std::fs::read(e.ok()?.path().join("cmdline")).ok())
+        .map(|b| String::from_utf8_lossy(&b).replace('\0', " "))
+        .collect()
+}
+
+/// Issue 42, defect 4: SIGTERM in the middle of a run kills its children,
+/// removes its temporary folder and leaves the last run's tables and
+/// reproducers as they were.
+#[test]
+fn an_interrupted_run_leaves_nothing_running_and_the_last_run_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (Some(garbage), Some(hang)) = (misbehaving("garbage", d), misbehaving("hang", d)) else {
+        return;
+    };
+    let out = d.join("out");
+    let o = drivers(
+        &["scenes/seed-fig3.toml", "--quick", "--no-shrink"],
+        &[&garbage],
+        &out,
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let listing = |p: &Path| -> Vec<PathBuf> {
+        let mut v: Vec<PathBuf> = walk(p);
+        v.sort();
+        v
+    };
+    let before = listing(&out);
+    let tables = std::fs::read(out.join("drivers.json")).unwrap();
+    let tmp = d.join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_glint"))
+        .current_dir(common::repo())
+        .args([
+            "drivers",
+            "scenes/seed-fig3.toml",
+            "--quick",
+            "--deadline",
+            "60",
+        ])
+        .arg("--icd")
+        .arg(&hang)
+        .arg("--only")
+        .arg("-o")
+        .arg(&out)
+        .env("TMPDIR", &tmp)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // Until its child hangs on the scene.
+    let tmp_name = tmp.to_str().unwrap().to_owned();
+    let probing = || {
+        command_lines()
+            .iter()
+            .any(|c| c.contains("driver-probe") && c.contains(&tmp_name) && c.contains("--scene"))
+    };
+    let start = std::time::Instant::now();
+    while !probing() {
+        assert!(start.elapsed().as_secs() < 60, "no child ran the scene");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    // SAFETY: signals the child this test started.
+    unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) };
+    assert_eq!(child.wait().unwrap().code(), Some(130));
+    assert!(!probing(), "a child still runs");
+    assert_eq!(
+        std::fs::read_dir(&tmp).unwrap().count(),
+        0,
+        "the temporary folder stayed"
+    );
+    assert_eq!(listing(&out), before);
+    assert_eq!(std::fs::read(out.join("drivers.json")).unwrap(), tables);
+}
+
+/// Every file and folder below `p`.
+fn walk(p: &Path) -> Vec<PathBuf> {
+    let mut v = Vec::new();
+    for e in std::fs::read_dir(p).unwrap() {
+        let path = e.unwrap().path();
+        if path.is_dir() {
+            v.extend(walk(&path));
+        }
+        v.push(path);
+    }
+    v
+}

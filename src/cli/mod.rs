@@ -14,6 +14,7 @@ mod diff;
 mod drivers;
 #[cfg(feature = "gpu")]
 mod info;
+pub mod interrupt;
 mod progress;
 mod render;
 #[cfg(feature = "gpu")]
@@ -188,16 +189,20 @@ impl DeviceArgs {
 
     /// These options as the words of a command line, for a child glint
     /// (`glint drivers`), all but `--device`: the child's device is the
-    /// one its driver offers.
+    /// one its driver offers. Paths are made absolute, so that the words
+    /// mean the same from any folder (issue 42, defect 9: a reproducer's
+    /// command repeated `-I ../inc` as typed, relative to where the run was).
     #[cfg(feature = "gpu")]
     pub fn forward(&self) -> Vec<std::ffi::OsString> {
         use glint::settings::Choice;
+        let absolute =
+            |p: &Path| std::path::absolute(p).map_or_else(|_| p.into(), PathBuf::into_os_string);
         let mut v: Vec<std::ffi::OsString> = Vec::new();
         for dir in &self.include {
-            v.extend(["-I".into(), dir.clone().into_os_string()]);
+            v.extend(["-I".into(), absolute(dir)]);
         }
         if let Some(shader) = &self.shader {
-            v.extend(["--shader".into(), shader.clone().into_os_string()]);
+            v.extend(["--shader".into(), absolute(shader)]);
         }
         for d in &self.define {
             v.extend(["-D".into(), d.into()]);

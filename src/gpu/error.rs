@@ -95,6 +95,18 @@ pub enum GpuError {
         /// The pixel's row.
         y: u32,
     },
+    /// The device returned a pixel whose alpha the shader never writes
+    /// (1: its loops finished; 0: they were cut short; NaN: unwritten):
+    /// the image is not the shader's, a driver fault.
+    #[error("the device returned alpha {alpha} at pixel ({x}, {y}), which no shader run writes (1: finished, 0: cut short): the image is not the shader's")]
+    Garbled {
+        /// The pixel's column.
+        x: u32,
+        /// The pixel's row.
+        y: u32,
+        /// The alpha it had.
+        alpha: f32,
+    },
     /// The CPU reference that a GPU render is measured against left the
     /// model's bound (`report`, `stability`): no figure is made of it.
     #[error(transparent)]

@@ -46,6 +46,7 @@ pub use schedule::Schedule;
 pub use times::{RenderTimes, SetupTimes};
 pub use vk::bounded::{open_abandoned, OPEN_LIMIT};
 pub use vk::device::DeviceInfo;
+pub use vk::instance::validation_layer_installed;
 pub use work::{tile_timeout, COMPILE_TIMEOUT};
 
 /// Every Vulkan device, best first, for `glint info`.

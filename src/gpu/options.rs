@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
+use super::GpuError;
 #[cfg(doc)]
 use super::Renderer;
 use crate::accel::Accel;
@@ -42,6 +43,24 @@ pub struct GpuOptions {
 }
 
 impl GpuOptions {
+    /// Refuses a `-D` of a name glint defines itself for each scene: the
+    /// host's buffers and dispatch follow glint's value, not the user's.
+    /// Checked before any device is opened (`glint drivers` checks it once,
+    /// in the parent, rather than in every driver's child).
+    pub fn check_defines(&self) -> Result<(), GpuError> {
+        match self
+            .defines
+            .iter()
+            .find(|(n, _)| super::compile::reserved_define(n))
+        {
+            Some((name, _)) => Err(GpuError::Unsupported(format!(
+                "-D {name}: glint defines {name} itself for each scene (docs/shaders.md, Variants); \
+                 choose another name"
+            ))),
+            None => Ok(()),
+        }
+    }
+
     /// Validation is also switched on by GLINT_VALIDATION=1 (the tests set it).
     pub fn from_env(device: Option<String>) -> Self {
         let validate = std::env::var("GLINT_VALIDATION").is_ok_and(|v| v == "1");

@@ -515,13 +515,18 @@ fn unfinished(
     let at = tile.iter().position(|s| s[3] != 1.0)?;
     let i = (at / per) as u32;
     let (x, y) = (x0 + i % w, y0 + i / w);
-    Some(if tile[at][3].is_nan() {
+    let alpha = tile[at][3];
+    Some(if alpha.is_nan() {
         GpuError::Unwritten { x, y }
-    } else {
+    } else if alpha == 0.0 {
         GpuError::LoopBudget {
             x,
             y,
             device: device.to_owned(),
         }
+    } else {
+        // Neither value the shader writes: a loop budget cannot explain
+        // it, so it is not reported as one (issue 42, defect 8).
+        GpuError::Garbled { x, y, alpha }
     })
 }

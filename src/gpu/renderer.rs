@@ -85,16 +85,7 @@ impl Renderer {
     /// Opens the device `opts` names (or the best one) and prepares to
     /// render; no shader is compiled until a scene needs one.
     pub fn new(opts: &GpuOptions) -> Result<Self, GpuError> {
-        if let Some((name, _)) = opts
-            .defines
-            .iter()
-            .find(|(n, _)| compile::reserved_define(n))
-        {
-            return Err(GpuError::Unsupported(format!(
-                "-D {name}: glint defines {name} itself for each scene (docs/shaders.md, Variants); \
-                 choose another name"
-            )));
-        }
+        opts.check_defines()?;
         let t0 = Instant::now();
         let (validate, wanted) = (opts.validate, opts.device.clone());
         let device = bounded(OPEN_LIMIT, move || {

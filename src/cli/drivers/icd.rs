@@ -82,9 +82,37 @@ pub fn short_name(file: &Path) -> String {
     }
 }
 
+/// The driver library a manifest names, where it names it by a path
+/// (`library_path` with a '/', relative to the manifest's folder); None for
+/// a bare name, which the dynamic loader looks up in the system's folders,
+/// or a manifest that cannot be read as one.
+pub fn library(manifest: &Path) -> Option<PathBuf> {
+    let text = glint::input::read_text(manifest, glint::input::Kind::Manifest).ok()?;
+    let json: serde_json::Value = serde_json::from_str(&text).ok()?;
+    let named = json.get("ICD")?.get("library_path")?.as_str()?;
+    named
+        .contains('/')
+        .then(|| super::super::parent_dir(manifest).join(named))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_manifests_library_is_found_beside_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let m = dir.path().join("a.json");
+        let write = |lib: &str| {
+            std::fs::write(&m, format!(r#"{{"ICD": {{"library_path": "{lib}"}}}}"#)).unwrap()
+        };
+        write("./libx.so");
+        assert_eq!(library(&m), Some(dir.path().join("./libx.so")));
+        write("/usr/lib/liby.so");
+        assert_eq!(library(&m), Some(PathBuf::from("/usr/lib/liby.so")));
+        write("libvulkan_lvp.so");
+        assert_eq!(library(&m), None);
+    }
 
     #[test]
     fn short_names_say_which_driver() {

@@ -73,6 +73,10 @@ pub enum Seen {
     Hung { message: String },
     /// The validation layer spoke.
     Validation { messages: Vec<String> },
+    /// The driver did what no correct driver does: lost the device, left
+    /// the image unwritten or garbled, or returned an error that is not a
+    /// limit (issue 42, defect 8).
+    Fault { message: String },
     /// Anything else went wrong.
     Error { message: String },
 }
@@ -115,9 +119,7 @@ fn probe(a: &ProbeArgs) -> Probe {
     };
     let mut renderer = match Renderer::new(&options) {
         Ok(r) => r,
-        Err(
-            e @ (GpuError::NoDevice | GpuError::NoLoader(_) | GpuError::NoMatchingDevice { .. }),
-        ) => {
+        Err(e) if refuses_to_open(&e) => {
             return failed(
                 None,
                 Seen::NoDevice {
@@ -194,8 +196,32 @@ fn failed(device: Option<Identity>, seen: Seen) -> Probe {
     Probe { device, seen }
 }
 
-/// Sorts the renderer's errors into what the matrix reports.
+/// Whether opening the renderer failed the way a driver says it offers
+/// nothing glint can use: no device, or a Vulkan result that means so.
+/// A lost device or an unlisted result there is a fault (`seen_of`).
+fn refuses_to_open(e: &GpuError) -> bool {
+    use ash::vk::Result as R;
+    match e {
+        GpuError::NoDevice | GpuError::NoLoader(_) | GpuError::NoMatchingDevice { .. } => true,
+        GpuError::Vk { result, .. } => [
+            R::ERROR_INCOMPATIBLE_DRIVER,
+            R::ERROR_INITIALIZATION_FAILED,
+            R::ERROR_EXTENSION_NOT_PRESENT,
+            R::ERROR_FEATURE_NOT_PRESENT,
+            R::ERROR_LAYER_NOT_PRESENT,
+        ]
+        .iter()
+        .any(|r| r.as_raw() == result.code),
+        _ => false,
+    }
+}
+
+/// Sorts the renderer's errors into what the matrix reports. A Vulkan
+/// error is a driver's fault unless it is running out of memory, which a
+/// correct driver may do (a limit, so refused); so are an unwritten or
+/// garbled image (issue 42, defect 8: these were "error", glint's own).
 fn seen_of(e: GpuError) -> Seen {
+    use ash::vk::Result as R;
     let message = e.to_string();
     match e {
         GpuError::LoopBudget { .. } | GpuError::Unsupported(_) => Seen::Refused { message },
@@ -205,6 +231,16 @@ fn seen_of(e: GpuError) -> Seen {
         GpuError::Validation(messages) => Seen::Validation { messages },
         GpuError::NoDevice | GpuError::NoLoader(_) | GpuError::NoMatchingDevice { .. } => {
             Seen::NoDevice { message }
+        }
+        GpuError::Vk { ref result, .. }
+            if [R::ERROR_OUT_OF_HOST_MEMORY, R::ERROR_OUT_OF_DEVICE_MEMORY]
+                .iter()
+                .any(|r| r.as_raw() == result.code) =>
+        {
+            Seen::Refused { message }
+        }
+        GpuError::Vk { .. } | GpuError::Unwritten { .. } | GpuError::Garbled { .. } => {
+            Seen::Fault { message }
         }
         _ => Seen::Error { message },
     }
@@ -303,7 +339,16 @@ pub fn on_driver(icd: &Path) -> anyhow::Result<Command> {
 }
 
 /// Waits for `child` at most `limit`; kills it and returns None past that.
-fn wait(child: &mut Child, limit: Duration) -> anyhow::Result<Option<ExitStatus>> {
+/// Until it is reaped, an interrupted run kills it (`interrupt`).
+pub fn wait(child: &mut Child, limit: Duration) -> anyhow::Result<Option<ExitStatus>> {
+    let pid = child.id();
+    crate::cli::interrupt::child_started(pid);
+    let status = wait_for(child, limit);
+    crate::cli::interrupt::child_ended(pid);
+    status
+}
+
+fn wait_for(child: &mut Child, limit: Duration) -> anyhow::Result<Option<ExitStatus>> {
     let start = Instant::now();
     loop {
         if let Some(status) = child.try_wait().context("cannot wait for a child glint")? {
@@ -328,10 +373,11 @@ fn tail(path: &Path) -> String {
 
 /// Whether the Khronos validation layer is installed where the loader
 /// finds it: then every probe runs under it, and a message is a result.
+/// Asked of the loader, once (issue 42, defect 7: three fixed folders were
+/// guessed, and with $XDG_DATA_DIRS elsewhere every child then failed
+/// asking for a layer its loader could not find). Without it the probes
+/// run without validation, and the tables say so.
 pub fn validation_layer() -> bool {
-    ["/usr/share", "/usr/local/share", "/etc"].iter().any(|d| {
-        Path::new(d)
-            .join("vulkan/explicit_layer.d/VkLayer_khronos_validation.json")
-            .is_file()
-    })
+    static HAS: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *HAS.get_or_init(|| glint::gpu::validation_layer_installed().unwrap_or(false))
 }

@@ -157,16 +157,17 @@ pub fn write_load(icd: &Path, verdict: &Verdict, stderr: &Path, dir: &Path) -> a
         serde_json::to_string_pretty(&driver)?,
     )?;
     let _ = std::fs::copy(stderr, dir.join("stderr.txt"));
+    let absolute = std::path::absolute(icd).unwrap_or_else(|_| icd.to_owned());
     let command = format!(
         "VK_DRIVER_FILES={} glint info",
-        quote(&icd.display().to_string())
+        quote(&absolute.to_string_lossy())
     );
     std::fs::write(dir.join("command.sh"), format!("#!/bin/sh\n{command}\n"))?;
     let readme = format!(
         "# {}: {} when loaded\n\n- What went wrong: {}, before the driver named a device; no scene was rendered on it.\n- Files: `driver.json` (the ICD file and its manifest), `stderr.txt` (the process's last words).\n\nTo see it again:\n\n```\n{command}\n```\n",
-        icd.display(),
+        glint::printable::path(icd),
         verdict.word(),
-        verdict.detail()
+        glint::printable::one_line(&verdict.detail())
     );
     std::fs::write(dir.join("README.md"), readme)?;
     Ok(())
@@ -179,9 +180,13 @@ pub fn copy_scene(path: &Path, scene: &Scene, dir: &Path) -> anyhow::Result<Path
     let name = path.file_name().context("the scene has no file name")?;
     let copy = dir.join(name);
     std::fs::copy(path, &copy).with_context(|| format!("cannot copy {}", path.display()))?;
-    let home = super::super::parent_dir(path);
+    // Compared resolved, as the scene's own paths and the scene's folder
+    // may be spelt differently (issue 42, defect 9: "s.toml" is in ".",
+    // and its "mesh.obj" did not start with "./", so it was not copied).
+    let resolved = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_owned());
+    let home = resolved(&super::super::parent_dir(path));
     for input in &scene.input_files {
-        if let Ok(rel) = input.strip_prefix(&home) {
+        if let Ok(rel) = resolved(input).strip_prefix(&home) {
             let to = dir.join(rel);
             if let Some(parent) = to.parent() {
                 std::fs::create_dir_all(parent)?;
@@ -195,10 +200,10 @@ pub fn copy_scene(path: &Path, scene: &Scene, dir: &Path) -> anyhow::Result<Path
 /// The line that shows the failure again: `glint compare` on the copy of
 /// the scene, with the failing driver alone.
 fn command_line(f: &Failure, scene_copy: &Path) -> String {
-    let mut words = vec![format!(
-        "VK_DRIVER_FILES={}",
-        quote(&f.icd.display().to_string())
-    )];
+    // The manifest by its absolute path: the command runs from the
+    // reproducer's folder, not where `drivers` ran (defect 9).
+    let icd = std::path::absolute(f.icd).unwrap_or_else(|_| f.icd.to_owned());
+    let mut words = vec![format!("VK_DRIVER_FILES={}", quote(&icd.to_string_lossy()))];
     if let Ok(e) = std::env::var("GLINT_EXPERIMENT") {
         words.push(format!("GLINT_EXPERIMENT={}", quote(&e)));
     }
@@ -227,6 +232,12 @@ fn quote(word: &str) -> String {
     }
 }
 
+/// A name or a driver's words as the README shows them: control
+/// characters escaped (issue 42, defect 14).
+fn shown(s: &str) -> String {
+    glint::printable::text(s)
+}
+
 fn readme(f: &Failure, command: &str, shader_problem: Option<String>) -> String {
     let mut r = String::new();
     let scene = f
@@ -236,20 +247,25 @@ fn readme(f: &Failure, command: &str, shader_problem: Option<String>) -> String 
         .unwrap_or_default();
     let _ = writeln!(
         r,
-        "# {scene} on {}: {}\n",
-        f.identity.name,
+        "# {} on {}: {}\n",
+        shown(&scene),
+        shown(&f.identity.name),
         f.verdict.word()
     );
     let _ = writeln!(
         r,
         "- Device: {} ({}), driver {}, Vulkan {}; ICD file `{}`.",
-        f.identity.name,
-        f.identity.kind,
-        f.identity.driver,
-        f.identity.api_version,
-        f.icd.display()
+        shown(&f.identity.name),
+        shown(&f.identity.kind),
+        shown(&f.identity.driver),
+        shown(&f.identity.api_version),
+        glint::printable::path(f.icd)
     );
-    let _ = writeln!(r, "- What went wrong: {}.", f.verdict.detail());
+    let _ = writeln!(
+        r,
+        "- What went wrong: {}.",
+        glint::printable::one_line(&f.verdict.detail())
+    );
     if let Verdict::Fail { violations, .. } = f.verdict {
         let _ = writeln!(
             r,

@@ -106,12 +106,15 @@ fn heading(c: &Column) -> String {
     match &c.identity {
         Some(d) => format!(
             "{} ({}; {}; Vulkan {})",
-            d.name, d.kind, d.driver, d.api_version
+            shown(&d.name),
+            shown(&d.kind),
+            shown(&d.driver),
+            shown(&d.api_version)
         ),
         None => format!(
             "{} (failed to load: {})",
-            c.name,
-            c.load.as_ref().map(|v| v.detail()).unwrap_or_default()
+            shown(&c.name),
+            glint::printable::one_line(&c.load.as_ref().map(|v| v.detail()).unwrap_or_default())
         ),
     }
 }
@@ -137,7 +140,7 @@ fn validation_words(m: &Matrix) -> &'static str {
     if m.validation {
         ", under the Khronos validation layer"
     } else {
-        " (the Khronos validation layer is not installed: its messages are not looked for)"
+        " (not under the Khronos validation layer: the Vulkan loader finds none where it looks, so its messages are not looked for)"
     }
 }
 
@@ -151,13 +154,25 @@ pub fn summary(m: &Matrix) -> String {
             .filter(|(_, n)| *n > 0)
             .map(|(w, n)| format!("{n} {w}"))
             .collect();
-        let _ = writeln!(s, "{}: {} [{}]", c.name, counts.join(", "), heading(c));
+        let _ = writeln!(
+            s,
+            "{}: {} [{}]",
+            shown(&c.name),
+            counts.join(", "),
+            heading(c)
+        );
+    }
+    if !m.validation {
+        let _ = writeln!(
+            s,
+            "not under the validation layer: the Vulkan loader finds no VK_LAYER_KHRONOS_validation (Debian: apt-get install vulkan-validationlayers)"
+        );
     }
     if !m.absent.is_empty() {
         let names: Vec<String> = m
             .absent
             .iter()
-            .map(|(icd, _)| super::icd::short_name(icd))
+            .map(|(icd, _)| shown(&super::icd::short_name(icd)))
             .collect();
         let _ = writeln!(
             s,
@@ -176,23 +191,28 @@ fn markdown(m: &Matrix) -> String {
         let _ = writeln!(
             s,
             "- **{}**: {} — `{}`",
-            c.name,
-            heading(c),
-            c.icd.display()
+            md(&c.name),
+            md(&heading(c)),
+            md(&c.icd.to_string_lossy())
         );
     }
     for (icd, why) in &m.absent {
-        let _ = writeln!(s, "- no device from `{}`: {why}", icd.display());
+        let _ = writeln!(
+            s,
+            "- no device from `{}`: {}",
+            md(&icd.to_string_lossy()),
+            md(&glint::printable::one_line(why))
+        );
     }
     s.push_str("\n| scene |");
     for c in &m.columns {
-        let _ = write!(s, " {} |", c.name);
+        let _ = write!(s, " {} |", md(&c.name));
     }
     s.push_str("\n|---|");
     s.push_str(&"---|".repeat(m.columns.len()));
     s.push('\n');
     for r in &m.rows {
-        let _ = write!(s, "| {} |", r.scene);
+        let _ = write!(s, "| {} |", md(&r.scene));
         for c in &r.cells {
             let link = c
                 .repro
@@ -203,12 +223,26 @@ fn markdown(m: &Matrix) -> String {
                 s,
                 " {} {}{link} |",
                 c.verdict.word(),
-                cell_text(&c.verdict).replace('|', "\\|")
+                md(&cell_text(&c.verdict))
             );
         }
         s.push('\n');
     }
     s
+}
+
+/// A name, a path or a driver's words as the terminal, drivers.md and
+/// index.html show them: control characters escaped and cut short, as
+/// errors show them (issue 42, defect 14: a manifest named with a terminal
+/// escape cleared the screen when its name was printed).
+fn shown(s: &str) -> String {
+    glint::printable::text(s)
+}
+
+/// `shown`, and a `|` escaped, so that a name cannot add a column to a
+/// Markdown table (nor a newline end its row: `shown` escapes it).
+fn md(s: &str) -> String {
+    shown(s).replace('|', "\\|")
 }
 
 /// A cell's short text: the figures and time, or the first words of why.
@@ -319,14 +353,14 @@ small{color:#555}</style></head><body>\n<h1>glint: the scenes on each Vulkan dri
         let _ = write!(
             h,
             "<th>{}<br><small>{}<br><code>{}</code></small></th>",
-            escape(&c.name),
+            escape(&shown(&c.name)),
             escape(&heading(c)),
-            escape(&c.icd.display().to_string())
+            escape(&glint::printable::path(&c.icd))
         );
     }
     h.push_str("</tr>\n");
     for r in &m.rows {
-        let _ = write!(h, "<tr><td>{}</td>", escape(&r.scene));
+        let _ = write!(h, "<tr><td>{}</td>", escape(&shown(&r.scene)));
         for c in &r.cells {
             let word = c.verdict.word();
             let link = c
@@ -340,7 +374,7 @@ small{color:#555}</style></head><body>\n<h1>glint: the scenes on each Vulkan dri
             let _ = write!(
                 h,
                 "<td class=\"{word}\">{word}{link}<br><small>{}</small></td>",
-                escape(&cell_text(&c.verdict))
+                escape(&shown(&cell_text(&c.verdict)))
             );
         }
         h.push_str("</tr>\n");
@@ -352,8 +386,8 @@ small{color:#555}</style></head><body>\n<h1>glint: the scenes on each Vulkan dri
             let _ = writeln!(
                 h,
                 "<li><code>{}</code>: {}</li>",
-                escape(&icd.display().to_string()),
-                escape(why)
+                escape(&glint::printable::path(icd)),
+                escape(&glint::printable::one_line(why))
             );
         }
         h.push_str("</ul>\n");

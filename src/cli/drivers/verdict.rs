@@ -50,12 +50,17 @@ pub enum Verdict {
     Hung { message: String },
     /// The validation layer spoke.
     Validation { messages: Vec<String> },
+    /// The driver did what no correct driver does (`probe::Seen::Fault`):
+    /// a failure like a wrong image, and counted as one ("FAIL").
+    Fault { message: String },
     /// glint could not run the scene there for another reason.
     Error { message: String },
+    /// Not run: the run's --budget ran out first (issue 42, defect 10).
+    NotRun { reason: String },
 }
 
 /// Every cell's word (`Verdict::word`), in the order a summary counts them.
-pub const WORDS: [&str; 8] = [
+pub const WORDS: [&str; 9] = [
     "pass",
     "FAIL",
     "ill-conditioned",
@@ -64,6 +69,7 @@ pub const WORDS: [&str; 8] = [
     "hung",
     "validation",
     "error",
+    "not run",
 ];
 
 impl Verdict {
@@ -77,12 +83,14 @@ impl Verdict {
             Verdict::Crashed { .. } => "crashed",
             Verdict::Hung { .. } => "hung",
             Verdict::Validation { .. } => "validation",
+            Verdict::Fault { .. } => "FAIL",
             Verdict::Error { .. } => "error",
+            Verdict::NotRun { .. } => "not run",
         }
     }
 
     /// Whether this is a driver's fault to report (and a reason for exit
-    /// status 1): a wrong image, a crash, a hang or a validation message.
+    /// status 1): a wrong image, a crash, a hang, a validation message or a fault.
     /// A refusal is glint knowing a limit; an error is glint's or the input's.
     pub fn is_failure(&self) -> bool {
         matches!(
@@ -91,7 +99,14 @@ impl Verdict {
                 | Verdict::Crashed { .. }
                 | Verdict::Hung { .. }
                 | Verdict::Validation { .. }
+                | Verdict::Fault { .. }
         )
+    }
+
+    /// Whether `other` is the same kind of outcome: what shrinking keeps
+    /// (a fault that becomes a wrong image is another failure).
+    pub fn same_kind(&self, other: &Verdict) -> bool {
+        std::mem::discriminant(self) == std::mem::discriminant(other)
     }
 
     /// The detail shown under the word: the error figures and time, or
@@ -123,7 +138,8 @@ impl Verdict {
             Verdict::Crashed { how, .. } => how.clone(),
             Verdict::Hung { message } => message.clone(),
             Verdict::Validation { messages } => messages.first().cloned().unwrap_or_default(),
-            Verdict::Error { message } => message.clone(),
+            Verdict::Fault { message } | Verdict::Error { message } => message.clone(),
+            Verdict::NotRun { reason } => reason.clone(),
         }
     }
 }
@@ -194,6 +210,7 @@ pub fn rendered(seen: Seen) -> Result<(String, f64), Verdict> {
         Seen::Refused { message } => Err(Verdict::Refused { reason: message }),
         Seen::Hung { message } => Err(Verdict::Hung { message }),
         Seen::Validation { messages } => Err(Verdict::Validation { messages }),
+        Seen::Fault { message } => Err(Verdict::Fault { message }),
         Seen::NoDevice { message } | Seen::Error { message } => Err(Verdict::Error { message }),
     }
 }

@@ -62,6 +62,25 @@ unsafe extern "system" fn on_message(
     vk::FALSE
 }
 
+/// Whether the loader `entry` finds the Khronos validation layer, where
+/// it looks ($XDG_DATA_DIRS, $VK_ADD_LAYER_PATH, /etc, ...).
+fn has_validation_layer(entry: &ash::Entry) -> Result<bool, GpuError> {
+    // SAFETY: a query of the loaded loader.
+    let available = unsafe { entry.enumerate_instance_layer_properties() }
+        .doing("vkEnumerateInstanceLayerProperties")?;
+    Ok(available
+        .iter()
+        .any(|l| l.layer_name_as_c_str().is_ok_and(|n| n == VALIDATION_LAYER)))
+}
+
+/// Whether this process's Vulkan loader finds the Khronos validation
+/// layer: asked of the loader, since only it knows where it looks.
+pub fn validation_layer_installed() -> Result<bool, GpuError> {
+    // SAFETY: loading libvulkan runs its initialisers; it is the system loader.
+    let entry = unsafe { ash::Entry::load() }.map_err(|e| GpuError::NoLoader(e.to_string()))?;
+    has_validation_layer(&entry)
+}
+
 impl Instance {
     /// Loads the system's Vulkan loader and creates an instance, with the
     /// validation layer and a messenger collecting its messages where
@@ -78,13 +97,7 @@ impl Instance {
         let mut layers = Vec::new();
         let mut extensions = Vec::new();
         if validate {
-            // SAFETY: a query of the loaded loader.
-            let available = unsafe { entry.enumerate_instance_layer_properties() }
-                .doing("vkEnumerateInstanceLayerProperties")?;
-            let has_layer = available
-                .iter()
-                .any(|l| l.layer_name_as_c_str().is_ok_and(|n| n == VALIDATION_LAYER));
-            if !has_layer {
+            if !has_validation_layer(&entry)? {
                 return Err(GpuError::NoValidationLayer);
             }
             layers.push(VALIDATION_LAYER.as_ptr());

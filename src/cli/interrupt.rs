@@ -1,0 +1,68 @@
+//! What a run that SIGINT or SIGTERM stops must not leave behind: its
+//! child processes and its temporary folders (issue 42, defect 4: a child
+//! `glint driver-probe` kept running, re-parented to init, and a 4.7 MB
+//! temporary folder stayed). A command lists them here while they exist;
+//! the binary's signal handler calls `clean_up` before it exits.
+
+// Only `glint drivers` (a GPU command) lists anything yet; the handler
+// calls `clean_up` in every build.
+#![cfg_attr(not(feature = "gpu"), allow(dead_code))]
+
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+static CHILDREN: Mutex<Vec<u32>> = Mutex::new(Vec::new());
+static FOLDERS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// A child process that an interrupted run kills.
+pub fn child_started(pid: u32) {
+    if let Ok(mut v) = CHILDREN.lock() {
+        v.push(pid);
+    }
+}
+
+/// The child `pid` was waited for: it is no longer this run's to kill.
+pub fn child_ended(pid: u32) {
+    if let Ok(mut v) = CHILDREN.lock() {
+        v.retain(|p| *p != pid);
+    }
+}
+
+/// A folder that an interrupted run removes, with what is in it.
+pub fn folder_made(path: &Path) {
+    if let Ok(mut v) = FOLDERS.lock() {
+        v.push(path.to_owned());
+    }
+}
+
+/// The folder was removed, or is now an output: it stays.
+pub fn folder_kept(path: &Path) {
+    if let Ok(mut v) = FOLDERS.lock() {
+        v.retain(|p| p != path);
+    }
+}
+
+/// Kills and reaps the listed children, then removes the listed folders
+/// (the children first, so that none writes into a folder being removed).
+/// Runs on the signal handler's thread (ctrlc's, outside the signal
+/// context).
+pub fn clean_up() {
+    if let Ok(v) = CHILDREN.lock() {
+        for &pid in v.iter() {
+            let Ok(pid) = libc::pid_t::try_from(pid) else {
+                continue;
+            };
+            // SAFETY: signals a process this run started and has not yet
+            // reaped (its pid cannot have been reused), then reaps it.
+            unsafe {
+                libc::kill(pid, libc::SIGKILL);
+                libc::waitpid(pid, std::ptr::null_mut(), 0);
+            }
+        }
+    }
+    if let Ok(v) = FOLDERS.lock() {
+        for f in v.iter() {
+            let _ = std::fs::remove_dir_all(f);
+        }
+    }
+}
