@@ -560,23 +560,24 @@ fn without_a_layer_where_the_loader_looks_the_run_says_so() {
     assert_eq!(matrix(&out)["validation"], false);
 }
 
-/// Issue 42, defect 2: an output linked to the library an --icd manifest
-/// names is refused like one linked to the manifest; the library was
-/// replaced by the CSV.
+/// Issue 42, defect 2: an output linked to the library a working --icd
+/// manifest names is refused like one linked to the manifest; the run
+/// replaced the library it had loaded with the CSV, and exited 0.
 #[test]
 fn an_output_onto_a_driver_library_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let lib = d.join("libdriver.so");
-    std::fs::write(&lib, "the driver").unwrap();
-    let icd = d.join("driver.json");
-    common::write_icd_manifest(&icd, &lib);
+    let Some(icd) = misbehaving("garbage", d) else {
+        return;
+    };
+    let lib = d.join("libgarbage.so");
+    let bytes = std::fs::read(&lib).unwrap();
     let out = d.join("out");
     std::fs::create_dir(&out).unwrap();
     std::os::unix::fs::symlink(&lib, out.join("drivers.csv")).unwrap();
     let o = drivers(&["scenes/seed-fig3.toml", "--quick"], &[&icd], &out, &[]);
     common::assert_user_error(&o, "refusing to overwrite an input");
-    assert_eq!(std::fs::read_to_string(&lib).unwrap(), "the driver");
+    assert_eq!(std::fs::read(&lib).unwrap(), bytes);
 }
 
 /// Issue 42, defect 14: a driver's name with a terminal escape and a `|`
