@@ -607,18 +607,23 @@ fn names_are_escaped_in_every_output() {
     assert!(!page.contains('\u{1b}'));
 }
 
-/// Issue 42, defects 1 and 13: a scene named `...toml` and one of a
-/// 245-character name, on a failing driver, get reproducers inside
-/// repro/, and nothing is written beside the scenes; `...` was "..", and
-/// its reproducer replaced the README.md of the folder the run was in,
-/// and the long name failed the run ("File name too long").
+/// Issue 42, defects 1 and 13: a driver and a scene named `...json` and
+/// `...toml`, and a scene of a 245-character name, on a failing driver,
+/// get reproducers inside repro/, and nothing is written beside the
+/// scenes; `...` was "..", and the reproducer replaced the README.md of
+/// the folder the run was in, and the long name failed the run ("File
+/// name too long").
 #[test]
 fn reproducers_stay_inside_repro_whatever_the_names() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let Some(icd) = misbehaving("garbage", d) else {
+    let Some(garbage) = misbehaving("garbage", d) else {
         return;
     };
+    // The driver "..": a manifest named `...json` in a folder icd.d.
+    std::fs::create_dir(d.join("icd.d")).unwrap();
+    let icd = d.join("icd.d/...json");
+    std::fs::copy(&garbage, &icd).unwrap();
     let here = d.join("here");
     std::fs::create_dir(&here).unwrap();
     std::fs::write(here.join("README.md"), "mine").unwrap();
@@ -664,9 +669,15 @@ fn reproducers_stay_inside_repro_whatever_the_names() {
     let m = matrix(&here.join("out"));
     for row in m["rows"].as_array().unwrap() {
         let repro = here.join(row["cells"][0]["repro"].as_str().unwrap());
+        // repro/<driver>/<scene>, and nowhere else.
         let inside = std::fs::canonicalize(&repro).unwrap();
-        assert!(
-            inside.starts_with(std::fs::canonicalize(here.join("out/repro")).unwrap()),
+        assert_eq!(
+            inside.parent().and_then(Path::parent),
+            Some(
+                std::fs::canonicalize(here.join("out/repro"))
+                    .unwrap()
+                    .as_path()
+            ),
             "{}",
             repro.display()
         );
@@ -817,4 +828,93 @@ fn walk(p: &Path) -> Vec<PathBuf> {
         v.push(path);
     }
     v
+}
+
+/// Issue 42, defect 10: a hang is shrunk within --shrink-budget (a try
+/// cut short by it is no evidence, so a budget under one deadline keeps
+/// the first size), and no driver's run starts past --budget: those cells
+/// are "not run". Each try hung for the whole deadline before, and
+/// nothing bounded the run.
+#[test]
+fn a_hang_is_shrunk_within_its_budget_and_the_run_within_its_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let Some(hang) = misbehaving("hang", d) else {
+        return;
+    };
+    let out = d.join("out");
+    let o = drivers(
+        &[
+            "scenes/seed-fig3.toml",
+            "scenes/seed-fig4.toml",
+            "--quick",
+            "--deadline",
+            "2",
+            "--shrink-budget",
+            "1",
+            "--budget",
+            "1",
+        ],
+        &[&hang],
+        &out,
+        &[],
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let m = matrix(&out);
+    let first = cell(&m, "seed-fig3", 0);
+    assert_eq!(first["result"], "hung", "{first}");
+    let readme =
+        std::fs::read_to_string(out.join(first["repro"].as_str().unwrap()).join("README.md"))
+            .unwrap();
+    assert!(
+        readme.contains("- Size: 64x48, the scene's own sampling."),
+        "{readme}"
+    );
+    let second = cell(&m, "seed-fig4", 0);
+    assert_eq!(second["result"], "not_run", "{second}");
+}
+
+/// Issue 42, defect 12: a size whose images do not fit in what the
+/// process may use (here an address-space limit of 4 GiB, at
+/// 16384x16384) is one error before anything is rendered; it aborted on
+/// an allocation after minutes of rendering.
+#[test]
+fn a_size_that_does_not_fit_is_refused_before_rendering() {
+    use std::os::unix::process::CommandExt;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_glint"));
+    c.current_dir(common::repo())
+        .args([
+            "drivers",
+            "scenes/seed-fig3.toml",
+            "--width",
+            "16384",
+            "--height",
+            "16384",
+        ])
+        .arg("-o")
+        .arg(&out);
+    // SAFETY: setrlimit only, between fork and exec.
+    unsafe {
+        c.pre_exec(|| {
+            let limit = libc::rlimit {
+                rlim_cur: 4 << 30,
+                rlim_max: 4 << 30,
+            };
+            if libc::setrlimit(libc::RLIMIT_AS, &limit) == 0 {
+                Ok(())
+            } else {
+                Err(std::io::Error::last_os_error())
+            }
+        });
+    }
+    let o = c.output().unwrap();
+    common::assert_user_error(&o, "ulimit -v");
+    assert!(!out.exists());
 }

@@ -6,6 +6,7 @@
 use crate::cli::console::{out, outln};
 
 mod icd;
+mod memory;
 pub mod probe;
 mod repro;
 mod shrink;
@@ -121,6 +122,10 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
         height: Some(a.height.unwrap_or(if a.quick { 48 } else { 120 })),
         ..Overrides::default()
     };
+    memory::check(
+        size.width.unwrap_or_default(),
+        size.height.unwrap_or_default(),
+    )?;
     let paths = if !a.scenes.is_empty() {
         a.scenes.clone()
     } else if a.quick {
