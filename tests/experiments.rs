@@ -113,3 +113,34 @@ fn the_bit_comparison_sees_one_changed_bit() {
     b.pixels[77][1] = f32::from_bits(b.pixels[77][1].to_bits() ^ 1);
     assert!(!common::same_bits(&a, &b));
 }
+
+/// An experiment glint does not have is one error naming those it has,
+/// exit 2 and no image (issue 43): it was ignored, so a run measured the
+/// default shaders under a misspelt experiment's name.
+#[test]
+fn an_unknown_experiment_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.png");
+    let scene = common::repo().join("scenes/seed-fig3.toml");
+    let o = common::cmd()
+        .args([
+            "render",
+            scene.to_str().unwrap(),
+            "--width",
+            "32",
+            "--height",
+            "24",
+        ])
+        .arg("-o")
+        .arg(&out)
+        .env("GLINT_EXPERIMENT", "unroll-all,no-such-thing")
+        .output()
+        .unwrap();
+    common::assert_user_error(&o, "no experiment \"no-such-thing\"");
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    for known in glint::gpu::EXPERIMENTS {
+        assert!(stderr.contains(known), "{known}: {stderr}");
+    }
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    assert!(!out.exists());
+}

@@ -151,25 +151,7 @@ fn check(sources: &[(String, String)], tops: &[String]) -> Vec<String> {
 
 /// The library's .rs files under `src`, relative to it, with their text.
 fn read_tree(src: &Path) -> Vec<(String, String)> {
-    let mut files = Vec::new();
-    let mut dirs = vec![src.to_path_buf()];
-    while let Some(dir) = dirs.pop() {
-        for entry in std::fs::read_dir(&dir).unwrap() {
-            let path = entry.unwrap().path();
-            if path.is_dir() {
-                dirs.push(path);
-            } else if path.extension().is_some_and(|e| e == "rs") {
-                let rel = path
-                    .strip_prefix(src)
-                    .unwrap()
-                    .to_string_lossy()
-                    .into_owned();
-                let text = std::fs::read_to_string(&path).unwrap();
-                files.push((rel, text));
-            }
-        }
-    }
-    files.sort();
+    let mut files = read_all(src);
     files.retain(|(rel, _)| !BINARY.contains(&module_of(rel).first().map_or("", |m| m.as_str())));
     files
 }
@@ -480,4 +462,118 @@ fn is_char_literal(s: &str) -> bool {
         Some(_) => chars.next() == Some('\''),
         None => false,
     }
+}
+
+/// The binary's files and the library's, each with its crate's root: no
+/// two files of one folder may import each other, directly or around a
+/// loop (issue 43), in either crate.
+#[test]
+fn no_files_of_one_folder_import_each_other() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut all = read_all(&src);
+    all.retain(|(rel, _)| rel != "main.rs" && rel != "lib.rs");
+    let (binary, library): (Vec<_>, Vec<_>) = all
+        .into_iter()
+        .partition(|(rel, _)| BINARY.contains(&module_of(rel)[0].as_str()));
+    let mut problems = circles(&library);
+    problems.extend(circles(&binary));
+    assert!(
+        problems.is_empty(),
+        "{} circle(s) of imports:\n{}",
+        problems.len(),
+        problems.join("\n")
+    );
+}
+
+#[test]
+fn a_circle_of_three_files_fails() {
+    let sources = [
+        ("gpu/a.rs", "use super::b::B;\n"),
+        ("gpu/b.rs", "fn f() { crate::gpu::c::g(); }\n"),
+        ("gpu/c.rs", "use super::{a::A, d};\n"),
+        ("gpu/d.rs", "pub struct D;\n"),
+        ("gpu/mod.rs", "pub use a::A;\nmod tests { use super::b; }\n"),
+    ]
+    .map(|(f, t)| (f.to_owned(), t.to_owned()));
+    assert_eq!(
+        circles(&sources),
+        vec!["src/gpu: a.rs -> b.rs -> c.rs -> a.rs".to_owned()]
+    );
+}
+
+/// Every .rs file under `src`, relative to it, with its text.
+fn read_all(src: &Path) -> Vec<(String, String)> {
+    let mut files = Vec::new();
+    let mut dirs = vec![src.to_path_buf()];
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let rel = path
+                    .strip_prefix(src)
+                    .unwrap()
+                    .to_string_lossy()
+                    .into_owned();
+                files.push((rel.clone(), std::fs::read_to_string(&path).unwrap()));
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+/// The loops of imports among the sibling files of each folder (a
+/// folder's mod.rs, which declares and re-exports its files, is not one
+/// of them): each as `src/<folder>: a.rs -> b.rs -> a.rs`, once.
+fn circles(sources: &[(String, String)]) -> Vec<String> {
+    let modules: BTreeMap<Vec<String>, &str> = sources
+        .iter()
+        .map(|(rel, _)| (module_of(rel), rel.as_str()))
+        .collect();
+    let sibling = |rel: &str| !rel.ends_with("mod.rs");
+    // The file a path lands in: the longest prefix that is a file's module.
+    let file_of = |path: &[String]| {
+        (1..=path.len())
+            .rev()
+            .find_map(|n| modules.get(&path[..n]).copied())
+    };
+    let mut graph: BTreeMap<&str, std::collections::BTreeSet<&str>> = BTreeMap::new();
+    for (rel, text) in sources.iter().filter(|(r, _)| sibling(r)) {
+        let base = module_of(rel);
+        for (_, path, module) in paths(&strip(text), &base) {
+            let Some(to) = resolve(&path, &module).and_then(|p| file_of(&p)) else {
+                continue;
+            };
+            let same_folder = Path::new(to).parent() == Path::new(rel.as_str()).parent();
+            if to != rel && sibling(to) && same_folder {
+                graph.entry(rel.as_str()).or_default().insert(to);
+            }
+        }
+    }
+    // Each loop once, from its smallest file, found by a walk from each.
+    let mut found = Vec::new();
+    for &start in graph.keys() {
+        let mut stack = vec![(start, vec![start])];
+        while let Some((at, trail)) = stack.pop() {
+            for &next in graph.get(at).into_iter().flatten() {
+                if next == start {
+                    let names: Vec<&str> = trail
+                        .iter()
+                        .chain([&start])
+                        .map(|f| f.rsplit('/').next().unwrap_or(f))
+                        .collect();
+                    let folder = Path::new(start).parent().unwrap().display().to_string();
+                    found.push(format!("src/{folder}: {}", names.join(" -> ")));
+                } else if next > start && !trail.contains(&next) {
+                    let mut t = trail.clone();
+                    t.push(next);
+                    stack.push((next, t));
+                }
+            }
+        }
+    }
+    found.sort();
+    found
 }

@@ -7,6 +7,7 @@
 
 pub(crate) mod bvh;
 mod cost;
+pub(crate) mod node;
 pub(crate) mod quantize;
 pub(crate) mod tables;
 

@@ -11,7 +11,7 @@
 //! byte is chosen against that rounding: the decoded box holds the box it
 //! stands for, so the image does not depend on it.
 
-use super::bvh::{Node, WIDTH};
+use super::node::{Node, EMPTY, WIDTH};
 
 crate::base::interface::gpu_struct!(
     /// A node as the shader reads it: 64 bytes, the same in both precisions.
@@ -26,7 +26,7 @@ crate::base::interface::gpu_struct!(
         xy: uvec4,
         /// The low z and high z bytes; z and w unused.
         z: uvec4,
-        /// The children's words (`bvh::Child`).
+        /// The children's words (`node::Child`).
         child: uvec4,
     }
 );
@@ -75,9 +75,7 @@ fn step_of(bits: u32) -> f32 {
 /// The node's bytes, and the node with the boxes they decode to (each
 /// holding the box it stands for), which the CPU walks.
 pub fn pack(node: &Node) -> (Packed, Node) {
-    let used: Vec<usize> = (0..WIDTH)
-        .filter(|&k| node.child[k] != super::bvh::EMPTY)
-        .collect();
+    let used: Vec<usize> = (0..WIDTH).filter(|&k| node.child[k] != EMPTY).collect();
     let rows = |lo: &[f32; 4], hi: &[f32; 4]| {
         let origin = used.iter().map(|&k| lo[k]).fold(f32::INFINITY, f32::min);
         let top = used
@@ -166,7 +164,7 @@ pub fn unpack(p: &Packed) -> Node {
 
 #[cfg(test)]
 mod tests {
-    use super::super::bvh::EMPTY;
+    use super::super::node::EMPTY;
     use super::*;
 
     fn node(boxes: &[([f32; 3], [f32; 3])]) -> Node {

@@ -30,6 +30,7 @@ mod tile;
 pub mod version;
 #[cfg(feature = "gpu")]
 mod watch;
+mod whole;
 #[cfg(not(feature = "gpu"))]
 mod without_gpu;
 #[cfg(feature = "gpu")]

@@ -256,19 +256,6 @@ fn render_tile(
     Ok(ExitCode::SUCCESS)
 }
 
-/// What `render` reports of a whole render.
-pub struct Whole {
-    pub image: Image,
-    pub label: String,
-    /// The render's seconds, without its setup.
-    pub seconds: f64,
-    /// Opening the device, compiling, the BVH and the tables.
-    pub setup_s: f64,
-    /// Of the setup, building the tables (`--accel tables`).
-    pub tables_s: f64,
-    pub counts: Option<Counts>,
-}
-
 /// The CPU's setup (the scene in its precision, the BVH) and render times.
 #[derive(Debug, Clone, Copy, serde::Serialize)]
 pub struct CpuTimes {

@@ -97,10 +97,10 @@ pub fn whole(
     device: &DeviceArgs,
     precision: Precision,
     count: bool,
-) -> anyhow::Result<super::render::Whole> {
+) -> anyhow::Result<super::whole::Whole> {
     let r = timed(scene, device, precision, count)?;
     let setup = r.times.setup;
-    Ok(super::render::Whole {
+    Ok(super::whole::Whole {
         label: r.label(precision),
         seconds: r.times.total_s(),
         setup_s: setup.device_s

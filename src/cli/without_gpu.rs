@@ -62,7 +62,7 @@ pub mod render_gpu {
         _: &DeviceArgs,
         _: Precision,
         _: bool,
-    ) -> anyhow::Result<crate::cli::render::Whole> {
+    ) -> anyhow::Result<crate::cli::whole::Whole> {
         Err(refuse("render --backend gpu (the default)"))
     }
 

@@ -1,23 +1,10 @@
 //! The colour of a texture at a hit (docs/scene-format.md, Textures);
 //! mirrors shaders/texture.glsl.
 
-use super::world::{MaterialR, World};
+use super::world::{MaterialR, TextureR, World};
 use crate::base::real::{Real, Vec3};
 use crate::prim::PrimId;
-use crate::scene::texture::{Pattern, Texels};
-
-/// A texture in the reference's arithmetic, in camera-relative coordinates.
-#[derive(Debug, Clone, Copy)]
-pub struct TextureR<R> {
-    pub pattern: Pattern,
-    pub size: R,
-    pub colors: [Vec3<R>; 2],
-    /// The cosine and sine of a checker's angle.
-    pub rotation: [R; 2],
-    pub origin: Vec3<R>,
-    /// `Image`: its texels in `World::texels`.
-    pub texels: Option<Texels>,
-}
+use crate::scene::texture::Pattern;
 
 /// Cell `x` of a row (or column) of `n`, repeated: x mod n, kept inside
 /// 0..n-1 where the rounding of a huge x would leave it outside.
@@ -103,6 +90,7 @@ pub fn at_hit<R: Real>(w: &World<R>, m: &MaterialR<R>, prim: PrimId, p: Vec3<R>)
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::texture::Texels;
 
     /// A 3 × 2 image: texel (x, y) is (x, y, 10).
     fn image() -> (Vec<[f32; 3]>, TextureR<f64>) {

@@ -1,11 +1,25 @@
 //! The scene in the reference's scalar type: what the shader's buffers hold.
 
-use super::texture::TextureR;
 use crate::accel::{self, bvh::Bvh, tables::Tables, Accel};
 use crate::prim::CpuPrims;
+use crate::scene::texture::{Pattern, Texels};
 use crate::scene::{LightKind, Scene};
 
 use crate::base::real::{Real, Vec3};
+
+/// A texture in the reference's arithmetic, in camera-relative
+/// coordinates (its colour at a hit: texture.rs).
+#[derive(Debug, Clone, Copy)]
+pub struct TextureR<R> {
+    pub pattern: Pattern,
+    pub size: R,
+    pub colors: [Vec3<R>; 2],
+    /// The cosine and sine of a checker's angle.
+    pub rotation: [R; 2],
+    pub origin: Vec3<R>,
+    /// `Image`: its texels in `World::texels`.
+    pub texels: Option<Texels>,
+}
 
 pub struct World<R: Real> {
     pub eye: Vec3<R>,

@@ -19,26 +19,12 @@
 
 use std::fmt::Write;
 
+use super::blocks::{Block, Form};
 use super::layout::{light, material, table_word, texel, texture};
-use super::variant::Block;
 use crate::accel::quantize::packed;
 use crate::base::interface::{words, GpuStruct, Member};
 use crate::base::Precision;
 use crate::prim::{triangle, KINDS};
-
-/// How the shader reads one read-only array.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Form {
-    /// A uniform block of this many elements.
-    Uniform(usize),
-    /// A storage buffer.
-    Storage,
-    /// A uniform texel buffer.
-    Texels,
-    /// A buffer read through its device address (GL_EXT_buffer_reference),
-    /// which a uniform block at the binding holds.
-    Address,
-}
 
 /// One read-only array as the shader declares it.
 #[derive(Debug, Clone)]

@@ -2,9 +2,10 @@
 //! features, the counts that become constants, and how its arrays are
 //! read. Everything else is left out of its variant (variant.rs).
 
-use super::access::Form;
+use super::blocks::Form;
 use super::layout::Uploads;
 use super::vk::device::DeviceInfo;
+use super::GpuError;
 use crate::prim::KINDS;
 use crate::scene::{LightKind, Scene};
 
@@ -79,7 +80,8 @@ pub struct Features {
 /// these are no uniform blocks), `storage-reads`, `texel-reads`,
 /// `address-reads` (the arrays outside
 /// uniform blocks read that way, where the device can). Not for
-/// rendering: a name it does not know is ignored.
+/// rendering. A name it does not know is refused (`check_experiment`): a
+/// misspelt experiment would measure the default shaders under its name.
 #[derive(Debug, Default, Clone, Copy)]
 pub(super) struct Experiment {
     storage: bool,
@@ -90,6 +92,43 @@ pub(super) struct Experiment {
     pub(super) no_filter: bool,
     no_uniform_tables: bool,
     reads: Option<Form>,
+}
+
+/// The names `GLINT_EXPERIMENT` may hold (`Experiment`).
+pub const EXPERIMENTS: &[&str] = &[
+    "storage",
+    "uniforms-always",
+    "no-unroll",
+    "unroll-all",
+    "canary",
+    "no-filter",
+    "no-uniform-tables",
+    "storage-reads",
+    "texel-reads",
+    "address-reads",
+];
+
+/// Refuses a `GLINT_EXPERIMENT` that names an experiment glint does not
+/// have (issue 43: it was ignored, so a test of a misspelt one passed).
+pub fn check_experiment() -> Result<(), GpuError> {
+    let v = std::env::var("GLINT_EXPERIMENT").unwrap_or_default();
+    let unknown: Vec<&str> = v
+        .split(',')
+        .map(str::trim)
+        .filter(|f| !f.is_empty() && !EXPERIMENTS.contains(f))
+        .collect();
+    if unknown.is_empty() {
+        return Ok(());
+    }
+    Err(GpuError::Unsupported(format!(
+        "GLINT_EXPERIMENT: no experiment {} (the experiments: {})",
+        unknown
+            .iter()
+            .map(|u| format!("\"{}\"", crate::printable::text(u)))
+            .collect::<Vec<_>>()
+            .join(", "),
+        EXPERIMENTS.join(", ")
+    )))
 }
 
 impl Experiment {

@@ -12,9 +12,11 @@
 
 use std::fmt::Write;
 
-use super::access::{self, ArrayDecl, Form};
+use super::access::{self, ArrayDecl};
+use super::blocks::Block;
+use super::blocks::Form;
 use super::layout::{globals, light, material, refine, texel, texture, LIGHT_KINDS};
-use super::variant::{Block, Variant};
+use super::variant::Variant;
 use crate::accel::quantize::packed;
 use crate::base::interface::{declaration, GpuStruct};
 use crate::base::WORKGROUP;

@@ -216,6 +216,11 @@ fn table_words(t: &Tables) -> Vec<table_word::Values> {
         .collect()
 }
 
+/// The word the output tile is filled with before each dispatch: a NaN,
+/// which the host reads as a pixel no shader wrote (passes.rs,
+/// schedule.rs).
+pub(crate) const UNWRITTEN: u32 = 0xffff_ffff;
+
 /// The push constant: the tile's origin x, y, width and height, and the
 /// wavefront's stage and queue (shaders/wavefront.glsl; zero for the
 /// megakernel).

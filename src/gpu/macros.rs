@@ -177,12 +177,4 @@ mod tests {
         let e = split.add("b.glsl", &doubling[half..]).unwrap_err();
         assert!(e.starts_with("b.glsl: error: macro A"), "{e}");
     }
-
-    #[test]
-    fn glints_own_shaders_are_far_within_the_bound() {
-        let mut m = Macros::default();
-        for (name, text) in super::super::compile::builtin() {
-            m.add(&name, text).unwrap();
-        }
-    }
 }

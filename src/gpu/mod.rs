@@ -18,6 +18,7 @@
 //! device), times.rs.
 
 mod access;
+mod blocks;
 pub mod compile;
 mod error;
 mod features;
@@ -31,6 +32,7 @@ mod refine;
 mod renderer;
 mod resident;
 pub mod schedule;
+mod shared;
 mod times;
 pub mod variant;
 pub(crate) mod vk;
@@ -39,6 +41,7 @@ mod work;
 pub use crate::base::{Precision, WORKGROUP};
 pub use crate::settings::Intersect;
 pub use error::{GpuError, VkCode};
+pub use features::{check_experiment, EXPERIMENTS};
 pub use options::{GpuOptions, RenderSettings};
 pub use prepared::{Prepared, Rendered};
 pub use renderer::Renderer;

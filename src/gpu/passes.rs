@@ -7,7 +7,7 @@ use std::time::Duration;
 use ash::vk as raw;
 use glam::UVec4;
 
-use super::layout::TileRect;
+use super::layout::{TileRect, UNWRITTEN};
 use super::schedule;
 use super::vk::buffer::Buffer;
 use super::vk::command::{memory_barrier, Completed, OneShot};
@@ -15,9 +15,6 @@ use super::vk::device::Device;
 use super::vk::pipeline::ComputePipeline;
 use super::vk::query::Timestamps;
 use super::{GpuError, WORKGROUP};
-
-/// The word the output tile is filled with before each dispatch: a NaN.
-pub(crate) const UNWRITTEN: u32 = 0xffff_ffff;
 
 /// What a pass dispatches: the pipeline with its set, the output tile (each
 /// word made `UNWRITTEN` first), the counters to zero first (the first tile

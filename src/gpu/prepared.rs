@@ -8,15 +8,16 @@ use std::time::Instant;
 
 use glam::UVec4;
 
-use super::access::Form;
+use super::blocks::Block;
+use super::blocks::Form;
 use super::layout::Uploads;
 use super::options::RenderSettings;
 use super::passes::{Executor, Pass, Target};
 use super::refine;
-use super::renderer::{Pipeline, Shared};
 use super::resident::{scene_blocks, stage_blocks, Blocks};
+use super::shared::{Pipeline, Shared};
 use super::times::{RenderTimes, SetupTimes};
-use super::variant::{self, Block, Variant};
+use super::variant::{self, Variant};
 use super::vk::buffer::Buffer;
 use super::vk::command::Completed;
 use super::vk::descriptor::{DescriptorSet, Resource};

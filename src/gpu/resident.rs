@@ -6,9 +6,11 @@ use std::sync::Arc;
 
 use ash::vk as raw;
 
-use super::access::{self, Form};
+use super::access;
+use super::blocks::Block;
+use super::blocks::Form;
 use super::layout::Uploads;
-use super::variant::{Block, Variant};
+use super::variant::Variant;
 use super::vk::buffer::Buffer;
 use super::vk::command::OneShot;
 use super::vk::descriptor::Resource;

@@ -10,7 +10,7 @@ use std::time::Duration;
 use ash::vk as raw;
 use glam::UVec4;
 
-use super::layout::TileRect;
+use super::layout::{TileRect, UNWRITTEN};
 use super::vk::command::{memory_barrier, Completed, OneShot};
 use super::vk::pipeline::ComputePipeline;
 use super::vk::query::Timestamps;
@@ -105,7 +105,7 @@ pub(crate) fn submit<'c>(
     // render pass.
     let done = commands.run(timeout, |dev, cb| unsafe {
         if let Some((out, counters)) = wave.first {
-            dev.cmd_fill_buffer(cb, out, 0, raw::WHOLE_SIZE, super::passes::UNWRITTEN);
+            dev.cmd_fill_buffer(cb, out, 0, raw::WHOLE_SIZE, UNWRITTEN);
             if let Some(counters) = counters {
                 dev.cmd_fill_buffer(cb, counters, 0, raw::WHOLE_SIZE, 0);
             }

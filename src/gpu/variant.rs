@@ -5,7 +5,8 @@
 
 use ash::vk;
 
-use super::access::Form;
+pub use super::blocks::Block;
+use super::blocks::Form;
 pub use super::features::Features;
 use super::features::{reads, Experiment};
 use super::layout::Uploads;
@@ -14,66 +15,6 @@ use super::Intersect;
 use crate::base::Precision;
 use crate::prim::KINDS;
 use crate::scene::Scene;
-
-/// The shader's blocks, in binding order (src/gpu/generated.rs declares them).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Block {
-    /// The uniform block: camera, settings, counts.
-    Globals,
-    /// One kind of primitive's array, by its place in `prim::KINDS`.
-    Kind(usize),
-    /// The materials.
-    Materials,
-    /// The lights.
-    Lights,
-    /// The textures, where a material has one.
-    Textures,
-    /// The images' texels, where a material has an image texture.
-    Texels,
-    /// The triangles' uvs, where an image texture may need them.
-    Uvs,
-    /// The BVH's nodes.
-    Nodes,
-    /// The light buffers and the eye's tiles (src/accel/tables.rs).
-    Tables,
-    /// The counters of `--stats` (src/stats.rs), where the variant counts.
-    Counts,
-    /// The points of a level of adaptive sampling's refinement.
-    Refine,
-    /// The wavefront's paths: their rays, weights, colours and sums, and
-    /// their waiting refraction rays (shaders/wavefront.glsl).
-    PathReals,
-    /// The same paths' indices, depths, samples and stack tops.
-    PathWords,
-    /// The wavefront's two queues of live paths, with their counts and
-    /// indirect dispatch sizes.
-    Queues,
-    /// The output tile the shader writes.
-    Pixels,
-}
-
-impl Block {
-    /// Its name in GLSL and in messages.
-    pub fn name(self) -> &'static str {
-        match self {
-            Block::Globals => "Globals",
-            Block::Kind(k) => KINDS[k].key,
-            Block::Materials => "materials",
-            Block::Lights => "lights",
-            Block::Textures => "textures",
-            Block::Texels => "texels",
-            Block::Uvs => "uvs",
-            Block::Nodes => "BVH nodes",
-            Block::Tables => "tables",
-            Block::Counts => "the counters",
-            Block::Refine => "the points to refine",
-            Block::PathReals => "the paths",
-            Block::PathWords => "the paths' words",
-            Block::Queues => "the path queues",
-            Block::Pixels => "the output tile",
-        }
-    }
-}
 
 /// A shader variant: what one scene and its settings compile the shader
 /// with (docs/shaders.md, Variants). Each is its own pipeline.

@@ -34,6 +34,14 @@ macro_rules! scene_file {
             pub lights: Vec<LightFile>,
         }
 
+        /// The arrays of a scene file whose rows are its objects: each
+        /// primitive kind's (from the kinds' table, so a new kind is in it),
+        /// then the meshes and the lights (`glint drivers` leaves rows of
+        /// these out to shrink a failing scene).
+        pub fn object_arrays() -> &'static [&'static str] {
+            &[$(stringify!($key),)* "meshes", "lights"]
+        }
+
         impl SceneFile {
             /// The file as TOML text, written a few hundred tables at a
             /// time: a document of the whole scene would hold some 2.6 KB a
@@ -211,4 +219,19 @@ fn three() -> i64 {
 }
 fn yes() -> bool {
     true
+}
+
+#[cfg(test)]
+mod tests {
+    /// Every primitive kind's array is one that `drivers` shrinks, from the
+    /// table (issue 43: shrink.rs kept its own list, and a kind left off
+    /// it was never shrunk).
+    #[test]
+    fn every_kind_is_an_object_array() {
+        let arrays = super::object_arrays();
+        for k in crate::prim::KINDS {
+            assert!(arrays.contains(&k.key), "{}", k.key);
+        }
+        assert!(arrays.contains(&"meshes") && arrays.contains(&"lights"));
+    }
 }

@@ -24,8 +24,9 @@ use crate::base::real::{Real, Vec3};
 pub use crate::input::error::SceneError;
 pub use crate::input::field::{Triple, MAX_COORDINATE};
 pub use brightness::PastBound;
-pub use file::Sampling;
-pub use validate::{parse, parse_nff, Overrides};
+pub use file::{object_arrays, Sampling};
+pub use nff::parse_nff;
+pub use validate::{parse, Overrides};
 
 pub use crate::prim::cylinder::Cylinder;
 pub use crate::prim::plane::Plane;
@@ -292,7 +293,7 @@ impl Scene {
             }
         })?;
         if is_nff(path) {
-            validate::parse_nff(&text, path, overrides)
+            nff::parse_nff(&text, path, overrides)
         } else {
             parse(&text, path, overrides)
         }

@@ -44,6 +44,16 @@ impl Nff {
     }
 }
 
+/// Reads and validates NFF text (docs/scene-format.md, NFF); `file` is only
+/// used in messages.
+pub fn parse_nff(
+    text: &str,
+    file: &Path,
+    overrides: &super::Overrides,
+) -> Result<super::Scene, SceneError> {
+    read(text, file)?.check(file, overrides)
+}
+
 /// The NFF line of each table: of each row of an array (`spheres[3]`), in
 /// a list per array rather than a name per row (300,000 spheres took 60
 /// bytes each as names), and of each single table (`materials.f2`,

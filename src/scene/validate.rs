@@ -39,12 +39,6 @@ pub fn parse(text: &str, file: &Path, overrides: &Overrides) -> Result<Scene> {
     resolve(raw, file, &located, overrides)
 }
 
-/// Reads and validates NFF text (docs/scene-format.md, NFF); `file` is only
-/// used in messages.
-pub fn parse_nff(text: &str, file: &Path, overrides: &Overrides) -> Result<Scene> {
-    super::nff::read(text, file)?.check(file, overrides)
-}
-
 /// Validates a scene file read from any format: `located` names where
 /// each key path was written.
 pub(super) fn resolve(

@@ -111,6 +111,7 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
     // The options every child would refuse, refused once here (issue 42,
     // defect 5: each driver became "no device" or "refused", exit 0).
     a.device.options()?.check_defines()?;
+    glint::gpu::check_experiment()?;
     // What the path is, where it is not a manifest (issue 42, defect 15:
     // a directory, a FIFO and a loop of links were all "no such file").
     for f in &a.icd {

@@ -7,16 +7,6 @@ use std::path::Path;
 
 use anyhow::Context;
 
-/// The arrays of tables that hold a scene's objects.
-const TABLES: [&str; 6] = [
-    "spheres",
-    "triangles",
-    "cylinders",
-    "planes",
-    "meshes",
-    "lights",
-];
-
 /// The most runs one scene's shrinking may take.
 pub const MAX_RUNS: usize = 12;
 
@@ -32,7 +22,7 @@ pub fn objects(
     let Ok(table) = text.parse::<toml::Table>() else {
         return Ok(None);
     };
-    let entries: Vec<(&str, usize)> = TABLES
+    let entries: Vec<(&str, usize)> = glint::scene::object_arrays()
         .iter()
         .flat_map(|&key| {
             let n = table
@@ -89,7 +79,7 @@ fn without(
     keep: &[bool],
 ) -> anyhow::Result<String> {
     let mut t = table.clone();
-    for key in TABLES {
+    for &key in glint::scene::object_arrays() {
         if let Some(toml::Value::Array(rows)) = t.get_mut(key) {
             let mut i = 0;
             rows.retain(|_| {
