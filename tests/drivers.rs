@@ -57,6 +57,31 @@ fn drivers(args: &[&str], icds: &[&Path], out: &Path, env: &[(&str, &str)]) -> O
     c.output().expect("run glint drivers")
 }
 
+/// Asserts that the run exited with `code`, showing its stderr where not.
+fn assert_exit(o: &Output, code: i32) {
+    assert_eq!(
+        o.status.code(),
+        Some(code),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+/// Builds the shared library `so` from the C file `source` with `flags`
+/// (and libdl, which a forwarding driver opens its real one with); false
+/// where there is no C compiler.
+fn build_c_library(source: &Path, so: &Path, flags: &[String]) -> bool {
+    std::process::Command::new("cc")
+        .args(["-shared", "-fPIC"])
+        .args(flags)
+        .arg("-o")
+        .arg(so)
+        .arg(source)
+        .arg("-ldl")
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
 fn matrix(out: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(out.join("drivers.json")).unwrap()).unwrap()
 }
@@ -133,12 +158,7 @@ fn a_wrong_driver_fails_with_a_reproducer() {
         &out,
         &[("GLINT_EXPERIMENT", "unroll-all")],
     );
-    assert_eq!(
-        o.status.code(),
-        Some(1),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_exit(&o, 1);
     let m = matrix(&out);
     let bad = cell(&m, "seed-fig5", column(&m, &old));
     assert_eq!(bad["result"], "fail", "{bad}");
@@ -221,12 +241,7 @@ fn a_crashing_driver_is_a_row() {
     )
     .unwrap();
     let lib = dir.path().join("libabort.so");
-    let built = std::process::Command::new("cc")
-        .args(["-shared", "-fPIC", "-o"])
-        .arg(&lib)
-        .arg(&c)
-        .status();
-    if !built.is_ok_and(|s| s.success()) {
+    if !build_c_library(&c, &lib, &[]) {
         common::skip(
             "a crashing driver",
             "no C compiler to build the aborting library",
@@ -242,7 +257,7 @@ fn a_crashing_driver_is_a_row() {
         &out,
         &[],
     );
-    assert_eq!(o.status.code(), Some(1));
+    assert_exit(&o, 1);
     let m = matrix(&out);
     for scene in ["seed-fig3", "seed-fig4"] {
         let crashed = cell(&m, scene, column(&m, &icd));
@@ -327,12 +342,7 @@ fn two_scenes_of_one_name_are_two_rows() {
         &out,
         &[],
     );
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_exit(&o, 0);
     let m = matrix(&out);
     let rows: Vec<&str> = m["rows"]
         .as_array()
@@ -380,16 +390,15 @@ fn misbehaving_icds(real: &Path, dir: &Path) -> Option<Vec<PathBuf>> {
     let mut icds = Vec::new();
     for (name, mode, _) in MISBEHAVIOURS {
         let so = dir.join(format!("lib{name}.so"));
-        let built = std::process::Command::new("cc")
-            .args(["-shared", "-fPIC", "-O1", "-Wall", "-Werror"])
-            .arg(format!("-DMODE={mode}"))
-            .arg(format!("-DREAL_LIBRARY=\"{lib}\""))
-            .arg("-o")
-            .arg(&so)
-            .arg(common::repo().join("tests/data/misbehaving_icd.c"))
-            .arg("-ldl")
-            .status();
-        if !built.is_ok_and(|s| s.success()) {
+        let flags = [
+            "-O1".to_owned(),
+            "-Wall".into(),
+            "-Werror".into(),
+            format!("-DMODE={mode}"),
+            format!("-DREAL_LIBRARY=\"{lib}\""),
+        ];
+        let source = common::repo().join("tests/data/misbehaving_icd.c");
+        if !build_c_library(&source, &so, &flags) {
             common::skip("a misbehaving driver", "no C compiler to build its ICD");
             return None;
         }
@@ -458,12 +467,7 @@ fn a_misbehaving_driver_fails_in_each_way_with_a_reproducer_that_reproduces() {
             .arg(Path::new("..").join(icd.file_name().unwrap()));
     }
     let o = c.output().unwrap();
-    assert_eq!(
-        o.status.code(),
-        Some(1),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_exit(&o, 1);
     let m = matrix(&d.join("out"));
     for (i, (name, _, result)) in MISBEHAVIOURS.iter().enumerate() {
         let cell = &m["rows"][0]["cells"][i];
@@ -640,12 +644,7 @@ fn reproducers_stay_inside_repro_whatever_the_names() {
         .args(["--only", "-o", "out"])
         .output()
         .unwrap();
-    assert_eq!(
-        o.status.code(),
-        Some(1),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_exit(&o, 1);
     assert_eq!(
         std::fs::read_to_string(here.join("README.md")).unwrap(),
         "mine"
@@ -716,12 +715,7 @@ fn a_fifo_among_the_manifests_does_not_block_the_run() {
         .timeout(std::time::Duration::from_secs(120))
         .output()
         .unwrap();
-    assert_eq!(
-        o.status.code(),
-        Some(1),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_exit(&o, 1);
     let m = matrix(&out);
     let fifo = cell(&m, "seed-fig3", column(&m, &icds.join("b_fifo.json")));
     assert_eq!(fifo["result"], "hung", "{fifo}");
@@ -763,7 +757,7 @@ fn an_interrupted_run_leaves_nothing_running_and_the_last_run_whole() {
         &out,
         &[],
     );
-    assert_eq!(o.status.code(), Some(1));
+    assert_exit(&o, 1);
     let listing = |p: &Path| -> Vec<PathBuf> {
         let mut v: Vec<PathBuf> = walk(p);
         v.sort();
@@ -859,12 +853,7 @@ fn a_hang_is_shrunk_within_its_budget_and_the_run_within_its_own() {
         &out,
         &[],
     );
-    assert_eq!(
-        o.status.code(),
-        Some(1),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_exit(&o, 1);
     let m = matrix(&out);
     let first = cell(&m, "seed-fig3", 0);
     assert_eq!(first["result"], "hung", "{first}");

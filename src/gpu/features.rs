@@ -80,7 +80,8 @@ pub struct Features {
 /// these are no uniform blocks), `storage-reads`, `texel-reads`,
 /// `address-reads` (the arrays outside
 /// uniform blocks read that way, where the device can). Not for
-/// rendering. A name it does not know is refused (`check_experiment`): a
+/// rendering. A name it does not know is refused (`check_experiment`,
+/// through `GpuOptions::check`): a
 /// misspelt experiment would measure the default shaders under its name.
 #[derive(Debug, Default, Clone, Copy)]
 pub(super) struct Experiment {
@@ -110,7 +111,7 @@ pub const EXPERIMENTS: &[&str] = &[
 
 /// Refuses a `GLINT_EXPERIMENT` that names an experiment glint does not
 /// have (issue 43: it was ignored, so a test of a misspelt one passed).
-pub fn check_experiment() -> Result<(), GpuError> {
+pub(super) fn check_experiment() -> Result<(), GpuError> {
     let v = std::env::var("GLINT_EXPERIMENT").unwrap_or_default();
     let unknown: Vec<&str> = v
         .split(',')

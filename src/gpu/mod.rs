@@ -41,7 +41,7 @@ mod work;
 pub use crate::base::{Precision, WORKGROUP};
 pub use crate::settings::Intersect;
 pub use error::{GpuError, VkCode};
-pub use features::{check_experiment, EXPERIMENTS};
+pub use features::EXPERIMENTS;
 pub use options::{GpuOptions, RenderSettings};
 pub use prepared::{Prepared, Rendered};
 pub use renderer::Renderer;

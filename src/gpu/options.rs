@@ -43,11 +43,14 @@ pub struct GpuOptions {
 }
 
 impl GpuOptions {
-    /// Refuses a `-D` of a name glint defines itself for each scene: the
-    /// host's buffers and dispatch follow glint's value, not the user's.
-    /// Checked before any device is opened (`glint drivers` checks it once,
-    /// in the parent, rather than in every driver's child).
-    pub fn check_defines(&self) -> Result<(), GpuError> {
+    /// Refuses what every render with these options would refuse, before
+    /// any device is opened: a `-D` of a name glint defines itself for each
+    /// scene (the host's buffers and dispatch follow glint's value, not the
+    /// user's), and a `GLINT_EXPERIMENT` glint does not have. `glint
+    /// drivers` checks it once, in the parent, rather than in every
+    /// driver's child.
+    pub fn check(&self) -> Result<(), GpuError> {
+        super::features::check_experiment()?;
         match self
             .defines
             .iter()

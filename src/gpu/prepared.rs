@@ -8,8 +8,7 @@ use std::time::Instant;
 
 use glam::UVec4;
 
-use super::blocks::Block;
-use super::blocks::Form;
+use super::blocks::{Block, Form};
 use super::layout::Uploads;
 use super::options::RenderSettings;
 use super::passes::{Executor, Pass, Target};

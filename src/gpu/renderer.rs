@@ -47,8 +47,7 @@ impl Renderer {
     /// Opens the device `opts` names (or the best one) and prepares to
     /// render; no shader is compiled until a scene needs one.
     pub fn new(opts: &GpuOptions) -> Result<Self, GpuError> {
-        opts.check_defines()?;
-        super::check_experiment()?;
+        opts.check()?;
         let t0 = Instant::now();
         let (validate, wanted) = (opts.validate, opts.device.clone());
         let device = bounded(OPEN_LIMIT, move || {

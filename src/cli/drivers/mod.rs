@@ -110,8 +110,7 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
     let budget = a.budget.map(|b| seconds("--budget", b)).transpose()?;
     // The options every child would refuse, refused once here (issue 42,
     // defect 5: each driver became "no device" or "refused", exit 0).
-    a.device.options()?.check_defines()?;
-    glint::gpu::check_experiment()?;
+    a.device.options()?.check()?;
     // What the path is, where it is not a manifest (issue 42, defect 15:
     // a directory, a FIFO and a loop of links were all "no such file").
     for f in &a.icd {
@@ -251,20 +250,11 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
             let driver = glint::printable::text(&d.name);
             bar.set_message(format!("{shown} on {driver}"));
             let cell = match (&d.identity, &reference) {
-                (_, None) | (Ok(_), Some(_)) if run.past_budget() => Cell {
-                    verdict: Verdict::NotRun {
-                        reason: format!(
-                            "past the run's --budget of {} s",
-                            a.budget.unwrap_or_default()
-                        ),
-                    },
-                    repro: None,
-                },
-                (Err(v), _) => Cell {
+                (Err(v), Some(_)) => Cell {
                     verdict: v.clone(),
                     repro: load_repro.clone(),
                 },
-                (Ok(identity), Some(reference)) => {
+                (Ok(identity), Some(reference)) if !run.past_budget() => {
                     let (verdict, image, stderr) = run.scene(
                         d,
                         path,
@@ -295,7 +285,16 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
                     };
                     Cell { verdict, repro }
                 }
-                (Ok(_), None) => unreachable!("no reference only past the budget"),
+                // Past the budget (the reference too, where it was first).
+                _ => Cell {
+                    verdict: Verdict::NotRun {
+                        reason: format!(
+                            "past the run's --budget of {} s",
+                            a.budget.unwrap_or_default()
+                        ),
+                    },
+                    repro: None,
+                },
             };
             cells.push(cell);
             bar.inc(1);
@@ -353,26 +352,29 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
     // Exit 0 says every cell ran and some image was held to its
     // reference: a run of refusals, errors or cells past the budget tested
     // nothing, or not everything (issue 42, defects 5, 6 and 10).
-    let words: Vec<&str> = matrix
-        .rows
-        .iter()
-        .flat_map(|r| &r.cells)
-        .map(|c| c.verdict.word())
-        .collect();
     if matrix.failures() > 0 {
         return Ok(ExitCode::from(1));
     }
-    let not_run = words.iter().filter(|w| **w == "not run").count();
+    let verdicts: Vec<&Verdict> = matrix
+        .rows
+        .iter()
+        .flat_map(|r| &r.cells)
+        .map(|c| &c.verdict)
+        .collect();
+    let not_run = verdicts
+        .iter()
+        .filter(|v| matches!(v, Verdict::NotRun { .. }))
+        .count();
     anyhow::ensure!(
         not_run == 0,
         "{not_run} of {} cells were not run: the run reached its --budget of {} s (the tables say which)",
-        words.len(),
+        verdicts.len(),
         a.budget.unwrap_or_default()
     );
     anyhow::ensure!(
-        words
+        verdicts
             .iter()
-            .any(|w| *w == "pass" || *w == "ill-conditioned"),
+            .any(|v| matches!(v, Verdict::Pass { .. } | Verdict::IllConditioned { .. })),
         "nothing was tested: every cell is refused or an error (the tables say why)"
     );
     Ok(ExitCode::SUCCESS)
@@ -662,9 +664,7 @@ impl Run<'_> {
         // Bounded like every child: a driver that hangs in its compile
         // must not hang the run (issue 42, defect 10).
         let stderr = dir.with_extension("stderr.txt");
-        let file = std::fs::File::create(&stderr).map_err(|e| e.to_string())?;
-        let mut child = c.stderr(file).spawn().map_err(|e| e.to_string())?;
-        let status = probe::wait(&mut child, self.deadline).map_err(|e| e.to_string())?;
+        let status = probe::bounded(c, &stderr, self.deadline).map_err(|e| e.to_string())?;
         let said = std::fs::read_to_string(&stderr).unwrap_or_default();
         let _ = std::fs::remove_file(&stderr);
         match status {

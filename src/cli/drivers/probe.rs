@@ -291,15 +291,8 @@ impl Job<'_> {
         let report = self.out.join(REPORT);
         let _ = std::fs::remove_file(&report);
         let stderr_path = self.out.join("stderr.txt");
-        let stderr = std::fs::File::create(&stderr_path)
-            .with_context(|| format!("cannot create {}", stderr_path.display()))?;
-        let mut child = self
-            .command()?
-            .stderr(stderr)
-            .spawn()
-            .context("cannot start a child glint")?;
         let start = Instant::now();
-        let status = match wait(&mut child, self.deadline)? {
+        let status = match bounded(self.command()?, &stderr_path, self.deadline)? {
             Some(s) => s,
             None => {
                 return Ok(Ended::Hung {
@@ -338,9 +331,25 @@ pub fn on_driver(icd: &Path) -> anyhow::Result<Command> {
     Ok(c)
 }
 
+/// Runs `c` with its stderr into the file `stderr`, and waits for it at
+/// most `limit`: its status, or None where it ran past that and was killed.
+pub fn bounded(
+    mut c: Command,
+    stderr: &Path,
+    limit: Duration,
+) -> anyhow::Result<Option<ExitStatus>> {
+    let file = std::fs::File::create(stderr)
+        .with_context(|| format!("cannot create {}", stderr.display()))?;
+    let mut child = c
+        .stderr(file)
+        .spawn()
+        .context("cannot start a child glint")?;
+    wait(&mut child, limit)
+}
+
 /// Waits for `child` at most `limit`; kills it and returns None past that.
 /// Until it is reaped, an interrupted run kills it (`interrupt`).
-pub fn wait(child: &mut Child, limit: Duration) -> anyhow::Result<Option<ExitStatus>> {
+fn wait(child: &mut Child, limit: Duration) -> anyhow::Result<Option<ExitStatus>> {
     let pid = child.id();
     crate::cli::interrupt::child_started(pid);
     let status = wait_for(child, limit);
