@@ -29,16 +29,8 @@
 // and the counts, depth and samples as constants (src/gpu/variant.rs); left
 // undefined, every feature is on and the counts are read at run time: that
 // is the generic shader (--generic). interface.glsl does the same for each
-// kind of primitive (HAS_SPHERES, SPHERES_COUNT, ...).
-#ifndef HAS_POINT
-#define HAS_POINT 1
-#endif
-#ifndef HAS_DIRECTIONAL
-#define HAS_DIRECTIONAL 1
-#endif
-#ifndef HAS_SPOT
-#define HAS_SPOT 1
-#endif
+// kind of primitive (HAS_SPHERES, SPHERES_COUNT, ...) and each light type
+// (HAS_POINT, ...; HAS_LIGHTS, HAS_POSITIONED).
 #ifndef HAS_ATTENUATION
 #define HAS_ATTENUATION 1
 #endif
@@ -77,8 +69,6 @@
 #ifndef LIGHT_COUNT
 #define LIGHT_COUNT g.lights.x
 #endif
-#define HAS_LIGHTS (HAS_POINT != 0 || HAS_DIRECTIONAL != 0 || HAS_SPOT != 0)
-#define HAS_POSITIONED (HAS_POINT != 0 || HAS_SPOT != 0)
 
 // A hook called once per ray/primitive test; empty unless a user's shader
 // defines it (shaders/experiments/cost counts the tests with it).

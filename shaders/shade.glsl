@@ -22,6 +22,9 @@ real spec_pow(real x, real n) {
 }
 
 #include "specular.glsl"
+// Each light type's include and the dispatch over the types: generated
+// from the table of light types (src/scene/light/mod.rs, src/gpu/generated.rs).
+#include "lights.glsl"
 
 // The sum of every light's contribution at p, where n faces the viewer.
 vec3r shade(vec3r p, vec3r n, vec3r v, Material m, uint from) {
@@ -29,38 +32,22 @@ vec3r shade(vec3r p, vec3r n, vec3r v, Material m, uint from) {
 #if HAS_LIGHTS
     LIGHT_LOOP for (uint k = 0u; k < LIGHT_COUNT; k++) {
         Light light = light_at(k);
-        uint kind = light.meta.x;
         vec3r l;
         real dist;
-        real att = 1.0;
-        if (HAS_DIRECTIONAL != 0 && (!HAS_POSITIONED || kind == LIGHT_DIRECTIONAL)) {
-            l = -light.direction.xyz;
-            dist = INF;
-        } else {
-            vec3r to_light = light.position.xyz - p;
-            dist = length(to_light);
-#if HAS_ATTENUATION
-            vec3r a = light.attenuation.xyz;
-            att = 1.0 / (a.x + a.y * dist + a.z * dist * dist);
-#endif
-            l = to_light / dist;
-        }
+        real att;
+        light_toward(light, p, l, dist, att);
         vec3r ambient = light.ambient.rgb * m.ambient.rgb;
         // A light exactly at p has no direction: it adds its ambient term only.
         if (dist == 0.0) {
             local += ambient * att;
             continue;
         }
-        real spot = 1.0;
-        if (HAS_SPOT != 0 && kind == LIGHT_SPOT) {
-            real cos_theta = dot(-l, light.direction.xyz);
-            spot = cos_theta >= light.spot.x ? spec_pow(cos_theta, light.spot.y) : 0.0;
-        }
+        real cone = light_cone(light, l);
         vec3r contribution = ambient;
         real n_dot_l = dot(n, l);
         // No shadow ray where the direct term would be zero anyway: facing
-        // away, outside a spot's cone, or a light without diffuse and specular.
-        bool direct = n_dot_l > 0.0 && spot > 0.0 && light.meta.y != 0u;
+        // away, outside a light's cone, or a light without diffuse and specular.
+        bool direct = n_dot_l > 0.0 && cone > 0.0 && light.meta.y != 0u;
 #if HAS_SHADOWS
         if (direct && SHADOWS_ON) {
             COUNT(COUNT_SHADOW);
@@ -73,7 +60,7 @@ vec3r shade(vec3r p, vec3r n, vec3r v, Material m, uint from) {
             contribution += light.diffuse.rgb * m.diffuse.rgb * min(n_dot_l, 1.0)
                           + light.specular.rgb * m.specular.rgb * specular(n, l, v, m.params.x);
         }
-        local += contribution * (att * spot);
+        local += contribution * (att * cone);
     }
 #endif
     return local;

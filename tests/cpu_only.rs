@@ -29,6 +29,32 @@ fn the_cpu_commands_work_without_the_gpu() {
     let same = common::glint(&["diff", whole.to_str().unwrap(), direct.to_str().unwrap()]);
     common::assert_ok(&same);
     assert!(String::from_utf8_lossy(&same.stdout).contains("identical"));
+    // What the commands wrote is the library's CPU render (f64, the CPU's
+    // default), not merely a file (issue 43: exit codes alone were checked).
+    let small = glint::scene::Overrides {
+        width: Some(40),
+        height: Some(30),
+        ..Default::default()
+    };
+    let scene =
+        glint::scene::Scene::load(&common::repo().join("scenes/seed-fig3.toml"), &small).unwrap();
+    let reference = glint::cpu::render::<f64>(&scene);
+    for pfm in [&direct, &whole] {
+        let read = glint::raster::io::read(pfm).unwrap();
+        assert!(common::same_bits(&read, &reference), "{}", pfm.display());
+    }
+    let read = glint::raster::io::read(&png).unwrap();
+    assert_eq!((read.width, read.height), (40, 30));
+    for (p, q) in read.pixels.iter().zip(&reference.pixels) {
+        for c in 0..3 {
+            let want = glint::raster::quantize(q[c], scene.srgb);
+            assert_eq!(
+                glint::raster::quantize(p[c], scene.srgb),
+                want,
+                "{p:?} against {q:?}"
+            );
+        }
+    }
     let nff = common::repo().join("scenes/spd/balls.nff");
     let toml = dir.path().join("balls.toml");
     common::assert_ok(&common::glint(&[
@@ -37,6 +63,15 @@ fn the_cpu_commands_work_without_the_gpu() {
         "-o",
         toml.to_str().unwrap(),
     ]));
+    // The converted file is the same scene.
+    let none = glint::scene::Overrides::default();
+    let from_nff = glint::scene::Scene::load(&nff, &none).unwrap();
+    let from_toml = glint::scene::Scene::load(&toml, &none).unwrap();
+    assert_eq!(from_nff.prims, from_toml.prims);
+    assert_eq!(
+        (from_nff.lights, from_nff.camera),
+        (from_toml.lights, from_toml.camera)
+    );
 }
 
 /// Each command that needs the GPU, and a render on it (the default

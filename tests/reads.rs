@@ -73,8 +73,32 @@ fn variant(scene: &str, experiment: &str, dir: &Path) -> String {
     names[0].clone()
 }
 
+/// The word of the variant's name that `experiment` puts there: the read
+/// form it asks for, so that a test of it fails where the form is not the
+/// one read (issue 43).
+fn form_word(experiment: &str) -> Option<&'static str> {
+    match experiment {
+        "address-reads" => Some("-address-"),
+        "texel-reads" => Some("-texels-"),
+        _ => None,
+    }
+}
+
 fn same_bits_with(experiment: &str, f64: bool) {
     let dir = tempfile::tempdir().unwrap();
+    // The form asked for is the form read, where a scene reads any array
+    // outside uniform blocks (teapot).
+    if let Some(word) = form_word(experiment) {
+        let name = variant("scenes/spd/teapot.nff", experiment, dir.path());
+        assert!(name.contains(word), "{experiment}: {name}");
+    }
+    if experiment == "storage-reads" {
+        let name = variant("scenes/spd/teapot.nff", experiment, dir.path());
+        assert!(
+            !name.contains("-texels-") && !name.contains("-address-"),
+            "{name}"
+        );
+    }
     for scene in SCENES {
         let shipped = render(scene, "", f64, dir.path());
         let other = render(scene, experiment, f64, dir.path());

@@ -177,21 +177,25 @@ fn a_wavefront_region_is_the_whole_renders_crop() {
     }
 }
 
-/// The bit-for-bit comparison above can fail: one bit of one channel of
-/// one pixel is enough.
+/// The bit-for-bit comparison above can fail: two real renders, of scenes
+/// whose backgrounds are one f32 step apart, differ in one bit, and the
+/// comparison sees it.
 #[test]
 fn the_comparison_sees_one_bit() {
     let scene = small(&common::repo().join("scenes/seed-fig5.toml"));
     let Some((mut mega, mut wave)) = both(Intersect::Robust, Precision::F32) else {
         return;
     };
-    let image = wave.render(&scene, &|_| {}).unwrap().0;
-    let other = mega.render(&scene, &|_| {}).unwrap().0;
-    let mut perturbed = other.clone();
-    let p = &mut perturbed.pixels[scene.width as usize * 17 + 23];
-    p[1] = f32::from_bits(p[1].to_bits() ^ 1);
+    let (a, b) = common::one_bit_apart(&scene);
+    let image = wave.render(&a, &|_| {}).unwrap().0;
+    let other = mega.render(&a, &|_| {}).unwrap().0;
+    let nudged = mega.render(&b, &|_| {}).unwrap().0;
     assert!(common::same_bits(&image, &other), "the schedules agree");
-    assert!(!common::same_bits(&image, &perturbed), "one bit is seen");
+    assert!(
+        common::differ_in_one_bit(&image, &nudged),
+        "the renders are one bit apart"
+    );
+    assert!(!common::same_bits(&image, &nudged), "one bit is seen");
 }
 
 /// A user's main shader knows nothing of the wavefront's stages: asking for

@@ -9,6 +9,7 @@ pub(crate) mod bvh;
 mod cost;
 pub(crate) mod node;
 pub(crate) mod quantize;
+mod spans;
 pub(crate) mod tables;
 
 use crate::prim::Prims;

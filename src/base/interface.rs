@@ -233,12 +233,12 @@ macro_rules! gpu_struct {
     (@bytes64 uint) => { 4 };
     (
         $(#[$doc:meta])*
-        pub mod $m:ident : $name:literal {
+        $vis:vis mod $m:ident : $name:literal {
             $( $(#[$fdoc:meta])* $field:ident : $ty:ident ),* $(,)?
         }
     ) => {
         $(#[$doc])*
-        pub mod $m {
+        $vis mod $m {
             use bytemuck::{Pod, Zeroable};
 
             /// The values as the host computes them.

@@ -152,3 +152,17 @@ impl<R: Real> Div<R> for Vec3<R> {
         Self::new(self.x / s, self.y / s, self.z / s)
     }
 }
+
+/// x^n with the scene format's conventions: x^0 = 1 (also for x = 0), and 0 for x <= 0
+/// otherwise; GLSL's pow leaves both undefined. x is a cosine, taken at
+/// most 1: the rounding of unit vectors can put their dot product an ulp
+/// past it, and a large n would raise that past the shading's bound.
+pub fn spec_pow<R: Real>(x: R, n: R) -> R {
+    if n == R::zero() {
+        R::one()
+    } else if x <= R::zero() {
+        R::zero()
+    } else {
+        x.min(R::one()).powf(n)
+    }
+}

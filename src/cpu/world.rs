@@ -2,24 +2,11 @@
 
 use crate::accel::{self, bvh::Bvh, tables::Tables, Accel};
 use crate::prim::CpuPrims;
-use crate::scene::texture::{Pattern, Texels};
-use crate::scene::{LightKind, Scene};
+use crate::scene::light::LightR;
+use crate::scene::texture::TextureR;
+use crate::scene::{MaterialR, Scene};
 
 use crate::base::real::{Real, Vec3};
-
-/// A texture in the reference's arithmetic, in camera-relative
-/// coordinates (its colour at a hit: texture.rs).
-#[derive(Debug, Clone, Copy)]
-pub struct TextureR<R> {
-    pub pattern: Pattern,
-    pub size: R,
-    pub colors: [Vec3<R>; 2],
-    /// The cosine and sine of a checker's angle.
-    pub rotation: [R; 2],
-    pub origin: Vec3<R>,
-    /// `Image`: its texels in `World::texels`.
-    pub texels: Option<Texels>,
-}
 
 pub struct World<R: Real> {
     pub eye: Vec3<R>,
@@ -59,34 +46,6 @@ pub struct World<R: Real> {
     pub hit_move: Option<(u64, f64)>,
 }
 
-#[derive(Debug, Clone, Copy)]
-pub struct MaterialR<R> {
-    pub ambient: Vec3<R>,
-    pub diffuse: Vec3<R>,
-    pub specular: Vec3<R>,
-    pub shininess: R,
-    pub reflectivity: R,
-    pub transmittance: R,
-    pub ior: R,
-    /// Indices in `World::textures`.
-    pub texture: Option<usize>,
-    pub ambient_texture: Option<usize>,
-}
-
-pub struct LightR<R> {
-    pub kind: LightKind,
-    pub position: Vec3<R>,
-    pub direction: Vec3<R>,
-    pub ambient: Vec3<R>,
-    pub diffuse: Vec3<R>,
-    pub specular: Vec3<R>,
-    pub attenuation: Vec3<R>,
-    pub cos_cutoff: R,
-    pub exponent: R,
-    /// Whether it has a diffuse or specular term.
-    pub direct: bool,
-}
-
 impl<R: Real> World<R> {
     /// The scene in camera-relative coordinates (see `Scene::camera_relative`),
     /// rounded to `R`.
@@ -117,50 +76,10 @@ impl<R: Real> World<R> {
             prims: scene.prims.relative_cpu(origin),
             bvh,
             tables,
-            materials: scene
-                .materials
-                .iter()
-                .map(|m| MaterialR {
-                    ambient: Vec3::of(m.ambient),
-                    diffuse: Vec3::of(m.diffuse),
-                    specular: Vec3::of(m.specular),
-                    shininess: R::of(m.shininess),
-                    reflectivity: R::of(m.reflectivity),
-                    transmittance: R::of(m.transmittance),
-                    ior: R::of(m.ior),
-                    texture: m.texture.map(|t| t as usize),
-                    ambient_texture: m.ambient_texture.map(|t| t as usize),
-                })
-                .collect(),
-            textures: scene
-                .textures
-                .iter()
-                .map(|t| TextureR {
-                    pattern: t.pattern,
-                    size: R::of(t.size),
-                    colors: t.colors.map(Vec3::of),
-                    rotation: t.rotation.map(R::of),
-                    origin: Vec3::of(t.origin - origin),
-                    texels: t.texels,
-                })
-                .collect(),
+            materials: scene.materials.iter().map(|m| m.cpu()).collect(),
+            textures: scene.textures.iter().map(|t| t.cpu(origin)).collect(),
             texels: scene.texels.clone(),
-            lights: scene
-                .lights
-                .iter()
-                .map(|l| LightR {
-                    kind: l.kind,
-                    position: Vec3::of(l.position - origin),
-                    direction: Vec3::of(l.direction),
-                    ambient: Vec3::of(l.ambient),
-                    diffuse: Vec3::of(l.diffuse),
-                    specular: Vec3::of(l.specular),
-                    attenuation: Vec3::of(l.attenuation),
-                    cos_cutoff: R::of(l.cos_cutoff),
-                    exponent: R::of(l.exponent),
-                    direct: l.has_direct_term(),
-                })
-                .collect(),
+            lights: scene.lights.iter().map(|l| l.cpu(origin)).collect(),
             background: Vec3::of(scene.background),
             shadows: scene.shadows,
             spd_rays: scene.spd_rays,

@@ -20,11 +20,14 @@
 use std::fmt::Write;
 
 use super::blocks::{Block, Form};
-use super::layout::{light, material, table_word, texel, texture};
+use super::layout::{table_word, texel};
 use crate::accel::quantize::packed;
 use crate::base::interface::{words, GpuStruct, Member};
 use crate::base::Precision;
 use crate::prim::{triangle, KINDS};
+use crate::scene::light::gpu as light;
+use crate::scene::material::gpu as material;
+use crate::scene::texture::gpu as texture;
 
 /// One read-only array as the shader declares it.
 #[derive(Debug, Clone)]

@@ -41,12 +41,26 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("ceiling.comp", include_str!("../../shaders/ceiling.comp")),
 ];
 
-/// The built-in files with each kind's include (`prim/sphere.glsl`).
+/// The built-in files with each kind's include (`prim/sphere.glsl`) and
+/// each light type's (`light/point.glsl`) and pattern's
+/// (`texture/image.glsl`; two patterns may share one).
 pub fn builtin() -> impl Iterator<Item = (String, &'static str)> {
     BUILTIN
         .iter()
         .map(|(n, t)| ((*n).to_owned(), *t))
         .chain(crate::prim::KINDS.iter().map(|k| (k.include(), k.glsl)))
+        .chain(
+            crate::scene::LIGHT_TYPES
+                .iter()
+                .map(|t| (t.include(), t.glsl)),
+        )
+        .chain(
+            // A shared include once: under the name of its own pattern.
+            crate::scene::texture::PATTERNS
+                .iter()
+                .filter(|p| p.name == p.include)
+                .map(|p| (p.include(), p.glsl)),
+        )
 }
 
 /// Preprocessor defines: `-D NAME` (None) or `-D NAME=VALUE`.

@@ -7,7 +7,7 @@ use super::layout::Uploads;
 use super::vk::device::DeviceInfo;
 use super::GpuError;
 use crate::prim::KINDS;
-use crate::scene::{LightKind, Scene};
+use crate::scene::{Scene, LIGHT_TYPES};
 
 /// Unrolling the scene loops is worth its compile time up to this many
 /// primitives (each loop body is copied once per object, at every
@@ -24,13 +24,9 @@ pub struct Features {
     pub kinds: Vec<usize>,
     /// Lights.
     pub lights: usize,
-    /// Whether a point light is among them.
-    pub point: bool,
-    /// Whether a directional light is among them.
-    pub directional: bool,
-    /// Whether a spot light is among them.
-    pub spot: bool,
-    /// A point or spot light whose falloff is not [1, 0, 0].
+    /// Whether a light of each type (`scene::LIGHT_TYPES`) is among them.
+    pub light_types: Vec<bool>,
+    /// A positioned light whose falloff is not [1, 0, 0].
     pub attenuation: bool,
     /// Shadows on, with lights and objects to cast them.
     pub shadows: bool,
@@ -92,7 +88,7 @@ pub(super) struct Experiment {
     canary: bool,
     pub(super) no_filter: bool,
     no_uniform_tables: bool,
-    reads: Option<Form>,
+    pub(super) reads: Option<Form>,
 }
 
 /// The names `GLINT_EXPERIMENT` may hold (`Experiment`).
@@ -160,7 +156,6 @@ impl Experiment {
 impl Features {
     /// What `scene`, laid out as `uploads`, needs on `device`.
     pub(crate) fn of(scene: &Scene, uploads: &Uploads, device: &DeviceInfo) -> Self {
-        let has = |k: LightKind| scene.lights.iter().any(|l| l.kind == k);
         let kinds = scene.prims.counts();
         let objects = !scene.prims.is_empty();
         let lights = scene.lights.len();
@@ -175,7 +170,7 @@ impl Features {
         let range = device.max_uniform_buffer_range as usize;
         let spheres = scene.prims.spheres.len();
         let spheres_only = spheres == scene.prims.len();
-        let positioned = has(LightKind::Point) || has(LightKind::Spot);
+        let positioned = scene.lights.iter().any(|l| l.position().is_some());
         let experiment = Experiment::from_env();
         let images = objects && scene.has_image_textures();
         let uniforms = (experiment.uniforms_always
@@ -206,11 +201,12 @@ impl Features {
             canary: device.loop_budget || experiment.canary,
             kinds,
             lights,
-            point: has(LightKind::Point),
-            directional: has(LightKind::Directional),
-            spot: has(LightKind::Spot),
+            light_types: LIGHT_TYPES
+                .iter()
+                .map(|t| scene.lights.iter().any(|l| l.kind == t.kind))
+                .collect(),
             attenuation: scene.lights.iter().any(|l| {
-                l.kind != LightKind::Directional && l.attenuation != glam::DVec3::new(1.0, 0.0, 0.0)
+                l.position().is_some() && l.attenuation != glam::DVec3::new(1.0, 0.0, 0.0)
             }),
             shadows: scene.shadows && objects && lights > 0,
             transmits: transmits && scene.max_depth > 1,
@@ -240,9 +236,9 @@ impl Features {
             def(&format!("HAS_{}", kind.upper()), flag(*n > 0));
             def(&format!("{}_COUNT", kind.upper()), format!("{n}u"));
         }
-        def("HAS_POINT", flag(self.point));
-        def("HAS_DIRECTIONAL", flag(self.directional));
-        def("HAS_SPOT", flag(self.spot));
+        for (t, on) in LIGHT_TYPES.iter().zip(&self.light_types) {
+            def(&format!("HAS_{}", t.upper()), flag(*on));
+        }
         def("HAS_ATTENUATION", flag(self.attenuation));
         def("HAS_SHADOWS", flag(self.shadows));
         def("HAS_TRANSMISSION", flag(self.transmits));
@@ -273,6 +269,32 @@ impl Features {
         if !self.canary {
             d.push(("NO_LOOP_CANARY".to_owned(), None));
         }
+    }
+}
+
+/// Where `wanted`, the read form `GLINT_EXPERIMENT` asks for, is one that `device` cannot give
+/// the scene laid out as `uploads`, the reason: device addresses on a
+/// device without them, texel buffers for an array longer than one. Such a
+/// run is refused rather than given another form (issue 43: a test of
+/// address reads compared texel buffers with texel buffers where a device
+/// lacked addresses).
+pub(super) fn refused_reads(
+    wanted: Option<Form>,
+    uploads: &Uploads,
+    device: &DeviceInfo,
+) -> Option<String> {
+    match wanted? {
+        Form::Address if !device.buffer_device_address => Some(
+            "GLINT_EXPERIMENT=address-reads: this device has no buffer device addresses \
+             (bufferDeviceAddress)"
+                .to_owned(),
+        ),
+        Form::Texels if !uploads.fit_texels(device.max_texel_buffer_elements) => Some(format!(
+            "GLINT_EXPERIMENT=texel-reads: an array of this scene is longer than this \
+             device's texel buffers ({} texels)",
+            device.max_texel_buffer_elements
+        )),
+        _ => None,
     }
 }
 

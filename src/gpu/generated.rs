@@ -5,7 +5,11 @@
 //!   every block with its binding number;
 //! - `kinds.glsl`: each kind's include, and the scans over the kinds that
 //!   every kind shares (nearest hit, any hit, the BVH's leaves, the normal),
-//!   mirroring `crate::prim::CpuPrims` and src/cpu/intersect.rs.
+//!   mirroring `crate::prim::CpuPrims` and src/cpu/intersect.rs;
+//! - `lights.glsl`: each light type's include and the dispatch over the
+//!   types (entities.rs), mirroring `crate::scene::LightKind`;
+//! - `textures.glsl`: each pattern's include and the dispatch over the
+//!   patterns (entities.rs), mirroring `crate::scene::texture::Pattern`.
 //!
 //! `glint shader dump` shows them expanded; a file of the same name in a
 //! directory given with -I replaces one.
@@ -15,12 +19,15 @@ use std::fmt::Write;
 use super::access::{self, ArrayDecl};
 use super::blocks::Block;
 use super::blocks::Form;
-use super::layout::{globals, light, material, refine, texel, texture, LIGHT_KINDS};
+use super::layout::{globals, refine, texel};
 use super::variant::Variant;
 use crate::accel::quantize::packed;
 use crate::base::interface::{declaration, GpuStruct};
 use crate::base::WORKGROUP;
 use crate::prim::{KindInfo, KINDS};
+use crate::scene::light::gpu as light;
+use crate::scene::material::gpu as material;
+use crate::scene::texture::gpu as texture;
 use crate::stats::{Counter, RayType};
 
 /// The generated files' names, as `#include` names them.
@@ -38,6 +45,14 @@ impl Variant {
         vec![
             (INTERFACE.to_owned(), self.interface()),
             (KINDS_FILE.to_owned(), self.kinds()),
+            (
+                super::entities::LIGHTS_FILE.to_owned(),
+                NOTE.to_owned() + &self.lights(),
+            ),
+            (
+                super::entities::TEXTURES_FILE.to_owned(),
+                NOTE.to_owned() + &super::entities::textures(),
+            ),
         ]
     }
 
@@ -89,9 +104,7 @@ impl Variant {
             );
         }
         s += "\n";
-        for (i, (_, name)) in LIGHT_KINDS.iter().enumerate() {
-            let _ = writeln!(s, "const uint {name} = {i}u;");
-        }
+        s += &super::entities::light_constants();
         for (i, kind) in KINDS.iter().enumerate() {
             let _ = writeln!(s, "const uint KIND_{} = {i}u;", kind.upper());
         }

@@ -11,7 +11,7 @@ use crate::accel::{self, Accel};
 use crate::base::interface::{self, Array, GpuStruct};
 use crate::base::Precision;
 use crate::prim::KINDS;
-use crate::scene::{LightKind, Scene};
+use crate::scene::Scene;
 
 crate::base::interface::gpu_struct!(
     /// The uniform block.
@@ -53,21 +53,6 @@ crate::base::interface::gpu_struct!(
 );
 
 crate::base::interface::gpu_struct!(
-    pub mod material: "Material" {
-        /// rgb Ka
-        ambient: real4,
-        /// rgb Kd
-        diffuse: real4,
-        /// rgb Ks
-        specular: real4,
-        /// x shininess, y reflectivity, z transmittance, w ior
-        params: real4,
-        /// x the diffuse texture + 1, y the ambient texture + 1 (0: none)
-        textures: uvec4,
-    }
-);
-
-crate::base::interface::gpu_struct!(
     /// A point adaptive sampling's refinement traces (scene::refine::Point).
     pub mod refine: "Refine" {
         /// x, y the point in 2^-level pixels of the whole image; z the level
@@ -84,58 +69,6 @@ crate::base::interface::gpu_struct!(
         unused: uint,
     }
 );
-
-crate::base::interface::gpu_struct!(
-    pub mod texture: "Texture" {
-        /// xyz a corner of the solid checker's cubes, w the side
-        origin_size: real4,
-        /// rgb the colour of even cells
-        color0: real4,
-        /// rgb the colour of odd cells
-        color1: real4,
-        /// x cos, y sin of the checker's angle
-        rotation: real4,
-        /// x the pattern (1 checker, 2 solid checker, 3 image); an image's
-        /// y first texel, z width, w height (its colour0 is its tint)
-        meta: uvec4,
-    }
-);
-
-crate::base::interface::gpu_struct!(
-    pub mod light: "Light" {
-        /// xyz (point, spot)
-        position: real4,
-        /// xyz unit (directional: travel; spot: axis)
-        direction: real4,
-        /// rgb Ia
-        ambient: real4,
-        /// rgb Id
-        diffuse: real4,
-        /// rgb Is
-        specular: real4,
-        /// xyz = c, l, q
-        attenuation: real4,
-        /// x cos(cutoff), y exponent
-        spot: real4,
-        /// x LIGHT_*, y 1 if it has a diffuse or specular term, z its light
-        /// buffer's first grid + 1 (0: none), w the buffer's reach (f32 bits)
-        meta: uvec4,
-    }
-);
-
-/// The light types' codes in `Light.meta.x`, as the shader names them.
-pub const LIGHT_KINDS: [(LightKind, &str); 3] = [
-    (LightKind::Point, "LIGHT_POINT"),
-    (LightKind::Directional, "LIGHT_DIRECTIONAL"),
-    (LightKind::Spot, "LIGHT_SPOT"),
-];
-
-fn kind_code(kind: LightKind) -> u32 {
-    LIGHT_KINDS
-        .iter()
-        .position(|(k, _)| *k == kind)
-        .unwrap_or(0) as u32
-}
 
 fn xyz(v: glam::DVec3) -> [f64; 4] {
     [v.x, v.y, v.z, 0.0]
@@ -291,31 +224,7 @@ impl<'a> Uploads<'a> {
             Precision::F32 => bytemuck::bytes_of(&globals.f32()).to_vec(),
             Precision::F64 => bytemuck::bytes_of(&globals.f64()).to_vec(),
         };
-        let materials = scene.materials.iter().map(|m| material::Values {
-            ambient: xyz(m.ambient),
-            diffuse: xyz(m.diffuse),
-            specular: xyz(m.specular),
-            params: [m.shininess, m.reflectivity, m.transmittance, m.ior],
-            textures: [
-                m.texture.map_or(0, |t| t + 1),
-                m.ambient_texture.map_or(0, |t| t + 1),
-                0,
-                0,
-            ],
-        });
-        let textures = scene.textures.iter().map(|t| texture::Values {
-            origin_size: {
-                let o = t.origin - origin;
-                [o.x, o.y, o.z, t.size]
-            },
-            color0: xyz(t.colors[0]),
-            color1: xyz(t.colors[1]),
-            rotation: [t.rotation[0], t.rotation[1], 0.0, 0.0],
-            meta: match t.texels {
-                Some(i) => [t.pattern.code(), i.first, i.width, i.height],
-                None => [t.pattern.code(), 0, 0, 0],
-            },
-        });
+        let textures = scene.textures.iter().map(|t| t.gpu(origin));
         let texels = interface::array(
             scene
                 .texels
@@ -341,16 +250,7 @@ impl<'a> Uploads<'a> {
             Vec::new()
         };
         let uvs = interface::array(uvs.into_iter(), precision);
-        let lights = scene.lights.iter().map(|l| light::Values {
-            position: xyz(l.position - origin),
-            direction: xyz(l.direction),
-            ambient: xyz(l.ambient),
-            diffuse: xyz(l.diffuse),
-            specular: xyz(l.specular),
-            attenuation: xyz(l.attenuation),
-            spot: [l.cos_cutoff, l.exponent, 0.0, 0.0],
-            meta: [kind_code(l.kind), u32::from(l.has_direct_term()), 0, 0],
-        });
+        let lights = scene.lights.iter().map(|l| l.gpu(origin));
         // Each light's first grid + 1 and its reach, where it has a table.
         let light_tables: Vec<[u32; 2]> = (0..scene.lights.len())
             .map(|i| {
@@ -370,7 +270,7 @@ impl<'a> Uploads<'a> {
         Uploads {
             globals,
             kinds: scene.prims.gpu_arrays(orders, precision, relative),
-            materials: interface::array(materials, precision),
+            materials: interface::array(scene.materials.iter().map(|m| m.gpu()), precision),
             lights: interface::array(lights, precision),
             textures: interface::array(textures, precision),
             texels,
@@ -472,10 +372,10 @@ pub(super) mod tests {
         assert_eq!(size_of::<globals::F64>(), 5 * 32 + 10 * 16);
         assert_eq!(size_of::<sphere::gpu::F64>(), 64);
         assert_eq!(size_of::<plane::gpu::F64>(), 128);
-        assert_eq!(size_of::<material::F64>(), 160);
-        assert_eq!(size_of::<light::F64>(), 256);
+        assert_eq!(size_of::<crate::scene::material::gpu::F64>(), 160);
+        assert_eq!(size_of::<crate::scene::light::gpu::F64>(), 256);
         assert_eq!(size_of::<sphere::gpu::F32>(), 32);
-        assert_eq!(size_of::<light::F32>(), 128);
+        assert_eq!(size_of::<crate::scene::light::gpu::F32>(), 128);
         assert_eq!(size_of::<crate::accel::quantize::packed::F64>(), 64);
         assert_eq!(size_of::<super::texel::F64>(), 16);
     }
@@ -517,9 +417,18 @@ pub(super) mod tests {
         use crate::base::interface::words;
         let mut all: Vec<(&str, &[(&str, Member)])> = vec![
             ("Globals", <globals::Values as GpuStruct>::FIELDS),
-            ("Material", <material::Values as GpuStruct>::FIELDS),
-            ("Light", <light::Values as GpuStruct>::FIELDS),
-            ("Texture", <texture::Values as GpuStruct>::FIELDS),
+            (
+                "Material",
+                <crate::scene::material::gpu::Values as GpuStruct>::FIELDS,
+            ),
+            (
+                "Light",
+                <crate::scene::light::gpu::Values as GpuStruct>::FIELDS,
+            ),
+            (
+                "Texture",
+                <crate::scene::texture::gpu::Values as GpuStruct>::FIELDS,
+            ),
             ("Texel", <texel::Values as GpuStruct>::FIELDS),
             ("Refine", <refine::Values as GpuStruct>::FIELDS),
             ("PackedNode", <packed::Values as GpuStruct>::FIELDS),

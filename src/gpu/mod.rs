@@ -20,6 +20,7 @@
 mod access;
 mod blocks;
 pub mod compile;
+mod entities;
 mod error;
 mod features;
 pub(crate) mod generated;

@@ -113,6 +113,10 @@ impl Prepared {
             settings.accel,
         );
         let layout_s = t0.elapsed().as_secs_f64() - up.bvh_s - up.tables_s;
+        let wanted = super::features::Experiment::from_env().reads;
+        if let Some(why) = super::features::refused_reads(wanted, &up, &shared.device.info) {
+            return Err(GpuError::Unsupported(why));
+        }
         let (variant, defines) = shared.variant(traced, settings, &up, settings.count);
         let (pipeline, setup) = shared.pipeline(&variant, &defines)?;
         let t1 = Instant::now();

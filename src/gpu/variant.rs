@@ -359,10 +359,12 @@ impl Variant {
                     .map(|(k, n)| format!("{}{n}", k.key))
                     .collect();
                 parts.push(format!("{}-l{}", counts.join("-"), f.lights));
+                for (t, on) in crate::scene::LIGHT_TYPES.iter().zip(&f.light_types) {
+                    if *on {
+                        parts.push(t.name.to_owned());
+                    }
+                }
                 for (on, name) in [
-                    (f.point, "point"),
-                    (f.directional, "dir"),
-                    (f.spot, "spot"),
                     (f.attenuation, "att"),
                     (f.shadows, "shadows"),
                     (f.transmits, "refract"),
@@ -402,5 +404,29 @@ mod tests {
         assert_eq!(reads(&up, &device), Form::Storage);
         device.max_texel_buffer_elements = 128;
         assert_eq!(reads(&up, &device), Form::Texels);
+    }
+
+    /// A read form the device cannot give is refused, naming it, not
+    /// replaced by another (issue 43).
+    #[test]
+    fn a_read_form_the_device_lacks_is_refused() {
+        use super::super::features::refused_reads;
+        let scene = super::super::layout::tests::row();
+        let up = Uploads::new(&scene, Intersect::Robust, Precision::F32, Accel::Bvh);
+        let mut device = DeviceInfo {
+            max_texel_buffer_elements: 127,
+            buffer_device_address: false,
+            ..DeviceInfo::default()
+        };
+        let why = refused_reads(Some(Form::Address), &up, &device).expect("refused");
+        assert!(why.contains("address-reads"), "{why}");
+        let why = refused_reads(Some(Form::Texels), &up, &device).expect("refused");
+        assert!(why.contains("texel-reads"), "{why}");
+        assert_eq!(refused_reads(Some(Form::Storage), &up, &device), None);
+        assert_eq!(refused_reads(None, &up, &device), None);
+        device.buffer_device_address = true;
+        device.max_texel_buffer_elements = 128;
+        assert_eq!(refused_reads(Some(Form::Address), &up, &device), None);
+        assert_eq!(refused_reads(Some(Form::Texels), &up, &device), None);
     }
 }

@@ -6,7 +6,7 @@
 
 use glam::DVec3;
 
-use super::{LightKind, Scene};
+use super::Scene;
 use crate::raster::Image;
 
 /// What the bound allows past itself: it is reckoned in f64, and a pixel
@@ -37,7 +37,7 @@ impl Scene {
     /// The most one bounce can add, for each light: (Ia·Ka + Id·Kd +
     /// Is·Ks) / c with each colour's brightest channel (a textured colour at
     /// its texture's brightest); every other factor of the shading (the
-    /// cosines, a spot's falloff, the rest of the attenuation) is at most 1.
+    /// cosines, a cone's falloff, the rest of the attenuation) is at most 1.
     pub fn light_peaks(&self) -> Vec<f64> {
         let max = |v: DVec3| v.max_element();
         let brightest = |colour: DVec3, texture: Option<u32>| match texture {
@@ -57,11 +57,7 @@ impl Scene {
         self.lights
             .iter()
             .map(|l| {
-                let c = if l.kind == LightKind::Directional {
-                    1.0
-                } else {
-                    l.attenuation.x
-                };
+                let c = l.position().map_or(1.0, |_| l.attenuation.x);
                 (max(l.ambient) * ka + max(l.diffuse) * kd + max(l.specular) * ks) / c
             })
             .collect()

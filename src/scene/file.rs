@@ -5,6 +5,10 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+use super::camera::CameraFile;
+use super::light::LightFile;
+use super::material::MaterialFile;
+use super::sampling::Sampling;
 use crate::input::field::Triple;
 
 /// The scene file's tables, with an array for each kind of primitive
@@ -106,22 +110,6 @@ pub struct ImageFile {
     pub max_level: Option<i64>,
 }
 
-/// Where a pixel's eye rays go (docs/scene-format.md, Rays).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Sampling {
-    /// samples × samples rays through the centres of a grid over the pixel.
-    #[default]
-    Centers,
-    /// One ray through each pixel corner, (w+1)×(h+1), four averaged per
-    /// pixel: the SPD's procedure.
-    Corners,
-    /// Whitted's adaptive antialiasing: the corners, and a pixel whose
-    /// corners differ by more than a threshold split into four, again
-    /// and again up to a level (`crate::scene::Adaptive`).
-    Adaptive,
-}
-
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RenderFile {
@@ -148,71 +136,8 @@ impl Default for RenderFile {
     }
 }
 
-/// Both camera forms share one table; which keys are present picks the form.
-#[derive(Debug, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct CameraFile {
-    pub eye: Triple,
-    pub screen_center: Option<Triple>,
-    pub screen_right: Option<Triple>,
-    pub screen_up: Option<Triple>,
-    pub look_at: Option<Triple>,
-    pub up: Option<Triple>,
-    pub vfov: Option<f64>,
-}
-
-#[derive(Debug, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct MaterialFile {
-    /// None: black, or the texture's colour where the material has one.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub ambient: Option<Triple>,
-    #[serde(default)]
-    pub diffuse: Triple,
-    #[serde(default)]
-    pub specular: Triple,
-    #[serde(default = "one_f")]
-    pub shininess: f64,
-    #[serde(default)]
-    pub reflectivity: f64,
-    #[serde(default)]
-    pub transmittance: f64,
-    #[serde(default = "one_f")]
-    pub ior: f64,
-    /// The name of the texture that gives the diffuse colour.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub texture: Option<String>,
-    /// The name of the texture that gives the ambient colour; `texture` by
-    /// default where `ambient` is not written.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub ambient_texture: Option<String>,
-}
-
-/// One flat table for every light type: `validate` checks that each key
-/// present belongs to the light's type and that its required keys are there.
-#[derive(Debug, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct LightFile {
-    #[serde(rename = "type")]
-    pub kind: String,
-    pub position: Option<Triple>,
-    pub direction: Option<Triple>,
-    #[serde(default)]
-    pub ambient: Triple,
-    #[serde(default)]
-    pub diffuse: Triple,
-    #[serde(default)]
-    pub specular: Triple,
-    pub attenuation: Option<Triple>,
-    pub cutoff: Option<f64>,
-    pub exponent: Option<f64>,
-}
-
 fn one() -> i64 {
     1
-}
-fn one_f() -> f64 {
-    1.0
 }
 fn three() -> i64 {
     3

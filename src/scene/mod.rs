@@ -3,15 +3,20 @@
 //! as an eye and a virtual screen).
 
 mod brightness;
+pub mod camera;
 mod corners;
 mod file;
 pub mod images;
+pub mod light;
+pub mod material;
 pub mod nff;
 mod rebase;
 pub mod refine;
+mod sampling;
 mod split;
 mod tables;
 pub mod texture;
+mod toml;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -19,14 +24,17 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use crate::base::real::{Real, Vec3};
-
 pub use crate::input::error::SceneError;
 pub use crate::input::field::{Triple, MAX_COORDINATE};
 pub use brightness::PastBound;
-pub use file::{object_arrays, Sampling};
+pub use camera::Camera;
+pub use file::object_arrays;
+pub use light::{Light, LightKind, LIGHT_TYPES};
+pub use material::{Material, MaterialR};
 pub use nff::parse_nff;
-pub use validate::{parse, Overrides};
+pub use sampling::{Adaptive, Sampling};
+pub use toml::parse;
+pub use validate::Overrides;
 
 pub use crate::prim::cylinder::Cylinder;
 pub use crate::prim::plane::Plane;
@@ -96,146 +104,6 @@ pub struct Scene {
     /// The image textures' texels, rows top to bottom, image after image
     /// (`texture::Texels` says where each lies); linear RGB.
     pub texels: Arc<Vec<[f32; 3]>>,
-}
-
-/// The camera of form (a) in docs/scene-format.md: an eye and a virtual
-/// screen. Form (b) is converted to
-/// this on load.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Camera {
-    /// Where every eye ray starts.
-    pub eye: DVec3,
-    /// The screen's centre.
-    pub screen_center: DVec3,
-    /// From the centre to the middle of the screen's right edge.
-    pub screen_right: DVec3,
-    /// From the centre to the middle of the screen's top edge.
-    pub screen_up: DVec3,
-}
-
-/// A material (docs/scene-format.md, Shading).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Material {
-    /// Its name in the scene file.
-    pub name: String,
-    /// The ambient coefficient, per channel.
-    pub ambient: DVec3,
-    /// The diffuse coefficient, per channel.
-    pub diffuse: DVec3,
-    /// The specular coefficient, per channel.
-    pub specular: DVec3,
-    /// The specular exponent.
-    pub shininess: f64,
-    /// The mirror ray's weight, 0..1.
-    pub reflectivity: f64,
-    /// The refraction ray's weight, 0..1 (docs/scene-format.md, Shading).
-    pub transmittance: f64,
-    /// Index of refraction, > 0: inside over outside.
-    pub ior: f64,
-    /// The texture, in `Scene::textures`, that gives the diffuse colour in
-    /// place of `diffuse`.
-    pub texture: Option<u32>,
-    /// The texture that gives the ambient colour in place of `ambient`.
-    pub ambient_texture: Option<u32>,
-}
-
-/// Whitted's adaptive antialiasing (docs/scene-format.md, Rays): a square
-/// of a pixel whose corners' contrast passes `threshold` is split into
-/// four, at most `levels` times from the pixel.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Adaptive {
-    /// The largest difference between two corners in one channel that a
-    /// square keeps unsplit.
-    pub threshold: f64,
-    /// How many times a pixel may be split: 1..=`MAX_LEVELS`.
-    pub levels: u32,
-}
-
-impl Adaptive {
-    /// The deepest split allowed: 4⁴ = 256 squares to a pixel.
-    pub const MAX_LEVELS: u32 = 4;
-
-    /// Colours are compared in steps of 1/255: the contrast of a square
-    /// is counted in these, so that f32 and f64, whose colours differ by
-    /// rounding, split the same squares but where a corner sits on a step.
-    pub const STEPS: f64 = 255.0;
-
-    /// The threshold in steps, as both renderers compare contrasts with it.
-    pub fn threshold_steps(&self) -> f64 {
-        self.threshold * Self::STEPS
-    }
-
-    /// Whether a pixel whose corners (top-left, top-right, bottom-left,
-    /// bottom-right, as the corner grid gives them) are `c` is split: the
-    /// choice of the pixels the second pass refines, made once, from the
-    /// f32 corner image, for either renderer, by [`Adaptive::contrast`].
-    pub fn splits(&self, c: &[[f32; 3]; 4]) -> bool {
-        let corners = c.map(Vec3::<f64>::of_rgb);
-        Self::contrast(&corners) > self.threshold_steps()
-    }
-
-    /// The largest minus the smallest of the corners `c`, in the channel
-    /// where that is largest, in steps (`STEPS`): what both renderers
-    /// compare with the threshold, as contrast() in shaders/adaptive.glsl.
-    pub fn contrast<R: Real>(c: &[Vec3<R>; 4]) -> R {
-        let steps = R::of(Self::STEPS);
-        let half = R::of(0.5);
-        let channel = |f: fn(&Vec3<R>) -> R| {
-            let values = c.map(|v| (f(&v) * steps + half).floor());
-            let hi = values.iter().fold(values[0], |m, v| m.max(*v));
-            let lo = values.iter().fold(values[0], |m, v| m.min(*v));
-            hi - lo
-        };
-        channel(|v| v.x).max(channel(|v| v.y)).max(channel(|v| v.z))
-    }
-
-    /// The most eye rays one pixel can add to its corners: 5 a split, and
-    /// (4^levels − 1)/3 splits.
-    pub fn most_rays_per_pixel(&self) -> f64 {
-        5.0 * (4f64.powi(self.levels as i32) - 1.0) / 3.0
-    }
-}
-
-/// What kind of light.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum LightKind {
-    /// From a point, in every direction, attenuated with distance.
-    Point,
-    /// From infinitely far, one direction, not attenuated.
-    Directional,
-    /// A point light within a cone about its axis.
-    Spot,
-}
-
-/// A light (docs/scene-format.md, Lights).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Light {
-    /// What kind.
-    pub kind: LightKind,
-    /// Point and spot lights; zero for directional ones.
-    pub position: DVec3,
-    /// Unit length: the way a directional light travels, a spot light's axis.
-    pub direction: DVec3,
-    /// Its ambient intensity, per channel.
-    pub ambient: DVec3,
-    /// Its diffuse intensity, per channel.
-    pub diffuse: DVec3,
-    /// Its specular intensity, per channel.
-    pub specular: DVec3,
-    /// [c, l, q]: 1 / (c + l d + q d²).
-    pub attenuation: DVec3,
-    /// cos(cutoff) of a spot light.
-    pub cos_cutoff: f64,
-    /// A spot light's falloff towards its cone's edge: cos(angle)^exponent.
-    pub exponent: f64,
-}
-
-impl Light {
-    /// Whether the light has a diffuse or specular term: a shadow ray
-    /// towards a light without one could change nothing.
-    pub fn has_direct_term(&self) -> bool {
-        self.diffuse != DVec3::ZERO || self.specular != DVec3::ZERO
-    }
 }
 
 impl Scene {

@@ -10,9 +10,11 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::file::{
-    CameraFile, ImageFile, LightFile, MaterialFile, RenderFile, Sampling, SceneFile,
-};
+use super::camera::CameraFile;
+use super::file::{ImageFile, RenderFile, SceneFile};
+use super::light::LightFile;
+use super::material::MaterialFile;
+use super::sampling::Sampling;
 use super::SceneError;
 use crate::input::field::Triple;
 use crate::input::locate::{KeyPath, LineCol, Locate, Seg};

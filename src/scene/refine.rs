@@ -311,7 +311,7 @@ mod tests {
     /// traced by each.
     #[test]
     fn runs_give_the_same_colours() {
-        // A checker of corners: every pixel splits.
+        // Corners alternating black and white: every pixel splits.
         let corners = Image::new(5, 4, (0..20).map(|i| [((i % 2) as f32); 3]).collect());
         let adaptive = Adaptive {
             threshold: 0.1,

@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use super::{LightKind, Scene};
+use super::Scene;
 use crate::accel::bvh::Bvh;
 use crate::accel::tables::{self, CameraSpec, LightSpec, Tables, Want};
 use crate::accel::{prim_boxes, tables_budget};
@@ -25,7 +25,7 @@ impl Scene {
             .lights
             .iter()
             .map(|l| LightSpec {
-                position: (l.kind != LightKind::Directional).then(|| l.position - origin),
+                position: l.position().map(|p| p - origin),
                 direction: l.direction,
                 casts: self.shadows && l.has_direct_term(),
             })

@@ -276,6 +276,29 @@ pub fn runaway_include(dir: &Path) -> PathBuf {
     inc
 }
 
+/// Two copies of `scene` whose backgrounds are one f32 step apart in green
+/// (from at least 1/4, a normal float every device keeps): real renders of
+/// the two differ in one bit wherever a pixel is the background, so a
+/// bit-for-bit comparison of renders is shown to fail on a real image, not
+/// a copy with a flipped bit (issue 43).
+pub fn one_bit_apart(scene: &Scene) -> (Scene, Scene) {
+    let mut a = scene.clone();
+    let green = (a.background.y as f32).max(0.25);
+    a.background.y = f64::from(green);
+    let mut b = a.clone();
+    b.background.y = f64::from(f32::from_bits(green.to_bits() + 1));
+    (a, b)
+}
+
+/// Whether some channel of some pixel of `a` and `b` differs in exactly
+/// its last bit.
+pub fn differ_in_one_bit(a: &Image, b: &Image) -> bool {
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .any(|(p, q)| (0..3).any(|c| p[c].to_bits().abs_diff(q[c].to_bits()) == 1))
+}
+
 /// Bit for bit: the same bits in every channel (NaN would differ from itself).
 pub fn same_bits(a: &Image, b: &Image) -> bool {
     a.pixels.len() == b.pixels.len()

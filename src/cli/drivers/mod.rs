@@ -10,6 +10,7 @@ mod memory;
 pub mod probe;
 mod repro;
 mod shrink;
+mod staging;
 mod table;
 mod verdict;
 
@@ -28,6 +29,7 @@ use glint::scene::{Overrides, Scene};
 
 use probe::{Ended, Identity, Job};
 use repro::Size;
+use staging::{check_reproducers, Staging};
 use table::{Cell, Column, Matrix, Row};
 use verdict::Verdict;
 
@@ -390,86 +392,6 @@ fn inputs_of(paths: &[PathBuf], scenes: &[Scene], a: &DriversArgs) -> Vec<PathBu
         inputs.extend(s.input_files.iter().cloned());
     }
     inputs
-}
-
-/// The file that marks a folder of reproducers as this command's, so that
-/// a later run replaces it and never a folder of the user's.
-const MARK: &str = ".glint-drivers";
-
-/// Refuses to replace `root` (repro/ under -o) where it is not a folder
-/// this command made, or where it holds an input of this run.
-fn check_reproducers(root: &Path, inputs: &[PathBuf]) -> anyhow::Result<()> {
-    let resolved = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_owned());
-    if root.exists() {
-        anyhow::ensure!(
-            root.join(MARK).is_file(),
-            "{}: the folder exists and is not one `glint drivers` wrote; remove it or choose another -o",
-            glint::printable::path(root)
-        );
-        let root_r = resolved(root);
-        if let Some(input) = inputs.iter().find(|i| resolved(i).starts_with(&root_r)) {
-            anyhow::bail!(
-                "{} is inside {}, which this run replaces; copy it elsewhere or choose another -o",
-                glint::printable::path(input),
-                glint::printable::path(root)
-            );
-        }
-    }
-    Ok(())
-}
-
-/// The folder this run's reproducers are written into, beside repro/
-/// under -o, until `replace` makes it repro/; removed if the run ends
-/// before that, by an error (drop) or a signal (`interrupt`).
-struct Staging {
-    dir: PathBuf,
-    replaced: bool,
-}
-
-impl Staging {
-    fn new(output: &Path) -> anyhow::Result<Self> {
-        let dir = output.join(format!(".glint-drivers-{}.new", std::process::id()));
-        std::fs::create_dir_all(&dir)
-            .with_context(|| format!("cannot create {}", glint::printable::path(&dir)))?;
-        crate::cli::interrupt::folder_made(&dir);
-        std::fs::write(
-            dir.join(MARK),
-            "reproducers written by glint drivers; replaced by its next run\n",
-        )
-        .with_context(|| format!("cannot write in {}", glint::printable::path(&dir)))?;
-        Ok(Self {
-            dir,
-            replaced: false,
-        })
-    }
-
-    /// Puts this run's reproducers at `root` in place of the last run's,
-    /// by two renames: the last run's aside, then these in.
-    fn replace(mut self, root: &Path) -> anyhow::Result<()> {
-        let old = self.dir.with_extension("old");
-        if root.exists() {
-            std::fs::rename(root, &old)
-                .with_context(|| format!("cannot move {} aside", glint::printable::path(root)))?;
-        }
-        std::fs::rename(&self.dir, root)
-            .with_context(|| format!("cannot make {}", glint::printable::path(root)))?;
-        self.replaced = true;
-        crate::cli::interrupt::folder_kept(&self.dir);
-        if old.exists() {
-            std::fs::remove_dir_all(&old)
-                .with_context(|| format!("cannot remove {}", glint::printable::path(&old)))?;
-        }
-        Ok(())
-    }
-}
-
-impl Drop for Staging {
-    fn drop(&mut self) {
-        if !self.replaced {
-            let _ = std::fs::remove_dir_all(&self.dir);
-            crate::cli::interrupt::folder_kept(&self.dir);
-        }
-    }
 }
 
 /// Names each ICD's device, each in its own process.

@@ -1,0 +1,127 @@
+//! How a pixel is sampled (docs/scene-format.md, Rays): the `sampling` of
+//! `[image]`, and Whitted's adaptive antialiasing with its checks.
+
+use serde::{Deserialize, Serialize};
+
+use crate::base::real::{Real, Vec3};
+use crate::input::error::SceneError;
+use crate::input::field::Check;
+use crate::input::locate::KeyPath;
+
+/// Where a pixel's eye rays go (docs/scene-format.md, Rays).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Sampling {
+    /// samples × samples rays through the centres of a grid over the pixel.
+    #[default]
+    Centers,
+    /// One ray through each pixel corner, (w+1)×(h+1), four averaged per
+    /// pixel: the SPD's procedure.
+    Corners,
+    /// Whitted's adaptive antialiasing: the corners, and a pixel whose
+    /// corners differ by more than a threshold split into four, again
+    /// and again up to a level (`crate::scene::Adaptive`).
+    Adaptive,
+}
+
+/// Whitted's adaptive antialiasing (docs/scene-format.md, Rays): a square
+/// of a pixel whose corners' contrast passes `threshold` is split into
+/// four, at most `levels` times from the pixel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Adaptive {
+    /// The largest difference between two corners in one channel that a
+    /// square keeps unsplit.
+    pub threshold: f64,
+    /// How many times a pixel may be split: 1..=`MAX_LEVELS`.
+    pub levels: u32,
+}
+
+impl Adaptive {
+    /// The deepest split allowed: 4⁴ = 256 squares to a pixel.
+    pub const MAX_LEVELS: u32 = 4;
+
+    /// Colours are compared in steps of 1/255: the contrast of a square
+    /// is counted in these, so that f32 and f64, whose colours differ by
+    /// rounding, split the same squares but where a corner sits on a step.
+    pub const STEPS: f64 = 255.0;
+
+    /// The threshold in steps, as both renderers compare contrasts with it.
+    pub fn threshold_steps(&self) -> f64 {
+        self.threshold * Self::STEPS
+    }
+
+    /// Whether a pixel whose corners (top-left, top-right, bottom-left,
+    /// bottom-right, as the corner grid gives them) are `c` is split: the
+    /// choice of the pixels the second pass refines, made once, from the
+    /// f32 corner image, for either renderer, by [`Adaptive::contrast`].
+    pub fn splits(&self, c: &[[f32; 3]; 4]) -> bool {
+        let corners = c.map(Vec3::<f64>::of_rgb);
+        Self::contrast(&corners) > self.threshold_steps()
+    }
+
+    /// The largest minus the smallest of the corners `c`, in the channel
+    /// where that is largest, in steps (`STEPS`): what both renderers
+    /// compare with the threshold, as contrast() in shaders/adaptive.glsl.
+    pub fn contrast<R: Real>(c: &[Vec3<R>; 4]) -> R {
+        let steps = R::of(Self::STEPS);
+        let half = R::of(0.5);
+        let channel = |f: fn(&Vec3<R>) -> R| {
+            let values = c.map(|v| (f(&v) * steps + half).floor());
+            let hi = values.iter().fold(values[0], |m, v| m.max(*v));
+            let lo = values.iter().fold(values[0], |m, v| m.min(*v));
+            hi - lo
+        };
+        channel(|v| v.x).max(channel(|v| v.y)).max(channel(|v| v.z))
+    }
+
+    /// The most eye rays one pixel can add to its corners: 5 a split, and
+    /// (4^levels − 1)/3 splits.
+    pub fn most_rays_per_pixel(&self) -> f64 {
+        5.0 * (4f64.powi(self.levels as i32) - 1.0) / 3.0
+    }
+}
+
+impl Check<'_> {
+    /// `[image]`'s adaptive sampling: its threshold (default 0.1, ≥ 0) and
+    /// its levels (default 2, 1..=4); those keys are refused for another
+    /// sampling.
+    /// `keys`: `[image]`'s sampling, threshold and max_level.
+    pub(crate) fn adaptive(
+        &self,
+        path: &KeyPath,
+        (sampling, threshold, max_level): (Sampling, Option<f64>, Option<i64>),
+        samples: u32,
+    ) -> Result<Option<Adaptive>, SceneError> {
+        if sampling != Sampling::Adaptive {
+            for (key, given) in [
+                ("threshold", threshold.is_some()),
+                ("max_level", max_level.is_some()),
+            ] {
+                if given {
+                    return self.err(&path.key(key), "only sampling = \"adaptive\" takes it");
+                }
+            }
+            return Ok(None);
+        }
+        if samples != 1 {
+            return self.err(
+                &path.key("sampling"),
+                format!("\"adaptive\" starts from one ray per pixel corner: it takes samples = 1, got {samples}"),
+            );
+        }
+        let threshold = self.finite(&path.key("threshold"), threshold.unwrap_or(0.1))?;
+        if threshold < 0.0 {
+            return self.err(
+                &path.key("threshold"),
+                format!("must be >= 0, got {threshold}"),
+            );
+        }
+        let levels = self.int_in(
+            &path.key("max_level"),
+            max_level.unwrap_or(2),
+            1,
+            Adaptive::MAX_LEVELS,
+        )?;
+        Ok(Some(Adaptive { threshold, levels }))
+    }
+}
