@@ -132,6 +132,10 @@ pub struct Conditioned {
     pub error: ErrorFigures,
     /// How it breaks the tolerance; empty when it passes.
     pub violations: Vec<String>,
+    /// Which pixels are ill-conditioned, row by row (the Python module's
+    /// mask; not in `compare --json`, which gives the share).
+    #[serde(skip)]
+    pub pixels: Vec<bool>,
 }
 
 impl Conditioned {
@@ -168,6 +172,7 @@ impl Conditioned {
             over_and_ill: over_and_ill as f64 / n,
             error,
             violations,
+            pixels: ill.to_vec(),
         }
     }
 }

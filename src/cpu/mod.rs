@@ -99,6 +99,20 @@ impl<R: Real> Prepared<R> {
         self.0.tables.as_ref().map_or(0.0, |t| t.build_s)
     }
 
+    /// Renders skip the rows they have not begun once `flag` is set (a
+    /// host's Ctrl-C, as the Python module's): such a render's image is
+    /// incomplete, and whoever set the flag discards it. A later render
+    /// runs whole once the flag is cleared.
+    pub fn stop_when(&mut self, flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {
+        self.0.stop = Some(flag);
+    }
+
+    /// The pixels of `region` of the image: bit for bit those of the
+    /// whole render.
+    pub fn render_region(&self, region: Region, progress: &(dyn Fn(u64) + Sync)) -> Image {
+        render_tallied::<R, ()>(&self.0, Some(region), progress).0
+    }
+
     /// The image, calling `progress(rows_done)` as rows finish.
     pub fn render(&self, progress: &(dyn Fn(u64) + Sync)) -> Image {
         render_world(&self.0, progress)
@@ -152,6 +166,10 @@ fn render_tallied<R: Real, T: Tally>(
         .enumerate()
         .map(|(row_index, row)| {
             let mut counts = T::default();
+            if world.stopped() {
+                progress(1);
+                return counts;
+            }
             let y = traced.y as usize + row_index;
             for (column, px) in row.iter_mut().enumerate() {
                 let x = traced.x as usize + column;
@@ -170,6 +188,9 @@ fn render_tallied<R: Real, T: Tally>(
         })
         .reduce(T::default, T::merge);
     let image = Image::new(width, height, pixels);
+    if world.stopped() {
+        return (image, counts);
+    }
     match world.adaptive {
         Some((threshold, levels)) => {
             let (image, more) = adaptive::resolve(world, &image, traced, threshold, levels);
@@ -182,3 +203,36 @@ fn render_tallied<R: Real, T: Tally>(
 
 #[cfg(test)]
 mod bvh_tests;
+
+#[cfg(test)]
+mod stop_tests {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+
+    use super::Prepared;
+    use crate::accel::Accel;
+    use crate::scene::{Overrides, Scene};
+
+    /// Once the stop flag is set no row is traced (a row's progress is
+    /// still reported), and cleared, the same prepared scene renders the
+    /// whole image again (the Python module's Ctrl-C).
+    #[test]
+    fn a_stop_skips_every_row_and_a_clear_renders_them_again() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/seed-fig4.toml");
+        let small = Overrides {
+            width: Some(24),
+            height: Some(16),
+            ..Overrides::default()
+        };
+        let scene = Scene::load(&path, &small).unwrap();
+        let mut prepared = Prepared::<f64>::new(&scene, Accel::Auto);
+        let whole = prepared.render(&|_| {});
+        let stop = Arc::new(AtomicBool::new(true));
+        prepared.stop_when(stop.clone());
+        let (stopped, counts) = prepared.render_counted(&|_| {});
+        assert_eq!(counts.rays().eye, 0, "no ray was cast");
+        assert!(stopped != whole);
+        stop.store(false, Ordering::Relaxed);
+        assert!(prepared.render(&|_| {}) == whole);
+    }
+}

@@ -44,9 +44,18 @@ pub struct World<R: Real> {
     /// seed and the move relative to a hit point's size and a direction's
     /// length. None in every render.
     pub hit_move: Option<(u64, f64)>,
+    /// Once set, rows not yet begun are skipped (`cpu::Prepared::stop_when`).
+    pub stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
 }
 
 impl<R: Real> World<R> {
+    /// Whether a stop was asked for: the render is then cut short.
+    pub fn stopped(&self) -> bool {
+        self.stop
+            .as_ref()
+            .is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed))
+    }
+
     /// The scene in camera-relative coordinates (see `Scene::camera_relative`),
     /// rounded to `R`.
     pub fn new(scene: &Scene, accel: Accel) -> Self {
@@ -90,6 +99,7 @@ impl<R: Real> World<R> {
             corners,
             adaptive,
             hit_move: None,
+            stop: None,
         }
     }
 }

@@ -84,6 +84,9 @@ pub enum GpuError {
         /// The limit that ran out.
         seconds: f64,
     },
+    /// The render was stopped between tiles ([`super::Prepared::stop_when`]).
+    #[error("interrupted")]
+    Interrupted,
     /// An earlier wait on this device timed out: nothing more is submitted to it.
     #[error("an earlier render on this renderer timed out; open a new one")]
     Lost,

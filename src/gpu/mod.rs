@@ -101,4 +101,30 @@ mod tests {
         assert!(again == before);
         assert_eq!(renderer.pipelines(), 1);
     }
+
+    /// A set stop flag fails the render before its first tile, and the
+    /// prepared scene renders whole again once it is cleared (the Python
+    /// module's Ctrl-C).
+    #[test]
+    fn a_stop_ends_a_render_and_the_scene_renders_again() {
+        use std::sync::atomic::{AtomicBool, Ordering};
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let small = Overrides {
+            width: Some(16),
+            height: Some(12),
+            ..Overrides::default()
+        };
+        let scene = Scene::load(&root.join("scenes/seed-fig4.toml"), &small).unwrap();
+        let mut renderer = Renderer::new(&GpuOptions::from_env(None)).unwrap();
+        let mut prepared = renderer.prepare(&scene, &renderer.settings()).unwrap();
+        let whole = prepared.render(None, &|_| {}).unwrap().image;
+        let stop = std::sync::Arc::new(AtomicBool::new(true));
+        prepared.stop_when(stop.clone());
+        let tiles = std::cell::Cell::new(0);
+        let stopped = prepared.render(None, &|_| tiles.set(tiles.get() + 1));
+        assert!(matches!(stopped, Err(GpuError::Interrupted)));
+        assert_eq!(tiles.get(), 0, "no tile ran");
+        stop.store(false, Ordering::Relaxed);
+        assert!(prepared.render(None, &|_| {}).unwrap().image == whole);
+    }
 }

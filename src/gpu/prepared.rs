@@ -3,6 +3,7 @@
 //! passes (megakernel or wavefront tiles; adaptive sampling's refinement
 //! after the corners), each run by the executor under its watchdog.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -55,6 +56,8 @@ pub struct Prepared {
     precision: Precision,
     /// What preparing cost, reported by the first render.
     pending: Option<RenderTimes>,
+    /// Set from elsewhere to stop a render between tiles ([`Prepared::stop_when`]).
+    stop: Option<Arc<AtomicBool>>,
 }
 
 /// How a pixel's colour comes from what the shader traces.
@@ -151,6 +154,7 @@ impl Prepared {
             sampling,
             precision: settings.precision,
             pending: None,
+            stop: None,
         };
         let driver_compile_s = prepared.compile_on_driver(false)?;
         prepared.pending = Some(RenderTimes {
@@ -164,6 +168,14 @@ impl Prepared {
             ..RenderTimes::default()
         });
         Ok(prepared)
+    }
+
+    /// Renders stop with [`GpuError::Interrupted`] before the next tile
+    /// once `flag` is set (a host's Ctrl-C, as the Python module's): a
+    /// tile on the device is not cut short, so the device and this scene
+    /// stay usable. A later render runs again once `flag` is cleared.
+    pub fn stop_when(&mut self, flag: Arc<AtomicBool>) {
+        self.stop = Some(flag);
     }
 
     /// The variant the scene was compiled with (docs/shaders.md, Variants).
@@ -372,6 +384,13 @@ impl Prepared {
         let mut pixels = vec![[0.0f32; 3]; region.pixel_count() as usize * per];
         for y0 in (region.y..y_end).step_by(tile_h as usize) {
             for x0 in (region.x..x_end).step_by(tile_w as usize) {
+                if self
+                    .stop
+                    .as_ref()
+                    .is_some_and(|s| s.load(Ordering::Relaxed))
+                {
+                    return Err(GpuError::Interrupted);
+                }
                 let (w, h) = (tile_w.min(x_end - x0), tile_h.min(y_end - y0));
                 let t1 = Instant::now();
                 // `work`: a pixel's rays, in pixels of the scene's (the

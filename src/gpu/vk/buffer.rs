@@ -19,6 +19,13 @@ pub struct Buffer {
     device: Arc<Device>,
 }
 
+// SAFETY: `mapped` is this buffer's own mapping of its own memory: Vulkan
+// maps memory for the process, not for a thread, so the pointer stays valid
+// wherever the buffer moves, and every access through it is bounded by the
+// borrows of `fill_with` and `read`, which hold on any thread. (A prepared
+// scene moves to the thread a host renders on: the Python module's.)
+unsafe impl Send for Buffer {}
+
 impl Buffer {
     /// A buffer of `size` bytes (at least 16: Vulkan has no empty buffers),
     /// in memory the host can map; device-local where the device offers both.

@@ -1,0 +1,386 @@
+"""glint: a Whitted ray tracer whose Vulkan renders are checked against a
+CPU reference, from Python (docs/python.md).
+
+    >>> import glint
+    >>> scene = glint.load("scenes/seed-fig4.toml", width=64, height=48)
+    >>> image = glint.render(scene)              # numpy float32, (48, 64, 3)
+    >>> result = glint.compare(scene)            # GPU f32 against CPU f64
+    >>> result.passed
+    True
+
+Images are numpy ``float32`` arrays of shape ``(height, width, 3)`` in
+linear RGB. Every error is a :class:`glint.Error`; its message is the line
+the ``glint`` binary prints for the same error.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union, cast, overload
+
+import numpy as np
+import numpy.typing as npt
+
+from . import _glint
+from ._glint import (
+    DeviceError,
+    Error,
+    ImageError,
+    Scene,
+    SceneError,
+    ShaderError,
+)
+
+__all__ = [
+    "load",
+    "loads",
+    "render",
+    "diff",
+    "compare",
+    "read",
+    "write",
+    "devices",
+    "Scene",
+    "Renderer",
+    "PreparedScene",
+    "Figures",
+    "Comparison",
+    "Error",
+    "SceneError",
+    "ShaderError",
+    "DeviceError",
+    "ImageError",
+    "GPU_BUILT",
+]
+
+#: Whether this build has the GPU renderer (a CPU-only build raises
+#: DeviceError from every GPU call).
+GPU_BUILT: bool = _glint.GPU_BUILT
+
+PathLike = Union[str, "os.PathLike[str]"]
+Region = Tuple[int, int, int, int]
+Include = Union[PathLike, Sequence[PathLike], Mapping[str, str]]
+#: An image: float32, (height, width, 3), linear RGB.
+Image = npt.NDArray[np.float32]
+#: A render's ray counts and times (``stats=True``).
+Stats = Dict[str, Any]
+
+
+def load(
+    path: PathLike,
+    width: Optional[int] = None,
+    height: Optional[int] = None,
+    samples: Optional[int] = None,
+    max_depth: Optional[int] = None,
+) -> Scene:
+    """Reads a scene file: TOML or NFF (docs/scene-format.md), or an OBJ
+    mesh, which gets a camera that frames it and two lights (docs/python.md).
+    The keywords override the file as ``glint render --width`` and the
+    others do. Raises :class:`SceneError` with ``.file``, ``.line`` and
+    ``.column``."""
+    return _glint.load(os.fspath(path), width, height, samples, max_depth)
+
+
+def loads(
+    text: str,
+    format: str = "toml",
+    width: Optional[int] = None,
+    height: Optional[int] = None,
+    samples: Optional[int] = None,
+    max_depth: Optional[int] = None,
+) -> Scene:
+    """As :func:`load`, from a string: ``format`` is ``"toml"`` or
+    ``"nff"``. Files the text names (meshes, textures) are relative to the
+    working directory."""
+    return _glint.loads(text, format, width, height, samples, max_depth)
+
+
+def _include(include: Optional[Include]) -> Any:
+    if include is None or isinstance(include, Mapping):
+        return None if include is None else dict(include)
+    if isinstance(include, (str, os.PathLike)):
+        return os.fspath(include)
+    return [os.fspath(d) for d in include]
+
+
+def _result(
+    image: Image, raw: Optional[str], stats: bool
+) -> Union[Image, Tuple[Image, Stats]]:
+    if not stats:
+        return image
+    assert raw is not None, "a render asked for stats returns them"
+    return image, cast(Stats, json.loads(raw))
+
+
+class PreparedScene:
+    """A scene laid out, compiled and uploaded for one device: each
+    :meth:`render` only traces. Made by :meth:`Renderer.prepare`."""
+
+    def __init__(self, native: _glint.PreparedScene) -> None:
+        self._native = native
+
+    @overload
+    def render(self, region: Optional[Region] = None, stats: Literal[False] = False) -> Image: ...
+    @overload
+    def render(self, region: Optional[Region] = None, *, stats: Literal[True]) -> Tuple[Image, Stats]: ...
+    @overload
+    def render(self, region: Optional[Region], stats: Literal[True]) -> Tuple[Image, Stats]: ...
+
+    def render(
+        self, region: Optional[Region] = None, stats: bool = False
+    ) -> Union[Image, Tuple[Image, Stats]]:
+        """The image, or the region ``(x, y, width, height)`` of it (its
+        pixels are bit for bit those of the whole image). With
+        ``stats=True``, ``(image, stats)``: the times, and the ray counts
+        where the scene was prepared with ``stats=True``."""
+        image, raw = self._native.render(region, stats)
+        return _result(image, raw, stats)
+
+    @property
+    def size(self) -> Tuple[int, int]:
+        """(width, height) of the image."""
+        return self._native.size
+
+    def __repr__(self) -> str:
+        return repr(self._native)
+
+
+class Renderer:
+    """A Vulkan device, opened once, and the shaders compiled on it, kept
+    across calls. ``device`` picks one by a part of its name (see
+    :func:`devices`); lavapipe, Vulkan on the CPU, where there is no GPU.
+
+    ``include`` is a folder, a list of folders searched before the
+    built-in shader files (as ``glint render -I DIR``), or a dict of file
+    name to GLSL text. ``defines`` are ``-D`` defines (name to value or
+    None). ``validate`` turns the Khronos validation layer on (default: the
+    environment's GLINT_VALIDATION=1). ``timeout`` is the longest wait for
+    one tile, in seconds (default: glint's own bound from the tile's work).
+    ``cache=False`` keeps compiled SPIR-V and pipelines out of the cache
+    the binary shares (``~/.cache/glint``), as ``--no-cache`` does.
+    """
+
+    def __init__(
+        self,
+        device: Optional[str] = None,
+        *,
+        include: Optional[Include] = None,
+        defines: Optional[Mapping[str, Optional[str]]] = None,
+        validate: Optional[bool] = None,
+        timeout: Optional[float] = None,
+        cache: bool = True,
+    ) -> None:
+        self._native = _glint.Renderer(
+            device,
+            _include(include),
+            None if defines is None else dict(defines),
+            validate,
+            timeout,
+            cache,
+        )
+
+    @property
+    def device(self) -> str:
+        """The device's name."""
+        return self._native.device
+
+    def prepare(
+        self, scene: Scene, precision: str = "f32", stats: bool = False
+    ) -> PreparedScene:
+        """Lays ``scene`` out for the device, compiles its shader variant
+        (once per variant and renderer) and uploads it. ``stats=True``
+        compiles the counting variant, whose renders also count rays."""
+        return PreparedScene(self._native.prepare(scene, precision, stats))
+
+    @overload
+    def render(
+        self, scene: Scene, precision: str = "f32", region: Optional[Region] = None,
+        stats: Literal[False] = False,
+    ) -> Image: ...
+    @overload
+    def render(
+        self, scene: Scene, precision: str = "f32", region: Optional[Region] = None,
+        *, stats: Literal[True],
+    ) -> Tuple[Image, Stats]: ...
+
+    def render(
+        self,
+        scene: Scene,
+        precision: str = "f32",
+        region: Optional[Region] = None,
+        stats: bool = False,
+    ) -> Union[Image, Tuple[Image, Stats]]:
+        """``prepare`` then one render: the image, or ``(image, stats)``."""
+        image, raw = self._native.render(scene, precision, region, stats)
+        return _result(image, raw, stats)
+
+    def __repr__(self) -> str:
+        return repr(self._native)
+
+
+_default: Optional[Renderer] = None
+
+
+def _default_renderer() -> Renderer:
+    global _default
+    if _default is None:
+        _default = Renderer()
+    return _default
+
+
+@overload
+def render(
+    scene: Scene, backend: str = "gpu", precision: str = "f32", region: Optional[Region] = None,
+    stats: Literal[False] = False, renderer: Optional[Renderer] = None,
+) -> Image: ...
+@overload
+def render(
+    scene: Scene, backend: str = "gpu", precision: str = "f32", region: Optional[Region] = None,
+    *, stats: Literal[True], renderer: Optional[Renderer] = None,
+) -> Tuple[Image, Stats]: ...
+
+
+def render(
+    scene: Scene,
+    backend: str = "gpu",
+    precision: str = "f32",
+    region: Optional[Region] = None,
+    stats: bool = False,
+    renderer: Optional[Renderer] = None,
+) -> Union[Image, Tuple[Image, Stats]]:
+    """Renders ``scene``: on the GPU through ``renderer`` (a default one,
+    opened at the first call, where None), or with the CPU reference
+    (``backend="cpu"``), in ``"f32"`` or ``"f64"``. Returns the image, or
+    ``(image, stats)`` with ``stats=True`` (ray counts and times, as
+    ``glint render --stats`` writes them)."""
+    if backend == "gpu":
+        r = renderer if renderer is not None else _default_renderer()
+        image, raw = r._native.render(scene, precision, region, stats)
+        return _result(image, raw, stats)
+    if backend == "cpu":
+        image, raw = _glint.render_cpu(scene, precision, region, stats)
+        return _result(image, raw, stats)
+    raise ValueError(f'backend {backend!r}: glint renders with "gpu" or "cpu"')
+
+
+@dataclass(frozen=True)
+class Figures:
+    """An image's error against a reference (docs/commands.md), over linear
+    values: the largest channel error, the RMSE, the PSNR for a peak of 1,
+    the share of pixels off by more than 1/255, and the channel pairs that
+    are not finite."""
+
+    max_abs: float
+    rmse: float
+    psnr_db: float
+    frac_over_1_255: float
+    nonfinite: int
+
+    @classmethod
+    def _from(cls, d: Mapping[str, Any]) -> "Figures":
+        psnr = d["psnr_db"]
+        if psnr is None:  # JSON has no infinities: +inf where equal
+            psnr = math.inf if d["nonfinite"] == 0 else -math.inf
+        return cls(d["max_abs"], d["rmse"], psnr, d["frac_over_1_255"], d["nonfinite"])
+
+
+def _image(a: Any, what: str) -> Image:
+    image: Image = np.ascontiguousarray(a, dtype=np.float32)
+    if image.ndim != 3 or image.shape[2] != 3:
+        raise ValueError(f"{what}: shape {image.shape}; an image is (height, width, 3)")
+    return image
+
+
+def diff(a: Any, b: Any) -> Figures:
+    """The error figures of image ``a`` against the reference ``b``."""
+    return Figures._from(json.loads(_glint.diff_json(_image(a, "a"), _image(b, "b"))))
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """What :func:`compare` found (``glint compare``'s check)."""
+
+    #: Whether the image is within the tolerance.
+    passed: bool
+    #: Over every pixel, in units of ``unit``.
+    error: Figures
+    #: Over the well-conditioned pixels, where the whole image failed.
+    well_conditioned: Optional[Figures]
+    #: The share of pixels ill-conditioned at f32 (None: not needed).
+    ill_share: Optional[float]
+    #: How the image breaks the tolerance; empty when it passes.
+    violations: List[str]
+    #: The pixels off by more than 1/255 of ``unit``: bool, (height, width).
+    over: npt.NDArray[np.bool_]
+    #: The ill-conditioned pixels, where the check needed them.
+    ill: Optional[npt.NDArray[np.bool_]]
+    #: The image checked and the CPU f64 reference.
+    image: Image
+    reference: Image
+    #: 1, or the reference's peak where it is above 1.
+    unit: float
+    #: The tolerance held to: ``frac_over_1_255`` and ``rmse``.
+    tolerance: Dict[str, float] = field(default_factory=dict)
+
+    @property
+    def failing(self) -> npt.NDArray[np.bool_]:
+        """The pixels that count against the image: over 1/255 and, where
+        the check left the ill-conditioned out, well-conditioned."""
+        return self.over if self.ill is None else self.over & ~self.ill
+
+
+def compare(
+    scene: Scene,
+    image: Optional[Any] = None,
+    *,
+    backend: str = "gpu",
+    renderer: Optional[Renderer] = None,
+    frac_over_1_255: Optional[float] = None,
+    rmse: Optional[float] = None,
+) -> Comparison:
+    """``glint compare``'s check: an f32 render of ``scene`` (on the GPU, or
+    the CPU's f32 with ``backend="cpu"``; or ``image``, given) against the
+    CPU f64 reference, with the tolerance (default: 0.1 % of pixels over
+    1/255, RMSE 4e-3) over every pixel and, where that fails, over the
+    pixels well-conditioned at f32 (docs/guide.md, Accuracy)."""
+    if image is None:
+        image = render(scene, backend=backend, precision="f32", renderer=renderer)
+    checked, reference, raw, over, ill = _glint.compare_raw(
+        scene, _image(image, "image"), frac_over_1_255, rmse
+    )
+    j = json.loads(raw)
+    c = j["conditioned"]
+    return Comparison(
+        passed=j["passed"],
+        error=Figures._from(j["error"]),
+        well_conditioned=None if c is None else Figures._from(c["error"]),
+        ill_share=None if c is None else c["ill"],
+        violations=j["violations"],
+        over=over,
+        ill=ill,
+        image=checked,
+        reference=reference,
+        unit=j["unit"],
+        tolerance=j["tolerance"],
+    )
+
+
+def read(path: PathLike) -> Image:
+    """A PNG (values/255, no curve undone), PFM or EXR file as an image."""
+    return _glint.read(os.fspath(path))
+
+
+def write(image: Any, path: PathLike, srgb: bool = False) -> None:
+    """Writes an image as PNG, PFM or EXR, by the extension, at once (a
+    temporary file renamed into place): a failed write leaves no file.
+    ``srgb`` applies the sRGB curve before a PNG's quantization."""
+    _glint.write(_image(image, "image"), os.fspath(path), srgb)
+
+
+def devices() -> List[Dict[str, Any]]:
+    """The Vulkan devices, best (the default) first: name, type, driver and
+    what glint reads of them (``glint info --json``)."""
+    return cast(List[Dict[str, Any]], json.loads(_glint.devices_json()))

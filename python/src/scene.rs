@@ -1,0 +1,344 @@
+//! `glint.load`, `glint.loads`, `glint.Scene.from_dict` and the scene they
+//! return.
+
+use std::path::{Path, PathBuf};
+
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyTuple};
+
+use glint::scene::{self as lib, Overrides, SceneError as LibSceneError};
+
+use crate::errors::{self, guard};
+
+/// A scene read and checked: what `glint.render` and `Renderer.prepare` take.
+#[pyclass(module = "glint", name = "Scene", frozen)]
+pub struct Scene {
+    pub inner: lib::Scene,
+    /// Where it was read from, for its repr: a path, `<string>` or `<dict>`.
+    pub source: String,
+}
+
+fn overrides(
+    width: Option<u32>,
+    height: Option<u32>,
+    samples: Option<u32>,
+    max_depth: Option<u32>,
+) -> Overrides {
+    Overrides {
+        width,
+        height,
+        samples,
+        max_depth,
+    }
+}
+
+#[pyfunction]
+#[pyo3(signature = (path, width=None, height=None, samples=None, max_depth=None))]
+pub fn load(
+    py: Python<'_>,
+    path: PathBuf,
+    width: Option<u32>,
+    height: Option<u32>,
+    samples: Option<u32>,
+    max_depth: Option<u32>,
+) -> PyResult<Scene> {
+    let o = overrides(width, height, samples, max_depth);
+    guard(|| {
+        let scene = py.detach(|| {
+            if is_obj(&path) {
+                obj_scene(&path, &o)
+            } else {
+                lib::Scene::load(&path, &o)
+            }
+        });
+        Ok(Scene {
+            inner: scene.map_err(errors::scene)?,
+            source: path.display().to_string(),
+        })
+    })
+}
+
+#[pyfunction]
+#[pyo3(signature = (text, format="toml", width=None, height=None, samples=None, max_depth=None))]
+pub fn loads(
+    text: &str,
+    format: &str,
+    width: Option<u32>,
+    height: Option<u32>,
+    samples: Option<u32>,
+    max_depth: Option<u32>,
+) -> PyResult<Scene> {
+    let o = overrides(width, height, samples, max_depth);
+    guard(|| {
+        // Relative file names in the text (meshes, textures) are of the
+        // working directory.
+        let scene = match format {
+            "toml" => lib::parse(text, Path::new("<string>"), &o),
+            "nff" => lib::parse_nff(text, Path::new("<string>.nff"), &o),
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "format {other:?}: glint reads \"toml\" and \"nff\" text"
+                )))
+            }
+        };
+        Ok(Scene {
+            inner: scene.map_err(errors::scene)?,
+            source: "<string>".to_owned(),
+        })
+    })
+}
+
+/// `Scene.from_dict`'s work: the dict as TOML, read as a file is.
+fn from_toml_dict(
+    d: &Bound<'_, PyDict>,
+    width: Option<u32>,
+    height: Option<u32>,
+    samples: Option<u32>,
+    max_depth: Option<u32>,
+) -> PyResult<Scene> {
+    let o = overrides(width, height, samples, max_depth);
+    guard(|| {
+        let table = match to_toml(d.as_any(), "")? {
+            toml::Value::Table(t) => t,
+            _ => unreachable!("a dict converts to a table"),
+        };
+        let text = toml::to_string(&table).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let scene = lib::parse(&text, Path::new("<dict>"), &o).map_err(|e| match e {
+            // The line and column are of the TOML the dict was written
+            // as, which the caller never sees: the key says where.
+            LibSceneError::Invalid { key, message, .. } => errors::scene_at(
+                format!("<dict>: {key}: {message}"),
+                Some("<dict>".into()),
+                None,
+                None,
+            ),
+            e => errors::scene(e),
+        })?;
+        Ok(Scene {
+            inner: scene,
+            source: "<dict>".to_owned(),
+        })
+    })
+}
+
+/// A Python value as TOML; `at` is its key path, for the error.
+fn to_toml(v: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
+    let named = |what: &str| {
+        PyTypeError::new_err(format!(
+            "{}: {what} has no TOML form (numbers, strings, booleans, lists and dicts do)",
+            if at.is_empty() { "the scene" } else { at }
+        ))
+    };
+    if v.is_none() {
+        return Err(named("None"));
+    }
+    if let Ok(b) = v.cast::<pyo3::types::PyBool>() {
+        return Ok(toml::Value::Boolean(b.is_true()));
+    }
+    if let Ok(d) = v.cast::<PyDict>() {
+        let mut t = toml::Table::new();
+        for (k, item) in d.iter() {
+            let k: String = k.extract().map_err(|_| {
+                named(&format!(
+                    "the key {}",
+                    k.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+                ))
+            })?;
+            let path = if at.is_empty() {
+                k.clone()
+            } else {
+                format!("{at}.{k}")
+            };
+            t.insert(k, to_toml(&item, &path)?);
+        }
+        return Ok(toml::Value::Table(t));
+    }
+    if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
+        let items = v
+            .try_iter()?
+            .enumerate()
+            .map(|(i, item)| to_toml(&item?, &format!("{at}[{i}]")))
+            .collect::<PyResult<Vec<_>>>()?;
+        return Ok(toml::Value::Array(items));
+    }
+    if let Ok(s) = v.extract::<String>() {
+        return Ok(toml::Value::String(s));
+    }
+    // A numpy array or scalar: its plain Python form.
+    if v.hasattr("tolist")? && !v.is_instance_of::<pyo3::types::PyFloat>() {
+        return to_toml(&v.call_method0("tolist")?, at);
+    }
+    if let Ok(i) = v.extract::<i64>() {
+        return Ok(toml::Value::Integer(i));
+    }
+    if let Ok(f) = v.extract::<f64>() {
+        return Ok(toml::Value::Float(f));
+    }
+    Err(named(&format!("a {}", v.get_type().name()?)))
+}
+
+fn is_obj(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"))
+}
+
+/// An OBJ file as a scene: its mesh, with its MTL materials where it names
+/// an `mtllib` (else one grey), seen from the front of its bounds by a
+/// 40° look-at camera, lit by a light at the eye and one from above
+/// (docs/python.md, Loading an OBJ file).
+fn obj_scene(path: &Path, o: &Overrides) -> Result<lib::Scene, LibSceneError> {
+    let text = glint::input::read_text(path, glint::input::Kind::Mesh).map_err(|cause| {
+        LibSceneError::Read {
+            path: path.to_owned(),
+            cause,
+        }
+    })?;
+    let has_mtl = text.lines().any(|l| l.trim_start().starts_with("mtllib"));
+    let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_owned());
+    let scene_toml = |eye: [f64; 3], look_at: [f64; 3]| {
+        let file = toml::Value::String(absolute.display().to_string());
+        let material = if has_mtl {
+            String::new()
+        } else {
+            "material = \"grey\"\n".to_owned()
+        };
+        format!(
+            "[image]\nwidth = 640\nheight = 480\n\n[render]\nbackground = [0.05, 0.05, 0.08]\n\n\
+             [camera]\neye = {eye:?}\nlook_at = {look_at:?}\nvfov = 40.0\n\n\
+             [materials.grey]\nambient = [0.1, 0.1, 0.1]\ndiffuse = [0.7, 0.7, 0.7]\n\
+             specular = [0.3, 0.3, 0.3]\nshininess = 30.0\n\n\
+             [[meshes]]\nfile = {file}\n{material}\n\
+             [[lights]]\ntype = \"point\"\nposition = {eye:?}\ndiffuse = [0.8, 0.8, 0.8]\nspecular = [0.5, 0.5, 0.5]\n\n\
+             [[lights]]\ntype = \"directional\"\ndirection = [0.3, -1.0, -0.4]\ndiffuse = [0.3, 0.3, 0.3]\n"
+        )
+    };
+    // Read once to find the bounds, then again with the camera they give.
+    let first = lib::parse(
+        &scene_toml([0.0, 0.0, 1.0], [0.0; 3]),
+        path,
+        &Overrides::default(),
+    )?;
+    let (mut lo, mut hi) = (
+        glam::DVec3::splat(f64::INFINITY),
+        glam::DVec3::splat(f64::NEG_INFINITY),
+    );
+    for t in &first.prims.triangles {
+        for v in t.vertices {
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+    }
+    if !lo.is_finite() {
+        return Err(LibSceneError::Invalid {
+            file: path.to_owned(),
+            line: 1,
+            column: 1,
+            key: "f".to_owned(),
+            message: "the OBJ file has no face with area: nothing to see".to_owned(),
+        });
+    }
+    let center = (lo + hi) / 2.0;
+    let radius = ((hi - lo).length() / 2.0).max(1e-9);
+    // Far enough that the bounding sphere fills 40° vertically.
+    let distance = radius / (20f64.to_radians()).sin();
+    let eye = center + glam::DVec3::new(0.35, 0.25, 1.0).normalize() * distance;
+    lib::parse(&scene_toml(eye.to_array(), center.to_array()), path, o)
+}
+
+impl Scene {
+    /// The primitives by kind, in the kinds' table's order.
+    fn kind_counts(&self) -> Vec<(&'static str, usize)> {
+        lib::object_arrays()
+            .iter()
+            .copied()
+            .zip(self.inner.prims.counts())
+            .collect()
+    }
+}
+
+#[pymethods]
+impl Scene {
+    /// A scene from a dict shaped like the TOML file (as `tomllib.load`
+    /// returns it), so that a test can build and perturb scenes in code.
+    /// An error names the key (`spheres[0].radius`); its `.line` and
+    /// `.column` are None, as a dict has none.
+    #[staticmethod]
+    #[pyo3(signature = (d, width=None, height=None, samples=None, max_depth=None))]
+    fn from_dict(
+        d: &Bound<'_, PyDict>,
+        width: Option<u32>,
+        height: Option<u32>,
+        samples: Option<u32>,
+        max_depth: Option<u32>,
+    ) -> PyResult<Scene> {
+        from_toml_dict(d, width, height, samples, max_depth)
+    }
+
+    /// Width of the image in pixels.
+    #[getter]
+    fn width(&self) -> u32 {
+        self.inner.width
+    }
+    /// Height of the image in pixels.
+    #[getter]
+    fn height(&self) -> u32 {
+        self.inner.height
+    }
+    /// Samples a side of each pixel.
+    #[getter]
+    fn samples(&self) -> u32 {
+        self.inner.samples
+    }
+    /// The ray tree's depth.
+    #[getter]
+    fn max_depth(&self) -> u32 {
+        self.inner.max_depth
+    }
+    /// The primitives by kind: `{"spheres": 3, "planes": 1, ...}`.
+    #[getter]
+    fn counts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (kind, n) in self.kind_counts() {
+            d.set_item(kind, n)?;
+        }
+        Ok(d)
+    }
+    /// The lights' types, in the file's order.
+    #[getter]
+    fn lights(&self) -> Vec<&'static str> {
+        self.inner
+            .lights
+            .iter()
+            .map(|l| l.kind.info().name)
+            .collect()
+    }
+    /// Where the scene was read from: a path, `<string>` or `<dict>`.
+    #[getter]
+    fn source(&self) -> &str {
+        &self.source
+    }
+
+    fn __repr__(&self) -> String {
+        let counts: Vec<String> = self
+            .kind_counts()
+            .into_iter()
+            .filter(|(_, n)| *n > 0)
+            .map(|(k, n)| format!("{k}={n}"))
+            .collect();
+        format!(
+            "<glint.Scene {:?} {}x{}, {}, max_depth {}, {}, lights [{}]>",
+            self.source,
+            self.inner.width,
+            self.inner.height,
+            self.inner.sampling_summary(),
+            self.inner.max_depth,
+            if counts.is_empty() {
+                "no primitives".to_owned()
+            } else {
+                counts.join(", ")
+            },
+            self.lights().join(", ")
+        )
+    }
+}

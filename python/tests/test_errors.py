@@ -1,0 +1,114 @@
+"""Every error is a glint.Error with the binary's one line."""
+
+import os
+
+import numpy as np
+import pytest
+
+import glint
+from conftest import ROOT, cpu_only, gpu, small
+
+
+def test_a_scene_error_names_its_file_line_and_column(tmp_path):
+    path = tmp_path / "bad.toml"
+    text = (ROOT / "scenes/seed-fig4.toml").read_text()
+    text = text.replace("radius = 6.0", "radius = -6.0")
+    path.write_text(text)
+    line = next(i for i, l in enumerate(text.splitlines(), 1) if "radius = -6.0" in l)
+    with pytest.raises(glint.SceneError) as e:
+        glint.load(path)
+    err = e.value
+    assert isinstance(err, glint.Error)
+    assert err.file == str(path)
+    assert (err.line, err.column) == (line, len("radius = ") + 1)
+    assert "\n" not in str(err)
+    assert str(err).startswith(f"{path}:{line}:{len('radius = ') + 1}: spheres[0].radius:")
+
+
+def test_a_syntax_error_in_a_string_says_where():
+    with pytest.raises(glint.SceneError) as e:
+        glint.loads("[image]\nwidth = 64\nheight = = 3\n")
+    assert (e.value.file, e.value.line) == ("<string>", 3)
+
+
+def test_a_dict_error_names_the_key():
+    d = {"image": {"width": 8, "height": 8}, "camera": {"eye": [0, 0, 1], "look_at": [0, 0, 0], "vfov": 40},
+         "spheres": [{"center": [0, 0, 0], "radius": 0.0, "material": "m"}],
+         "materials": {"m": {"diffuse": [1, 1, 1]}}}
+    with pytest.raises(glint.SceneError) as e:
+        glint.Scene.from_dict(d)
+    assert str(e.value).startswith("<dict>: spheres[0].radius:")
+    assert e.value.line is None
+    with pytest.raises(TypeError, match=r"spheres\[0\]\.center\[1\]: None"):
+        d["spheres"][0]["center"][1] = None
+        glint.Scene.from_dict(d)
+
+
+def test_a_missing_file_is_a_scene_error():
+    with pytest.raises(glint.SceneError, match="cannot read scene"):
+        glint.load("no/such/scene.toml")
+
+
+@gpu
+def test_a_shader_error_is_one_line_naming_the_file_and_line(root):
+    specular = (root / "shaders/specular.glsl").read_text().splitlines()
+    specular.insert(3, "this is not GLSL;")
+    renderer = glint.Renderer(include={"specular.glsl": "\n".join(specular)})
+    with pytest.raises(glint.ShaderError) as e:
+        renderer.render(small("seed-fig4.toml"))
+    message = str(e.value)
+    assert "\n" not in message
+    assert message.startswith("the shader does not compile: ")
+    assert "specular.glsl:4: error:" in message
+    assert e.value.log.splitlines()[0] in message
+
+
+def test_an_image_error_leaves_no_file(tmp_path):
+    image = np.zeros((4, 4, 3), np.float32)
+    with pytest.raises(glint.ImageError):
+        glint.write(image, tmp_path / "picture.bmp")
+    with pytest.raises(glint.ImageError):
+        glint.write(image, tmp_path / "no-such-folder" / "picture.png")
+    assert os.listdir(tmp_path) == []
+    with pytest.raises(glint.ImageError):
+        glint.read(tmp_path / "missing.pfm")
+
+
+def test_images_round_trip(tmp_path):
+    rng = np.random.default_rng(7)
+    image = rng.random((5, 7, 3), dtype=np.float32) * 4
+    for ext in ["pfm", "exr"]:
+        glint.write(image, tmp_path / f"a.{ext}")
+        assert glint.read(tmp_path / f"a.{ext}").tobytes() == image.tobytes()
+    glint.write(image / 4, tmp_path / "a.png")
+    back = glint.read(tmp_path / "a.png")
+    assert np.abs(back - image / 4).max() <= 0.5 / 255 + 1e-6
+
+
+@cpu_only
+def test_without_the_gpu_a_gpu_call_is_a_device_error_and_the_cpu_renders():
+    with pytest.raises(glint.DeviceError, match="built without it"):
+        glint.Renderer()
+    with pytest.raises(glint.DeviceError, match="built without it"):
+        glint.render(small("seed-fig4.toml"))
+    with pytest.raises(glint.DeviceError):
+        glint.devices()
+    assert glint.render(small("seed-fig4.toml"), backend="cpu").shape == (60, 80, 3)
+    assert glint.compare(small("seed-fig4.toml"), backend="cpu").passed
+
+
+def test_bad_arguments_are_value_errors():
+    scene = small("seed-fig4.toml")
+    with pytest.raises(ValueError, match="precision"):
+        glint.render(scene, backend="cpu", precision="f16")
+    with pytest.raises(ValueError, match="backend"):
+        glint.render(scene, backend="tpu")
+    with pytest.raises(ValueError, match="not inside"):
+        glint.render(scene, backend="cpu", region=(70, 0, 20, 10))
+
+
+@pytest.mark.parametrize("on_render_thread", [False, True])
+def test_a_panic_is_a_glint_error_and_the_interpreter_goes_on(on_render_thread):
+    with pytest.raises(glint.Error, match="internal error .*a test's panic"):
+        glint._glint._test_panic(on_render_thread)
+    assert glint.render(small("seed-fig4.toml", 8, 6), backend="cpu").shape == (6, 8, 3)

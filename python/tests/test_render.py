@@ -1,0 +1,115 @@
+"""Renders against the reference, scenes built in code, prepared scenes."""
+
+import tomllib
+
+import numpy as np
+import pytest
+
+import glint
+from conftest import ROOT, gpu, small
+
+
+@gpu
+@pytest.mark.parametrize("name", ["seed-fig4.toml", "seed-fig5.toml", "glass.toml"])
+def test_the_gpu_image_is_the_cpu_f64_image_within_tolerance(renderer, name):
+    scene = small(name)
+    image = glint.render(scene, renderer=renderer)
+    reference = glint.render(scene, backend="cpu", precision="f64")
+    assert image.shape == reference.shape == (60, 80, 3)
+    assert image.dtype == reference.dtype == np.float32
+    figures = glint.diff(image, reference)
+    assert figures.nonfinite == 0
+    assert figures.frac_over_1_255 <= 1e-3
+    assert figures.rmse <= 4e-3
+    # A check that cannot fail says nothing: a darker image fails it.
+    assert glint.diff(image * 0.9, reference).rmse > 4e-3
+
+
+@gpu
+def test_compare_passes_the_scene_and_fails_one_sphere_moved_a_tenth_of_its_radius(renderer):
+    with open(ROOT / "scenes/seed-fig4.toml", "rb") as f:
+        d = tomllib.load(f)
+    scene = glint.Scene.from_dict(d, width=96, height=72)
+    passed = glint.compare(scene, renderer=renderer)
+    assert passed.passed, passed.violations
+    assert not passed.failing.any()
+
+    sphere = d["spheres"][0]
+    sphere["center"][0] += 0.1 * sphere["radius"]
+    moved = glint.Scene.from_dict(d, width=96, height=72)
+    image = glint.render(moved, renderer=renderer)
+    failed = glint.compare(scene, image)
+    assert not failed.passed
+    assert failed.violations
+    assert failed.over.shape == (72, 96) and failed.over.dtype == np.bool_
+    # The pixels over tolerance lie where the sphere was and is.
+    assert failed.failing.sum() > 0.002 * failed.over.size
+    assert np.array_equal(failed.image, image)
+
+
+@pytest.mark.parametrize("backend", ["gpu", "cpu"])
+def test_a_scene_from_a_dict_renders_the_bits_of_its_toml_file(backend):
+    if backend == "gpu" and not glint.GPU_BUILT:
+        pytest.skip("this glint was built without the GPU renderer")
+    path = ROOT / "scenes/seed-fig5.toml"
+    with open(path, "rb") as f:
+        d = tomllib.load(f)
+    from_file = glint.load(path, width=64, height=48)
+    from_dict = glint.Scene.from_dict(d, width=64, height=48)
+    a = glint.render(from_file, backend=backend)
+    b = glint.render(from_dict, backend=backend)
+    assert a.tobytes() == b.tobytes()
+    # One changed colour is another image.
+    d.setdefault("render", {})["background"] = [0.5, 0.5, 0.5]
+    c = glint.render(glint.Scene.from_dict(d, width=64, height=48), backend=backend)
+    assert a.tobytes() != c.tobytes()
+
+
+@gpu
+def test_a_prepared_scene_renders_twice_the_same_bits_without_a_second_compile(renderer):
+    prepared = renderer.prepare(small("seed-fig5.toml"), stats=True)
+    first, s1 = prepared.render(stats=True)
+    second, s2 = prepared.render(stats=True)
+    assert first.tobytes() == second.tobytes()
+    # The first render reports the prepare's compile (or its SPIR-V from
+    # the cache) and pipeline; the second did neither.
+    assert s1["compiled"] and s1["times"]["setup"]["pipeline_s"] > 0
+    assert not s2["compiled"]
+    assert s2["times"]["setup"]["compile_s"] == 0 and s2["times"]["setup"]["pipeline_s"] == 0
+    assert s1["rays"] == s2["rays"] and s2["rays"]["eye"] == 80 * 60
+
+
+@gpu
+def test_a_region_is_the_whole_images_pixels(renderer):
+    scene = small("seed-fig4.toml")
+    whole = renderer.render(scene)
+    part = renderer.render(scene, region=(8, 16, 40, 24))
+    assert part.shape == (24, 40, 3)
+    assert part.tobytes() == whole[16:40, 8:48].tobytes()
+
+
+def test_cpu_stats_count_the_rays():
+    image, stats = glint.render(small("seed-fig4.toml"), backend="cpu", precision="f64", stats=True)
+    assert stats["backend"] == "cpu"
+    assert stats["rays"]["eye"] == 80 * 60
+    assert stats["rays"]["shadow"] > 0
+    assert stats["seconds"]["trace"] > 0
+
+
+def test_an_image_comes_to_numpy_without_a_copy():
+    image = glint.render(small("seed-fig4.toml"), backend="cpu")
+    assert image.flags["C_CONTIGUOUS"] and not image.flags["OWNDATA"]
+    # A view of the 1-D array numpy made over glint's own vector.
+    assert image.base is not None and image.base.base is not None
+    assert type(image.base.base).__name__ == "PySliceContainer"
+
+
+def test_an_obj_file_loads_with_a_camera_that_frames_it():
+    scene = glint.load(ROOT / "scenes/meshes/octahedron.obj", width=48, height=36)
+    assert scene.counts["triangles"] == 8
+    image = glint.render(scene, backend="cpu")
+    lit = (image.max(axis=2) > 0.2)
+    # The mesh is in the picture and does not spill out of it.
+    assert lit.any()
+    assert not lit[0].any() and not lit[-1].any()
+    assert not lit[:, 0].any() and not lit[:, -1].any()
