@@ -19,6 +19,12 @@ def mypy(*args, cwd):
 
 
 def test_the_stubs_match_the_extension(tmp_path):
+    import glint
+
+    if not glint.GPU_BUILT:
+        # The CPU-only build's Renderer cannot be made, and its classes
+        # carry no methods: the stubs describe the default build.
+        pytest.skip("the stubs describe the build with the GPU renderer")
     run = subprocess.run(
         [sys.executable, "-m", "mypy.stubtest", "glint._glint", "--mypy-config-file", "/dev/null"],
         capture_output=True, text=True, cwd=tmp_path,
