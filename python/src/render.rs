@@ -17,6 +17,7 @@ use glint::accel::Accel;
 use glint::cpu;
 use glint::raster::region::Region;
 use glint::raster::Image;
+use glint::settings::{Choice, Precision};
 use glint::stats::Counts;
 
 use crate::errors::{self, guard, panic_words};
@@ -81,14 +82,18 @@ pub fn interruptible<T: Send>(
     })
 }
 
-fn precision(p: &str) -> PyResult<bool> {
-    match p {
-        "f32" => Ok(false),
-        "f64" => Ok(true),
-        other => Err(PyValueError::new_err(format!(
-            "precision {other:?}: glint renders in \"f32\" or \"f64\""
-        ))),
-    }
+/// The precision a keyword names, by the names the command line takes.
+fn precision(p: &str) -> PyResult<Precision> {
+    Precision::named(p).ok_or_else(|| {
+        let names: Vec<String> = Precision::ALL
+            .iter()
+            .map(|(_, n, _)| format!("{n:?}"))
+            .collect();
+        PyValueError::new_err(format!(
+            "precision {p:?}: glint renders in {}",
+            names.join(" or ")
+        ))
+    })
 }
 
 fn region(r: RegionArg) -> Option<Region> {
@@ -125,8 +130,8 @@ pub fn render_cpu<'py>(
     region: RegionArg,
     stats: bool,
 ) -> PyResult<Rendered<'py>> {
-    let f64 = self::precision(precision)?;
-    let name = if f64 { "f64" } else { "f32" };
+    let precision = self::precision(precision)?;
+    let name = precision.name();
     let region = self::region(region);
     guard(|| {
         let scene = &scene.inner;
@@ -164,10 +169,9 @@ pub fn render_cpu<'py>(
                     t1.elapsed().as_secs_f64(),
                 )
             }
-            let (image, counts, setup, tables, trace) = if f64 {
-                go::<f64>(scene, region, stats, &stop)
-            } else {
-                go::<f32>(scene, region, stats, &stop)
+            let (image, counts, setup, tables, trace) = match precision {
+                Precision::F64 => go::<f64>(scene, region, stats, &stop),
+                Precision::F32 => go::<f32>(scene, region, stats, &stop),
             };
             let stats = stats.then(|| {
                 merge(
@@ -192,7 +196,7 @@ mod gpu_side {
     use std::path::PathBuf;
     use std::sync::Mutex;
 
-    use glint::gpu::{self, GpuOptions, Precision, RenderSettings};
+    use glint::gpu::{self, GpuOptions, RenderSettings};
 
     /// What `include=` may be: folders, or file names and their text.
     #[derive(FromPyObject)]
@@ -317,11 +321,7 @@ mod gpu_side {
                     device: self.device.clone(),
                     scene: (scene.inner.width, scene.inner.height),
                     counted: stats,
-                    precision: if settings.precision == Precision::F64 {
-                        "f64"
-                    } else {
-                        "f32"
-                    },
+                    precision: settings.precision.name(),
                 })
             })
         }
@@ -347,11 +347,7 @@ mod gpu_side {
     impl Renderer {
         fn settings(&self, precision: &str, count: bool) -> PyResult<RenderSettings> {
             let mut settings = lock(&self.inner).settings();
-            settings.precision = if super::precision(precision)? {
-                Precision::F64
-            } else {
-                Precision::F32
-            };
+            settings.precision = super::precision(precision)?;
             settings.count = count;
             Ok(settings)
         }

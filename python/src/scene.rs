@@ -89,39 +89,6 @@ pub fn loads(
     })
 }
 
-/// `Scene.from_dict`'s work: the dict as TOML, read as a file is.
-fn from_toml_dict(
-    d: &Bound<'_, PyDict>,
-    width: Option<u32>,
-    height: Option<u32>,
-    samples: Option<u32>,
-    max_depth: Option<u32>,
-) -> PyResult<Scene> {
-    let o = overrides(width, height, samples, max_depth);
-    guard(|| {
-        let table = match to_toml(d.as_any(), "")? {
-            toml::Value::Table(t) => t,
-            _ => unreachable!("a dict converts to a table"),
-        };
-        let text = toml::to_string(&table).map_err(|e| PyValueError::new_err(e.to_string()))?;
-        let scene = lib::parse(&text, Path::new("<dict>"), &o).map_err(|e| match e {
-            // The line and column are of the TOML the dict was written
-            // as, which the caller never sees: the key says where.
-            LibSceneError::Invalid { key, message, .. } => errors::scene_at(
-                format!("<dict>: {key}: {message}"),
-                Some("<dict>".into()),
-                None,
-                None,
-            ),
-            e => errors::scene(e),
-        })?;
-        Ok(Scene {
-            inner: scene,
-            source: "<dict>".to_owned(),
-        })
-    })
-}
-
 /// A Python value as TOML; `at` is its key path, for the error.
 fn to_toml(v: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
     let named = |what: &str| {
@@ -272,7 +239,30 @@ impl Scene {
         samples: Option<u32>,
         max_depth: Option<u32>,
     ) -> PyResult<Scene> {
-        from_toml_dict(d, width, height, samples, max_depth)
+        // The dict is written out as TOML and read as a file is.
+        let o = overrides(width, height, samples, max_depth);
+        guard(|| {
+            let table = match to_toml(d.as_any(), "")? {
+                toml::Value::Table(t) => t,
+                _ => unreachable!("a dict converts to a table"),
+            };
+            let text = toml::to_string(&table).map_err(|e| PyValueError::new_err(e.to_string()))?;
+            let scene = lib::parse(&text, Path::new("<dict>"), &o).map_err(|e| match e {
+                // The line and column are of the TOML the dict was written
+                // as, which the caller never sees: the key says where.
+                LibSceneError::Invalid { key, message, .. } => errors::scene_at(
+                    format!("<dict>: {key}: {message}"),
+                    Some("<dict>".into()),
+                    None,
+                    None,
+                ),
+                e => errors::scene(e),
+            })?;
+            Ok(Scene {
+                inner: scene,
+                source: "<dict>".to_owned(),
+            })
+        })
     }
 
     /// Width of the image in pixels.

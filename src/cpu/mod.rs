@@ -57,7 +57,7 @@ pub fn render_region<R: Real>(
     region: Region,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Image {
-    render_tallied::<R, ()>(&World::<R>::new(scene, accel), Some(region), progress).0
+    Prepared::<R>::new(scene, accel).render_region(region, progress)
 }
 
 /// The f64 reference of `scene`, the oracle the other renders are measured
