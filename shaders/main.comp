@@ -66,6 +66,7 @@ void main() {
     vec3r sum = vec3r(0.0);
     [[dont_unroll]] for (uint j = 0u; j < samples; j++) {
         [[dont_unroll]] for (uint i = 0u; i < samples; i++) {
+            RECORD_BEGIN(x, y, i, j);
             sum += trace(primary_ray(x, y, i, j));
         }
     }

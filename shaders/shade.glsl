@@ -22,6 +22,7 @@ real spec_pow(real x, real n) {
 }
 
 #include "specular.glsl"
+#include "record.glsl"
 // Each light type's include and the dispatch over the types: generated
 // from the table of light types (src/scene/light/mod.rs, src/gpu/generated.rs).
 #include "lights.glsl"
@@ -53,6 +54,7 @@ vec3r shade(vec3r p, vec3r n, vec3r v, Material m, uint from) {
             COUNT(COUNT_SHADOW);
             COUNT_AS(RAY_SHADOW);
             direct = !occluded(Ray(p, l), from, dist, light);
+            RECORD_SHADOW(k, Ray(p, l), from, dist, !direct);
         }
 #endif
         if (direct) {
@@ -60,8 +62,12 @@ vec3r shade(vec3r p, vec3r n, vec3r v, Material m, uint from) {
             contribution += light.diffuse.rgb * m.diffuse.rgb * min(n_dot_l, 1.0)
                           + light.specular.rgb * m.specular.rgb * specular(n, l, v, m.params.x);
         }
+        RECORD_LIGHT(k, n_dot_l, cone, direct, ambient * (att * cone),
+                     light.diffuse.rgb * m.diffuse.rgb * min(n_dot_l, 1.0) * (att * cone),
+                     light.specular.rgb * m.specular.rgb * specular(n, l, v, m.params.x) * (att * cone));
         local += contribution * (att * cone);
     }
 #endif
+    RECORD_LOCAL(local);
     return local;
 }

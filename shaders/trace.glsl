@@ -8,6 +8,7 @@
 // reflection loop.
 
 #include "texture.glsl"
+#include "record.glsl"
 
 #if HAS_TRANSMISSION
 // A refraction ray waiting to be traced.
@@ -118,6 +119,7 @@ bool path_step(inout Path s) {
     // Whether this path goes on with the reflection ray.
     bool follow = false;
     COUNT_AS(s.ray_type);
+    RECORD_RAY(s.ray_type, s.depth, s.from, s.ray, s.weight);
     Ray ray = s.ray;
     real weight = s.weight;
     uint depth = s.depth;
@@ -126,6 +128,7 @@ bool path_step(inout Path s) {
     bool met = intersect_ray(ray, s.from, INF, depth == 1u, hit);
     if (!met) {
         s.color += g.background.rgb * weight;
+        RECORD_MISS(g.background.rgb * weight);
     } else {
         if (depth == 1u) {
             COUNT(COUNT_EYE_HIT);
@@ -144,6 +147,7 @@ bool path_step(inout Path s) {
 #if HAS_TEXTURES
         apply_textures(m, hit, p);
 #endif
+        RECORD_HIT(hit, p, outward, shading);
         s.color += shade(above, n, -ray.dir, m, hit.prim) * weight;
         real kr = m.params.y;
         // The SPD's procedure (SPD_RAYS) spawns a ray wherever the
@@ -168,6 +172,7 @@ bool path_step(inout Path s) {
         }
 #endif
         follow = depth < MAX_DEPTH && (kr != 0.0 && weight * kr != 0.0 || spd_reflects);
+        RECORD_BRANCH(kr, m.params.z, follow);
         if (follow) {
             COUNT(COUNT_REFLECT);
             s.weight = weight * kr;
@@ -206,6 +211,7 @@ vec3r trace(Ray ray) {
     // whole bounce up to 64 times, for a large and slow-to-compile shader.
     [[dont_unroll]] while (path_step(s)) {
     }
+    RECORD_END(s.color);
     return s.color;
 #else
     return g.background.rgb;

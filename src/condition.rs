@@ -116,6 +116,12 @@ fn perturbed(scene: &Scene, trial: u32) -> Scene {
     s
 }
 
+/// Trial `trial`'s scene and its moves of hit points and leaving
+/// directions (`cpu::Probe::moved`), for one sample's trials (`glint explain`).
+pub(crate) fn trial(scene: &Scene, trial: u32) -> (Scene, (u64, f64)) {
+    (perturbed(scene, trial), (hit_seed(trial), MOVE))
+}
+
 /// At most this share of an image may be ill-conditioned for it to be held
 /// to its well-conditioned pixels alone: past it the check would say too
 /// little. The SPD's worst are balls and gears, at about 4.5 %.

@@ -61,6 +61,7 @@ pub(crate) mod base;
 pub mod bench;
 pub mod condition;
 pub mod cpu;
+pub mod explain;
 pub mod files;
 pub mod fnv;
 #[cfg(feature = "gpu")]

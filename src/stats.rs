@@ -12,8 +12,8 @@ use serde::Serialize;
 
 use crate::prim::KINDS;
 
-pub(crate) use crate::base::count::Tally;
 pub use crate::base::count::{Counter, RayType};
+pub(crate) use crate::base::tally::Tally;
 
 impl Counter {
     /// The ray counters, one slot each, with their names in GLSL.

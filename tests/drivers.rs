@@ -22,17 +22,8 @@ fn current_lavapipe() -> Option<PathBuf> {
     .next()
 }
 
-/// Debian 12's stock lavapipe (Mesa 22.3), as `ci/old-lavapipe` unpacks it.
-fn old_lavapipe() -> Option<PathBuf> {
-    let o = std::process::Command::new(common::repo().join("ci/old-lavapipe"))
-        .output()
-        .ok()?;
-    let path = PathBuf::from(String::from_utf8_lossy(&o.stdout).trim());
-    (o.status.success() && path.is_file()).then_some(path)
-}
-
 fn both_lavapipes(what: &str) -> Option<(PathBuf, PathBuf)> {
-    match (current_lavapipe(), old_lavapipe()) {
+    match (current_lavapipe(), common::old_lavapipe()) {
         (Some(a), Some(b)) => Some((a, b)),
         _ => {
             common::skip(
@@ -178,6 +169,22 @@ fn a_wrong_driver_fails_with_a_reproducer() {
             repro.display()
         );
     }
+    // Its worst pixel explained on the broken driver (issue 45): the
+    // explanation stops at a first wrong value, which no f32 rounding
+    // explains, and the page links to it.
+    let explained = std::fs::read_to_string(repro.join("explain.txt")).unwrap();
+    let verdict = explained.lines().last().unwrap_or_default();
+    assert!(
+        verdict.starts_with("gpu f32: first divergence at ") && !verdict.contains("near-tie"),
+        "{explained}"
+    );
+    let [x, y] = [0, 1].map(|k| bad["explained"][k].as_u64().expect("the explained pixel"));
+    assert!(explained.contains(&format!("pixel {x},{y}")), "{explained}");
+    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(
+        page.contains(&format!("pixel {x},{y} explained</a>")),
+        "{page}"
+    );
     let shader: Vec<PathBuf> = glint::files::sorted(&repro.join("shader"), |_| true).unwrap();
     assert!(shader
         .iter()

@@ -24,6 +24,8 @@ const LAYERS: &[&[&str]] = &[
     // What is built on both renderers.
     &["stability", "tiles", "bench"],
     &["condition", "report"],
+    // One pixel's trees on every renderer, bounded by the conditioning.
+    &["explain"],
 ];
 
 /// The modules the binary's files are in: not part of the library.

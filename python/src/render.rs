@@ -385,6 +385,7 @@ mod gpu_side {
                     image,
                     times,
                     counts,
+                    ..
                 } = rendered;
                 let stats = stats.then(|| {
                     let variant = lock(&self.inner).variant().name();

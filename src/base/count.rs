@@ -1,6 +1,7 @@
 //! What a renderer counts, without the slots they are kept in: the ray
-//! types, the counted events and the trait a renderer counts through. The
-//! slots, sized by the table of kinds, and their names are `crate::stats`'s.
+//! types and the counted events (the trait a renderer counts through is
+//! `super::tally`'s). The slots, sized by the table of kinds, and their
+//! names are `crate::stats`'s.
 
 /// The types of ray, in the order of their slots.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -57,23 +58,4 @@ pub enum Counter {
     Cell,
     /// A ray tested against a primitive of the kind `crate::prim::KINDS[k]`.
     Test(u32),
-}
-
-/// Where a renderer reports what it counts: `crate::stats::Counts`, or `()` to count
-/// nothing at no cost.
-pub(crate) trait Tally: Default + Send {
-    /// One more of `c`.
-    fn count(&mut self, c: Counter);
-    /// The type of the ray whose tests and node visits follow.
-    fn ray_type(&mut self, t: RayType);
-    /// Both tallies' counts together (rows rendered apart).
-    fn merge(self, other: Self) -> Self;
-}
-
-impl Tally for () {
-    #[inline(always)]
-    fn count(&mut self, _: Counter) {}
-    #[inline(always)]
-    fn ray_type(&mut self, _: RayType) {}
-    fn merge(self, _: Self) -> Self {}
 }

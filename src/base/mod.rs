@@ -1,9 +1,9 @@
 //! The ground floor: what every layer above shares and nothing here
 //! imports from them. The real types and their exact sums, the ray, the
 //! bounding box, the precision a renderer computes in, the host↔shader
-//! struct layouts, the workgroup shape, and what a renderer counts. The
-//! layers above, bottom up, are listed in docs/shaders.md (Layers) and
-//! checked by tests/layers.rs.
+//! struct layouts, the workgroup shape, and what a renderer counts and
+//! records. The layers above, bottom up, are listed in docs/shaders.md
+//! (Layers) and checked by tests/layers.rs.
 
 pub mod aabb;
 pub mod count;
@@ -11,6 +11,8 @@ pub mod exact;
 pub mod interface;
 pub mod ray;
 pub mod real;
+pub mod record;
+pub mod tally;
 
 /// The arithmetic: the shader's, or the CPU reference's (`glint render
 /// --precision`).

@@ -79,6 +79,10 @@ impl<R: Real> Vec3<R> {
             R::of(f64::from(c[2])),
         )
     }
+    /// The vector in f64, exactly.
+    pub fn to_dvec(self) -> glam::DVec3 {
+        glam::DVec3::new(self.x.to_f64(), self.y.to_f64(), self.z.to_f64())
+    }
     /// This colour as an image stores it.
     pub fn to_rgb(self) -> [f32; 3] {
         [self.x.to_f32(), self.y.to_f32(), self.z.to_f32()]

@@ -24,6 +24,9 @@ pub struct CompareArgs {
     /// Write a heat-map of the GPU's per-pixel error against the reference.
     #[arg(long, value_name = "FILE")]
     diff_out: Option<PathBuf>,
+    /// Where the check fails, explain its N worst pixels as `glint explain` does (1..=100).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=100))]
+    explain: Option<u32>,
     #[command(flatten)]
     device: DeviceArgs,
 }
@@ -44,7 +47,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     // lavapipe, LLVM at the first dispatch); the timed one is the second.
     let first = render_gpu::timed(&scene, &a.device, Precision::F32, false)?;
     let setup = first.times.setup;
-    let (gpu_image, renderer, mut prepared) = (first.image, first.renderer, first.prepared);
+    let (gpu_image, mut renderer, mut prepared) = (first.image, first.renderer, first.prepared);
     let first = first.times;
     let warm = prepared.render(None, &|_| {})?;
     let (warm_image, gpu_times) = (warm.image, warm.times);
@@ -80,6 +83,12 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         )?;
         outputs.commit()?;
     }
+    let explanations = match a.explain {
+        Some(n) if !violations.is_empty() => {
+            explain_worst(&mut renderer, &scene, &a.device, &gpu_image, &reference, n)?
+        }
+        _ => Vec::new(),
+    };
     let threads = rayon::current_num_threads();
     let info = renderer.device_info();
     let variant = prepared.variant().name();
@@ -108,17 +117,11 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             "conditioned": conditioned,
             "pass": violations.is_empty(),
             "violations": violations,
+            "explanations": explanations,
         });
         outln!("{out}");
     } else {
-        outln!(
-            "scene      {} ({}x{}, {}, depth {})",
-            a.scene.scene.display(),
-            scene.width,
-            scene.height,
-            scene.sampling_summary(),
-            scene.max_depth
-        );
+        outln!("{}", super::scene_line(&a.scene.scene, &scene));
         outln!("device     {} ({}, {})", info.name, info.kind, info.driver);
         outln!(
             "shader     {variant}{}",
@@ -180,10 +183,55 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         for v in &violations {
             outln!("           {v}");
         }
+        match a.explain {
+            Some(_) if violations.is_empty() => {
+                outln!("explain    the check passed: nothing to explain")
+            }
+            Some(n) => {
+                outln!(
+                    "\nexplain    the {} worst pixel(s) of {n} asked for, as `glint explain` gives them\n{}",
+                    explanations.iter().map(|e| e.sample.pixel).collect::<std::collections::BTreeSet<_>>().len(),
+                    super::explain::header()
+                );
+                for e in &explanations {
+                    outln!("\n{}", super::explain::text(e, &scene));
+                }
+            }
+            None => {}
+        }
     }
     Ok(if violations.is_empty() {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
     })
+}
+
+/// The explanations of the `n` worst pixels of `image` against `reference`,
+/// every sample of each.
+fn explain_worst(
+    renderer: &mut glint::gpu::Renderer,
+    scene: &glint::scene::Scene,
+    device: &DeviceArgs,
+    image: &glint::raster::Image,
+    reference: &glint::raster::Image,
+    n: u32,
+) -> anyhow::Result<Vec<glint::explain::Explanation>> {
+    let options = device.options()?;
+    let mut chosen = Vec::new();
+    for pixel in glint::explain::worst_pixels(image, reference, n as usize) {
+        chosen.extend(glint::explain::samples(scene, pixel, None)?);
+    }
+    let others = super::explain::Others {
+        icds: Vec::new(),
+        forward: Vec::new(),
+    };
+    super::explain::explain(
+        renderer,
+        scene,
+        &options.settings,
+        device.accel,
+        &chosen,
+        &others,
+    )
 }

@@ -13,6 +13,8 @@ mod diff;
 #[cfg(feature = "gpu")]
 mod drivers;
 #[cfg(feature = "gpu")]
+mod explain;
+#[cfg(feature = "gpu")]
 mod info;
 pub mod interrupt;
 mod progress;
@@ -37,7 +39,8 @@ mod without_gpu;
 use drivers::probe as driver_probe;
 #[cfg(not(feature = "gpu"))]
 use without_gpu::{
-    bench, compare, driver_probe, drivers, info, render_gpu, report, shader, stability, watch,
+    bench, compare, driver_probe, drivers, explain, info, render_gpu, report, shader, stability,
+    watch,
 };
 
 use std::path::{Path, PathBuf};
@@ -67,6 +70,8 @@ enum Command {
     Render(render::RenderArgs),
     /// Render on the GPU (f32) and with the CPU f64 reference; print the error and the times; exit 1 over tolerance.
     Compare(compare::CompareArgs),
+    /// One pixel's ray tree on the GPU, the CPU's f32 and the f64 reference, side by side, down to the first number that differs and its cause; exit 1 where a tree leaves the reference.
+    Explain(explain::ExplainArgs),
     /// The error figures of image A against reference image B.
     Diff(diff::DiffArgs),
     /// List the Vulkan devices and what they support.
@@ -124,6 +129,27 @@ pub struct SceneArgs {
 }
 
 impl SceneArgs {
+    /// The scene file, absolute, and its overrides as the words of a
+    /// command line, for a child glint.
+    #[cfg(feature = "gpu")]
+    pub fn forward(&self) -> Vec<std::ffi::OsString> {
+        let mut v = vec![std::path::absolute(&self.scene).map_or_else(
+            |_| self.scene.clone().into_os_string(),
+            PathBuf::into_os_string,
+        )];
+        for (flag, value) in [
+            ("--width", self.width),
+            ("--height", self.height),
+            ("--samples", self.samples),
+            ("--max-depth", self.max_depth),
+        ] {
+            if let Some(n) = value {
+                v.extend([flag.into(), n.to_string().into()]);
+            }
+        }
+        v
+    }
+
     pub fn load(&self) -> anyhow::Result<Scene> {
         let overrides = Overrides {
             width: self.width,
@@ -302,6 +328,20 @@ pub fn scene_name(path: &Path) -> String {
         .into_owned()
 }
 
+/// The first line of `compare` and `explain`: the scene file, its size,
+/// sampling and depth.
+#[cfg(feature = "gpu")]
+pub fn scene_line(path: &Path, scene: &Scene) -> String {
+    format!(
+        "scene      {} ({}x{}, {}, depth {})",
+        path.display(),
+        scene.width,
+        scene.height,
+        scene.sampling_summary(),
+        scene.max_depth
+    )
+}
+
 /// The folder `file` is in ("." for a bare name).
 pub fn parent_dir(file: &Path) -> PathBuf {
     match file.parent() {
@@ -365,6 +405,7 @@ pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         Command::Render(a) => render::run(&a),
         Command::Compare(a) => compare::run(&a),
+        Command::Explain(a) => explain::run(&a),
         Command::Diff(a) => diff::run(&a),
         Command::Info(a) => info::run(&a),
         Command::Stability(a) => stability::run(&a),

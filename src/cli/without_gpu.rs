@@ -46,6 +46,7 @@ unbuilt!(
     compare::CompareArgs,
     drivers::DriversArgs,
     driver_probe::ProbeArgs,
+    explain::ExplainArgs,
     info::InfoArgs,
     report::ReportArgs,
     shader::ShaderArgs,

@@ -5,6 +5,7 @@
 pub(crate) mod adaptive;
 pub mod bound;
 pub(crate) mod intersect;
+mod probe;
 pub(crate) mod ray;
 pub(crate) mod shade;
 pub(crate) mod texture;
@@ -21,6 +22,8 @@ use crate::scene::{PastBound, Scene};
 pub use crate::base::real::Real;
 use crate::stats::{Counts, Tally};
 use world::World;
+
+pub(crate) use probe::Probe;
 
 /// Renders `scene` in precision `R`, rows in parallel, with the BVH where
 /// `Accel::Auto` takes it (the image is the same either way).

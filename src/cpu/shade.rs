@@ -1,10 +1,11 @@
 //! Local Blinn-Phong shading with hard shadows (docs/scene-format.md, Shading); mirrors
 //! shaders/shade.glsl.
 
-use super::intersect::occluded;
+use super::intersect::{intersect_scene, occluded};
 use super::world::World;
 use crate::base::ray::Ray;
 use crate::base::real::{spec_pow, Real, Vec3};
+use crate::base::record::Event;
 use crate::prim::PrimId;
 use crate::scene::MaterialR;
 use crate::stats::{Counter, RayType, Tally};
@@ -47,14 +48,46 @@ pub fn shade<R: Real, T: Tally>(
             tally.count(Counter::Shadow);
             tally.ray_type(RayType::Shadow);
             let dir = w.moved_direction(l, p, 2 + index as u64);
-            occluded(w, &Ray { origin: p, dir }, from, dist, index, tally)
+            let ray = Ray { origin: p, dir };
+            let blocked = occluded(w, &ray, from, dist, index, tally);
+            tally.record(|| Event::Shadow {
+                light: index as u32,
+                origin: p.to_dvec(),
+                dir: dir.to_dvec(),
+                dist: dist.to_f64(),
+                blocked,
+                // The nearest blocker, where the any-hit query found one.
+                blocker: blocked
+                    .then(|| intersect_scene(w, &ray, from, dist, &mut ()))
+                    .flatten()
+                    .map(|b| ((b.prim.kind, b.prim.index), b.t.to_f64())),
+            });
+            blocked
         };
         if direct && !shadowed {
             // A cosine: at most 1, whatever the rounding (spec_pow).
             contribution += light.diffuse * m.diffuse * n_dot_l.min(R::one())
                 + light.specular * m.specular * specular(n, l, v, m.shininess);
         }
+        tally.record(|| {
+            let scale = att * cone;
+            let lit = direct && !shadowed;
+            let direct_term = |t: Vec3<R>| if lit { t * scale } else { Vec3::zero() };
+            Event::Light {
+                light: index as u32,
+                n_dot_l: n_dot_l.to_f64(),
+                cone: cone.to_f64(),
+                lit,
+                ambient: (ambient * scale).to_dvec(),
+                diffuse: direct_term(light.diffuse * m.diffuse * n_dot_l.min(R::one())).to_dvec(),
+                specular: direct_term(light.specular * m.specular * specular(n, l, v, m.shininess))
+                    .to_dvec(),
+            }
+        });
         local += contribution * (att * cone);
     }
+    tally.record(|| Event::Local {
+        color: local.to_dvec(),
+    });
     local
 }

@@ -8,6 +8,7 @@ use super::texture::at_hit;
 use super::world::World;
 use crate::base::ray::Ray;
 use crate::base::real::{Real, Vec3};
+use crate::base::record::Event;
 use crate::prim::PrimId;
 use crate::stats::{Counter, RayType, Tally};
 
@@ -49,6 +50,14 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
         // Whether this path goes on with the reflection ray.
         let mut follow = false;
         tally.ray_type(ray_type);
+        tally.record(|| Event::Ray {
+            kind: ray_type,
+            depth,
+            from: from.recorded(),
+            origin: ray.origin.to_dvec(),
+            dir: ray.dir.to_dvec(),
+            weight: weight.to_f64(),
+        });
         // An eye ray reads its tile's list where the scene has them.
         let met = if depth == 1 {
             intersect_eye(w, &ray, tally)
@@ -56,7 +65,12 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
             intersect_scene(w, &ray, from, R::infinity(), tally)
         };
         match met {
-            None => color += w.background * weight,
+            None => {
+                color += w.background * weight;
+                tally.record(|| Event::Miss {
+                    color: (w.background * weight).to_dvec(),
+                });
+            }
             Some(hit) => {
                 if depth == 1 {
                     tally.count(Counter::EyeHit);
@@ -83,6 +97,18 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
                     textured = at_hit(w, m, hit.prim, p);
                     m = &textured;
                 }
+                tally.record(|| Event::Hit {
+                    prim: (hit.prim.kind, hit.prim.index),
+                    material: s.material as u32,
+                    t: hit.t.to_f64(),
+                    point: p.to_dvec(),
+                    normal: s.outward.to_dvec(),
+                    shading: s.shading.to_dvec(),
+                    uv: (!w.texels.is_empty())
+                        .then(|| w.prims.get(hit.prim).uv(p))
+                        .flatten()
+                        .map(|[u, v]| glam::DVec2::new(u.to_f64(), v.to_f64())),
+                });
                 color += shade(w, above, n, -ray.dir, m, hit.prim, tally) * weight;
                 let mut kr = m.reflectivity;
                 let kt = m.transmittance;
@@ -112,6 +138,11 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
                 }
                 follow = depth < w.max_depth
                     && (kr != R::zero() && weight * kr != R::zero() || spd_reflects);
+                tally.record(|| Event::Branch {
+                    kr: kr.to_f64(),
+                    kt: kt.to_f64(),
+                    follow,
+                });
                 if follow {
                     tally.count(Counter::Reflect);
                     weight = weight * kr;
@@ -134,5 +165,8 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
             ray_type = RayType::Refract;
         }
     }
+    tally.record(|| Event::End {
+        color: color.to_dvec(),
+    });
     color
 }

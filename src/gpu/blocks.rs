@@ -27,6 +27,9 @@ pub enum Block {
     Tables,
     /// The counters of `--stats` (src/stats.rs), where the variant counts.
     Counts,
+    /// The ray tree of one sample, where the variant records
+    /// (shaders/record.glsl).
+    Record,
     /// The points of a level of adaptive sampling's refinement.
     Refine,
     /// The wavefront's paths: their rays, weights, colours and sums, and
@@ -55,6 +58,7 @@ impl Block {
             Block::Nodes => "BVH nodes",
             Block::Tables => "tables",
             Block::Counts => "the counters",
+            Block::Record => "the recorded ray tree",
             Block::Refine => "the points to refine",
             Block::PathReals => "the paths",
             Block::PathWords => "the paths' words",

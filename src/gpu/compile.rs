@@ -20,6 +20,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("main.comp", include_str!("../../shaders/main.comp")),
     ("bindings.glsl", include_str!("../../shaders/bindings.glsl")),
     ("count.glsl", include_str!("../../shaders/count.glsl")),
+    ("record.glsl", include_str!("../../shaders/record.glsl")),
     ("ray.glsl", include_str!("../../shaders/ray.glsl")),
     (
         "intersect.glsl",
@@ -240,8 +241,19 @@ pub fn reserved_define(name: &str) -> bool {
         "GLINT_F64",
         "USE_BVH",
         "BVH_STACK",
+        "USE_TABLES",
+        "COUNT_RAYS",
+        "RECORD_TREE",
+        "REFINE_POINTS",
+        "REFINE_WIDTH",
+        "WAVEFRONT",
+        "WAVE_REALS",
+        "WAVE_WORDS",
     ];
     NAMES.contains(&name)
+        || crate::base::record::glsl_defines()
+            .iter()
+            .any(|(n, _)| n == name)
         || name.starts_with("HAS_")
         || name.ends_with("_COUNT")
         || name.ends_with("_SLOTS")

@@ -102,4 +102,8 @@ pub struct RenderSettings {
     /// counts of rays, tests and BVH nodes (src/stats.rs), at some cost in
     /// speed.
     pub count: bool,
+    /// Compile the recording variant (`glint explain`): each render also
+    /// records the ray tree of this sample, (x, y, i, j) of the image's
+    /// pixel (x, y), in the megakernel (shaders/record.glsl).
+    pub record: Option<[u32; 4]>,
 }

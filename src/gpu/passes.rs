@@ -8,7 +8,7 @@ use ash::vk as raw;
 use glam::UVec4;
 
 use super::layout::{TileRect, UNWRITTEN};
-use super::schedule;
+use super::schedule::{self, Zeroed};
 use super::vk::buffer::Buffer;
 use super::vk::command::{memory_barrier, Completed, OneShot};
 use super::vk::device::Device;
@@ -17,13 +17,13 @@ use super::vk::query::Timestamps;
 use super::{GpuError, WORKGROUP};
 
 /// What a pass dispatches: the pipeline with its set, the output tile (each
-/// word made `UNWRITTEN` first), the counters to zero first (the first tile
-/// of a counted render), and the tile.
+/// word made `UNWRITTEN` first), the bytes to zero first (the first tile
+/// of a render: the counters, or a record's count of entries), and the tile.
 pub(crate) struct Target<'a> {
     pub pipeline: &'a ComputePipeline,
     pub set: raw::DescriptorSet,
     pub out: raw::Buffer,
-    pub zero: Option<raw::Buffer>,
+    pub zero: Option<Zeroed>,
     pub rect: UVec4,
 }
 
@@ -129,8 +129,8 @@ fn dispatch<'c>(
         // Every output word starts as a NaN, so a pixel the shader never
         // writes is seen, not read as whatever the memory held.
         dev.cmd_fill_buffer(cb, out, 0, raw::WHOLE_SIZE, UNWRITTEN);
-        if let Some(counters) = zero {
-            dev.cmd_fill_buffer(cb, counters, 0, raw::WHOLE_SIZE, 0);
+        if let Some((buffer, offset, size)) = zero {
+            dev.cmd_fill_buffer(cb, buffer, offset, size, 0);
         }
         memory_barrier(
             dev,

@@ -14,7 +14,7 @@ use super::layout::Uploads;
 use super::options::RenderSettings;
 use super::passes::{Executor, Pass, Target};
 use super::refine;
-use super::resident::{scene_blocks, stage_blocks, Blocks};
+use super::resident::{scene_blocks, stage_blocks, Blocks, Own};
 use super::shared::{Pipeline, Shared};
 use super::times::{RenderTimes, SetupTimes};
 use super::variant::{self, Variant};
@@ -26,6 +26,7 @@ use super::work::{Work, COMPILE_TIMEOUT, RAYS_PER_DISPATCH};
 use super::Renderer;
 use super::{GpuError, Precision};
 use crate::base::real::{Real, Vec3};
+use crate::base::record;
 use crate::raster::region::Region;
 use crate::raster::Image;
 use crate::scene::refine::Point;
@@ -58,6 +59,8 @@ pub struct Prepared {
     pending: Option<RenderTimes>,
     /// Set from elsewhere to stop a render between tiles ([`Prepared::stop_when`]).
     stop: Option<Arc<AtomicBool>>,
+    /// The last render's record, where the main stage records a tree.
+    record: Option<Vec<u32>>,
 }
 
 /// How a pixel's colour comes from what the shader traces.
@@ -81,6 +84,10 @@ pub struct Rendered {
     /// The shader's counts of rays, tests and BVH nodes, where the scene
     /// was prepared to count (`RenderSettings::count`).
     pub counts: Option<Counts>,
+    /// The recorded sample's ray tree, where the scene was prepared to
+    /// record one (`RenderSettings::record`): the Record block's words,
+    /// which `crate::base::record::decode` reads.
+    pub record: Option<Vec<u32>>,
 }
 
 /// One pipeline and the buffers bound to it through a set of its own.
@@ -141,7 +148,14 @@ impl Prepared {
         )?;
         let work = Work::of(traced).through(up.ray_cost);
         let tile = work.tile_size(&variant, info.max_storage_buffer_range);
-        let main = Stage::new(shared, pipeline, variant, &blocks, tile, None)?;
+        let main = Stage::new(
+            shared,
+            pipeline,
+            variant,
+            &blocks,
+            tile,
+            Own::Main(settings.record),
+        )?;
         let upload_s = layout_s + t1.elapsed().as_secs_f64();
         let mut prepared = Self {
             main,
@@ -155,6 +169,7 @@ impl Prepared {
             precision: settings.precision,
             pending: None,
             stop: None,
+            record: None,
         };
         let driver_compile_s = prepared.compile_on_driver(false)?;
         prepared.pending = Some(RenderTimes {
@@ -218,6 +233,7 @@ impl Prepared {
                     image: Image::new(region.width, region.height, pixels),
                     times,
                     counts,
+                    record: self.record.take(),
                 }
             }
             Sampling::Corners | Sampling::Adaptive(_) => {
@@ -228,6 +244,7 @@ impl Prepared {
                     image: corners.corner_mean(),
                     times,
                     counts,
+                    record: self.record.take(),
                 };
                 if let Sampling::Adaptive(a) = self.sampling {
                     match self.precision {
@@ -307,6 +324,7 @@ impl Prepared {
                 let mut variant = self.main.variant.clone();
                 variant.refine = true;
                 variant.wavefront = false;
+                variant.record = false;
                 let defines = self.shared.defines_of(&variant);
                 let (pipeline, setup) = self.shared.pipeline(&variant, &defines)?;
                 times.setup.compile_s += setup.compile_s;
@@ -322,7 +340,7 @@ impl Prepared {
             variant,
             &self.scene,
             tile,
-            Some(&list),
+            Own::Refine(&list),
         )?;
         self.refine = Some(stage);
         times.upload_s += t0.elapsed().as_secs_f64();
@@ -376,8 +394,13 @@ impl Prepared {
         // Colours an invocation writes, one after another.
         let per = stage.variant.outputs_per_invocation() as usize;
         let out = stage.buffer(Block::Pixels).expect("a stage has its output");
-        // The counters start at zero on the device, in the first dispatch.
-        let mut zero = stage.buffer(Block::Counts).map(|b| b.raw);
+        // The counters, or a record's count of entries, start at zero on
+        // the device, in the first dispatch.
+        let counters = stage
+            .buffer(Block::Counts)
+            .map(|b| (b.raw, 0, ash::vk::WHOLE_SIZE));
+        let record_count = stage.buffer(Block::Record).map(|b| (b.raw, 16, 4));
+        let mut zero = counters.or(record_count);
         let queues = stage.buffer(Block::Queues);
         let mut last = None;
         let (x_end, y_end) = (region.x + region.width, region.y + region.height);
@@ -437,9 +460,17 @@ impl Prepared {
                 last = Some(done);
             }
         }
-        let counts = stage.buffer(Block::Counts).map(|counters| {
-            let done = last.as_ref().expect("a region has at least one tile");
-            read_counts(counters, done)
+        let done = last.as_ref().expect("a region has at least one tile");
+        let counts = stage
+            .buffer(Block::Counts)
+            .map(|counters| read_counts(counters, done));
+        // The header, and the entries written (all of the buffer's where
+        // the tree was cut short: `decode` says so).
+        self.record = stage.buffer(Block::Record).map(|record| {
+            let header: &[u32] = record.read(done, record::HEADER_WORDS);
+            let used = (header[4] as usize).min(record::CAPACITY);
+            let words = record::HEADER_WORDS + used * record::ENTRY_WORDS;
+            record.read::<u32>(done, words).to_vec()
         });
         Ok((pixels, counts))
     }
@@ -467,10 +498,10 @@ impl Stage {
         variant: Variant,
         scene: &Blocks,
         tile: (u32, u32),
-        refine: Option<&crate::base::interface::Array>,
+        own: Own<'_>,
     ) -> Result<Self, GpuError> {
         let device = &shared.device;
-        let own = stage_blocks(device, &variant, tile, refine)?;
+        let own = stage_blocks(device, &variant, tile, own)?;
         let set = DescriptorSet::new(device, &pipeline.raw)?;
         let resources: Vec<Resource> = variant
             .bindings()

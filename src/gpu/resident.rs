@@ -18,6 +18,7 @@ use super::vk::device::Device;
 use super::vk::texel_view::TexelBuffer;
 use super::GpuError;
 use crate::base::interface::Array;
+use crate::base::record;
 use crate::stats::Counter;
 
 /// What one binding holds: a buffer, a texel buffer (a buffer seen
@@ -103,14 +104,23 @@ pub(crate) fn scene_blocks(
     Ok(Blocks(blocks))
 }
 
+/// What a stage's own buffers are made from, beside its variant.
+#[derive(Clone, Copy)]
+pub(crate) enum Own<'a> {
+    /// The main stage, and the sample it records, where it records one.
+    Main(Option<[u32; 4]>),
+    /// A refinement's stage and the list it refines.
+    Refine(&'a Array<'a>),
+}
+
 /// A stage's own buffers among `variant`'s bindings: its output tile of
-/// `tile` pixels, its counters, its wavefront paths and queues, and the
-/// list it refines (`refine`).
+/// `tile` pixels, its counters, its record, its wavefront paths and
+/// queues, and the list it refines.
 pub(crate) fn stage_blocks(
     device: &Arc<Device>,
     variant: &Variant,
     tile: (u32, u32),
-    refine: Option<&Array>,
+    own: Own<'_>,
 ) -> Result<Blocks, GpuError> {
     let pixels = u64::from(tile.0) * u64::from(tile.1);
     let storage = raw::BufferUsageFlags::STORAGE_BUFFER;
@@ -124,8 +134,23 @@ pub(crate) fn stage_blocks(
                 filled,
                 block.name(),
             )?,
+            Block::Record => {
+                let Own::Main(Some(sample)) = own else {
+                    unreachable!("a recording variant is the main stage's, with its sample")
+                };
+                let words = record::HEADER_WORDS + record::CAPACITY * record::ENTRY_WORDS;
+                Buffer::written(
+                    device,
+                    4 * words,
+                    |dst| record_header(dst, sample),
+                    filled,
+                    block.name(),
+                )?
+            }
             Block::Refine => {
-                let list = refine.expect("a refining variant has its list");
+                let Own::Refine(list) = own else {
+                    unreachable!("a refining variant is a refinement's stage, with its list")
+                };
                 Buffer::written(
                     device,
                     list.byte_len(),
@@ -197,4 +222,12 @@ fn bind_as(device: &Arc<Device>, form: Option<Form>, buffer: Buffer) -> Result<B
         }
         _ => Bound::Buffer(buffer),
     })
+}
+
+/// A record's header: the sample it records and no entry yet; written
+/// again before each render of the stage (`Prepared::render`).
+pub(crate) fn record_header(dst: &mut [u8], sample: [u32; 4]) {
+    let mut header = [0u32; record::HEADER_WORDS];
+    header[..4].copy_from_slice(&sample);
+    dst[..4 * record::HEADER_WORDS].copy_from_slice(bytemuck::cast_slice(&header));
 }

@@ -18,6 +18,10 @@ use super::{GpuError, WORKGROUP};
 use crate::scene::Scene;
 pub use crate::settings::Schedule;
 
+/// A buffer, and the offset and size of the bytes in it a render starts
+/// from zero.
+pub(crate) type Zeroed = (raw::Buffer, raw::DeviceSize, raw::DeviceSize);
+
 impl Schedule {
     /// Whether `scene` renders with the wavefront under this schedule. A
     /// scene without objects has no ray tree to schedule and always takes
@@ -63,9 +67,9 @@ pub(crate) struct Wave<'a> {
     pub rect: UVec4,
     pub queues: raw::Buffer,
     /// The first submission of the tile: it also fills the output with
-    /// NaNs, zeroes the counters where given, sets the header and starts
-    /// the paths.
-    pub first: Option<(raw::Buffer, Option<raw::Buffer>)>,
+    /// NaNs, zeroes the counters where given (a buffer, the offset and
+    /// size of its bytes to zero), sets the header and starts the paths.
+    pub first: Option<(raw::Buffer, Option<Zeroed>)>,
     /// The queue the first bounce reads.
     pub queue: u32,
     pub rounds: u32,
@@ -106,8 +110,8 @@ pub(crate) fn submit<'c>(
     let done = commands.run(timeout, |dev, cb| unsafe {
         if let Some((out, counters)) = wave.first {
             dev.cmd_fill_buffer(cb, out, 0, raw::WHOLE_SIZE, UNWRITTEN);
-            if let Some(counters) = counters {
-                dev.cmd_fill_buffer(cb, counters, 0, raw::WHOLE_SIZE, 0);
+            if let Some((buffer, offset, size)) = counters {
+                dev.cmd_fill_buffer(cb, buffer, offset, size, 0);
             }
             dev.cmd_update_buffer(cb, wave.queues, 0, bytemuck::cast_slice(&START_HEADER));
             memory_barrier(

@@ -83,8 +83,14 @@ impl Shared {
             settings.generic,
             count,
         );
-        // A shader of the user's knows nothing of the wavefront's stages.
-        variant.wavefront = self.sources.main_is_glints() && settings.schedule.wavefront_for(scene);
+        // A shader of the user's knows nothing of the wavefront's stages;
+        // a tree is recorded by the megakernel alone.
+        variant.record = settings.record.is_some();
+        // One sample's tree is all a recording render is for.
+        variant.count &= !variant.record;
+        variant.wavefront = self.sources.main_is_glints()
+            && !variant.record
+            && settings.schedule.wavefront_for(scene);
         let defines = self.defines_of(&variant);
         (variant, defines)
     }

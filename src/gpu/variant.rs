@@ -35,6 +35,8 @@ pub struct Variant {
     pub features: Option<Features>,
     /// Counts rays, tests and BVH nodes (shaders/count.glsl).
     pub count: bool,
+    /// Records one sample's ray tree (shaders/record.glsl, `glint explain`).
+    pub record: bool,
     /// The robust forms' cheap filter (`power()` in shaders/exact.glsl),
     /// taken where the device skips a branch no invocation takes.
     pub power_filter: bool,
@@ -79,6 +81,7 @@ impl Variant {
             tables: uploads.tables.is_some(),
             features: (!generic).then(|| Features::of(scene, uploads, device)),
             count,
+            record: false,
             // The generic shader takes it too: a scene's variant renders the
             // generic shader's bits.
             power_filter: intersect == Intersect::Robust
@@ -100,6 +103,7 @@ impl Variant {
             tables: false,
             features: None,
             count: false,
+            record: false,
             power_filter: false,
             refine: false,
             wavefront: false,
@@ -128,6 +132,10 @@ impl Variant {
         }
         if self.count {
             d.push(("COUNT_RAYS".to_owned(), None));
+        }
+        if self.record {
+            d.push(("RECORD_TREE".to_owned(), None));
+            d.extend(crate::base::record::glsl_defines());
         }
         if self.refine {
             d.push((
@@ -234,6 +242,11 @@ impl Variant {
                 vk::DescriptorType::STORAGE_BUFFER,
             ),
             (
+                Block::Record,
+                self.record,
+                vk::DescriptorType::STORAGE_BUFFER,
+            ),
+            (
                 Block::Refine,
                 self.refine,
                 vk::DescriptorType::STORAGE_BUFFER,
@@ -335,6 +348,9 @@ impl Variant {
         }
         if self.count {
             parts.push("counted".to_owned());
+        }
+        if self.record {
+            parts.push("recording".to_owned());
         }
         if self.refine {
             parts.push("refine".to_owned());

@@ -19,10 +19,11 @@ use glam::DVec3;
 use serde::de::DeserializeOwned;
 
 use crate::base::aabb::Aabb;
-use crate::base::count::{Counter, Tally};
+use crate::base::count::Counter;
 use crate::base::interface::{self, Array, GpuStruct};
 use crate::base::ray::Ray;
 use crate::base::real::{Real, Vec3};
+use crate::base::tally::Tally;
 use crate::base::Precision;
 use crate::input::error::SceneError;
 use crate::input::field::At;
@@ -202,6 +203,11 @@ impl PrimId {
         kind: u32::MAX,
         index: u32::MAX,
     };
+
+    /// As a recorded tree names it (`crate::base::record`); None for [`PrimId::NONE`].
+    pub fn recorded(self) -> Option<crate::base::record::Prim> {
+        (self != Self::NONE).then_some((self.kind, self.index))
+    }
 }
 
 /// A kind's GPU struct, as the shader's array holds it.

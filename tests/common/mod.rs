@@ -350,3 +350,12 @@ pub fn write_icd_manifest(path: &Path, library: &Path) {
     });
     std::fs::write(path, manifest.to_string()).unwrap();
 }
+
+/// Debian 12's stock lavapipe (Mesa 22.3), as `ci/old-lavapipe` unpacks it.
+pub fn old_lavapipe() -> Option<PathBuf> {
+    let o = std::process::Command::new(repo().join("ci/old-lavapipe"))
+        .output()
+        .ok()?;
+    let path = PathBuf::from(String::from_utf8_lossy(&o.stdout).trim());
+    (o.status.success() && path.is_file()).then_some(path)
+}

@@ -255,6 +255,7 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
                 (Err(v), Some(_)) => Cell {
                     verdict: v.clone(),
                     repro: load_repro.clone(),
+                    explained: None,
                 },
                 (Ok(identity), Some(reference)) if !run.past_budget() => {
                     let (verdict, image, stderr) = run.scene(
@@ -266,11 +267,12 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
                         Size::of(scene),
                         run.deadline,
                     )?;
+                    let mut explained = None;
                     let repro = if verdict.is_failure() {
                         let rel = Path::new(&folder(&d.name, &d.icd))
                             .join(folder(&scene_name(path), path));
                         bar.set_message(format!("{shown} on {driver}: reproducer"));
-                        run.reproducer(
+                        explained = run.reproducer(
                             d,
                             identity,
                             path,
@@ -285,7 +287,11 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
                     } else {
                         None
                     };
-                    Cell { verdict, repro }
+                    Cell {
+                        verdict,
+                        repro,
+                        explained,
+                    }
                 }
                 // Past the budget (the reference too, where it was first).
                 _ => Cell {
@@ -296,6 +302,7 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
                         ),
                     },
                     repro: None,
+                    explained: None,
                 },
             };
             cells.push(cell);
@@ -485,7 +492,7 @@ impl Run<'_> {
         reference: &Image,
         stderr: PathBuf,
         dir: &Path,
-    ) -> anyhow::Result<()> {
+    ) -> anyhow::Result<Option<(u32, u32)>> {
         let first_size = Size::of(scene);
         let mut best = (
             scene.clone(),
@@ -570,7 +577,50 @@ impl Run<'_> {
         let dump = |scene_copy: &Path, shader_dir: &Path| {
             self.shader_dump(d, scene_copy, size, shader_dir)
         };
-        repro::write(&failure, dir, &copy, &dump)
+        repro::write(&failure, dir, &copy, &dump)?;
+        // A wrong image: its worst pixel explained on this driver.
+        let worst = match (&verdict, &image) {
+            (Verdict::Fail { .. }, Some(img)) => glint::explain::worst_pixels(img, &reference, 1)
+                .first()
+                .copied(),
+            _ => None,
+        };
+        if let Some(pixel) = worst {
+            self.explain(d, &copy, size, pixel, dir);
+        }
+        Ok(worst)
+    }
+
+    /// `glint explain` of `pixel` of the reproducer's scene on driver `d`,
+    /// in a child, into `explain.txt` in `dir` (what went wrong, where it
+    /// could not run).
+    fn explain(&self, d: &Driver, scene: &Path, size: Size, (x, y): (u32, u32), dir: &Path) {
+        let out = dir.join("explain.txt");
+        let ran = (|| -> anyhow::Result<Option<std::process::ExitStatus>> {
+            let mut c = probe::on_driver(&d.icd)?;
+            c.arg("explain")
+                .arg(scene)
+                .args(size.args())
+                .args(["--pixel", &format!("{x},{y}")])
+                .args(&self.device_args)
+                .stdout(std::fs::File::create(&out)?);
+            probe::bounded(c, &dir.join("explain.stderr.txt"), self.deadline)
+        })();
+        let said = std::fs::read_to_string(dir.join("explain.stderr.txt")).unwrap_or_default();
+        let _ = std::fs::remove_file(dir.join("explain.stderr.txt"));
+        let problem = match ran {
+            Ok(Some(s)) if s.code() == Some(0) || s.code() == Some(1) => return,
+            Ok(Some(_)) => said.trim().to_owned(),
+            Ok(None) => format!(
+                "`glint explain` on this driver was still running after {:.0} s: killed",
+                self.deadline.as_secs_f64()
+            ),
+            Err(e) => format!("{e:#}"),
+        };
+        let _ = std::fs::write(
+            &out,
+            format!("glint explain --pixel {x},{y} could not run here: {problem}\n"),
+        );
     }
 
     /// `glint shader dump` of the scene's variant on driver `d`, in a child.

@@ -288,7 +288,7 @@ fn readme(f: &Failure, command: &str, shader_problem: Option<String>) -> String 
             "- Objects: {after} of the scene's {before} primitives, meshes and lights, the rest left out while it still failed the same way."
         );
     }
-    let _ = writeln!(r, "\nFiles: the scene ({scene}) and what it reads; `shader/`, the variant's GLSL and SPIR-V as `glint shader dump` writes them; `gpu.pfm` (the driver's image, where it made one), `reference.pfm` (CPU f64) and `heat.png` (their difference: black where they agree, blue to red to white from 1e-7 through 1/255 to 1); `driver.json` (the ICD and the device); `stderr.txt` where the process crashed or hung.");
+    let _ = writeln!(r, "\nFiles: the scene ({scene}) and what it reads; `shader/`, the variant's GLSL and SPIR-V as `glint shader dump` writes them; `gpu.pfm` (the driver's image, where it made one), `reference.pfm` (CPU f64) and `heat.png` (their difference: black where they agree, blue to red to white from 1e-7 through 1/255 to 1); `driver.json` (the ICD and the device); `explain.txt` where the image is wrong (its worst pixel's ray tree on the driver beside the CPU's, down to the first number that differs, as `glint explain` prints it); `stderr.txt` where the process crashed or hung.");
     if let Some(p) = shader_problem {
         let _ = writeln!(r, "\nThe shader could not be dumped here: {p}");
     }

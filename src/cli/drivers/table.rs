@@ -31,6 +31,9 @@ pub struct Cell {
     pub verdict: Verdict,
     /// The reproducer's folder, for a failure.
     pub repro: Option<PathBuf>,
+    /// The pixel its `explain.txt` explains, for a wrong image: the worst.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub explained: Option<(u32, u32)>,
 }
 
 /// A scene's row: one cell per column.
@@ -217,7 +220,12 @@ fn markdown(m: &Matrix) -> String {
             let link = c
                 .repro
                 .as_ref()
-                .map(|p| format!(" ([reproducer]({}))", relative(p)))
+                .map(|p| {
+                    let explained = c.explained.map_or(String::new(), |(x, y)| {
+                        format!(", [pixel {x},{y} explained]({}/explain.txt)", relative(p))
+                    });
+                    format!(" ([reproducer]({}){explained})", relative(p))
+                })
                 .unwrap_or_default();
             let _ = write!(
                 s,
@@ -368,7 +376,16 @@ small{color:#555}</style></head><body>\n<h1>glint: the scenes on each Vulkan dri
                 .as_ref()
                 .map(|p| {
                     let rel = relative(p);
-                    format!(" <a href=\"{}/README.md\">reproducer</a>", escape(&rel))
+                    let explained = c.explained.map_or(String::new(), |(x, y)| {
+                        format!(
+                            ", <a href=\"{}/explain.txt\">pixel {x},{y} explained</a>",
+                            escape(&rel)
+                        )
+                    });
+                    format!(
+                        " <a href=\"{}/README.md\">reproducer</a>{explained}",
+                        escape(&rel)
+                    )
                 })
                 .unwrap_or_default();
             let _ = write!(
