@@ -7,6 +7,8 @@ CPU reference, from Python (docs/python.md).
     >>> result = glint.compare(scene)            # GPU f32 against CPU f64
     >>> result.passed
     True
+    >>> glint.explain(scene, (32, 24))[0].agree  # one pixel's ray trees side by side
+    True
 
 Images are numpy ``float32`` arrays of shape ``(height, width, 3)`` in
 linear RGB. Every error is a :class:`glint.Error`; its message is the line
@@ -40,6 +42,7 @@ __all__ = [
     "render",
     "diff",
     "compare",
+    "explain",
     "read",
     "write",
     "devices",
@@ -48,6 +51,7 @@ __all__ = [
     "PreparedScene",
     "Figures",
     "Comparison",
+    "Explanation",
     "Error",
     "SceneError",
     "ShaderError",
@@ -217,8 +221,55 @@ class Renderer:
         image, raw = self._native.render(scene, precision, region, stats)
         return _result(image, raw, stats)
 
+    def explain(
+        self, scene: Scene, pixel: Tuple[int, int], sample: Optional[int] = None
+    ) -> List["Explanation"]:
+        """``glint explain``: pixel ``(x, y)``'s ray tree on this device and
+        on the CPU in f32 and f64, one :class:`Explanation` a sample (``sample``:
+        that one alone)."""
+        raw = self._native.explain(scene, (int(pixel[0]), int(pixel[1])), sample)
+        return [Explanation._from(e) for e in json.loads(raw)]
+
     def __repr__(self) -> str:
         return repr(self._native)
+
+
+@dataclass(frozen=True)
+class Explanation:
+    """One sample of a pixel explained (``glint explain``; docs/guide.md,
+    Why does this pixel differ?). ``str()`` is the table and the verdict
+    the binary prints."""
+
+    #: ``pixel`` (x, y), ``index`` among the pixel's samples, and ``traced``
+    #: (x, y, i, j of the image the renderers trace).
+    sample: Dict[str, Any]
+    #: Whether the GPU's tree stays within every quantity's f32 bound.
+    agree: bool
+    #: The GPU's first divergence (quantity, stage, value, reference,
+    #: difference, bound, ill_conditioned, cause), or None.
+    divergence: Optional[Dict[str, Any]]
+    #: The trees: the GPU's, the CPU's f32, the CPU's f64 (the reference);
+    #: each ray with ``origin``, ``direction`` and the rest by name.
+    trees: List[Dict[str, Any]]
+    #: The table, one block per ray and one column per renderer.
+    table: str
+    #: The verdict in words.
+    verdict: str
+
+    @classmethod
+    def _from(cls, d: Mapping[str, Any]) -> "Explanation":
+        e = d["explanation"]
+        return cls(
+            sample=e["sample"],
+            agree=e["agree"],
+            divergence=e["divergences"][0],
+            trees=e["trees"],
+            table=d["table"],
+            verdict=d["verdict"],
+        )
+
+    def __str__(self) -> str:
+        return f"{self.table}\n{self.verdict}"
 
 
 _default: Optional[Renderer] = None
@@ -366,6 +417,21 @@ def compare(
         unit=j["unit"],
         tolerance=j["tolerance"],
     )
+
+
+def explain(
+    scene: Scene,
+    pixel: Tuple[int, int],
+    *,
+    sample: Optional[int] = None,
+    renderer: Optional[Renderer] = None,
+) -> List[Explanation]:
+    """``glint explain``: pixel ``(x, y)``'s ray tree on the GPU (``renderer``,
+    or the default one) and on the CPU in f32 and f64, down to the first
+    number that differs and its cause; one :class:`Explanation` a sample.
+    A pixel outside the image or a sample past the pixel's raises
+    ValueError; an adaptively sampled scene, glint.Error."""
+    return (renderer or _default_renderer()).explain(scene, pixel, sample)
 
 
 def read(path: PathLike) -> Image:

@@ -103,6 +103,7 @@ class Renderer:
         region: Optional[_Region] = None,
         stats: bool = False,
     ) -> Tuple[_Image, Optional[str]]: ...
+    def explain(self, scene: Scene, pixel: Tuple[int, int], sample: Optional[int] = None) -> str: ...
 
 def load(
     path: str,

@@ -339,6 +339,53 @@ mod gpu_side {
             prepared.render(py, region, stats)
         }
 
+        /// `glint explain`'s record of pixel (x, y) of `scene` (`sample`:
+        /// that one alone, else each in turn): a JSON list, one entry a
+        /// sample, with its table and verdict as the binary prints them.
+        #[pyo3(signature = (scene, pixel, sample=None))]
+        fn explain(
+            &self,
+            py: Python<'_>,
+            scene: &Scene,
+            pixel: (u32, u32),
+            sample: Option<u32>,
+        ) -> PyResult<String> {
+            use glint::explain::{record_on_gpu, samples, ExplainError, Reference};
+            let refused = |e: ExplainError| match e {
+                ExplainError::Outside { .. } | ExplainError::Sample { .. } => {
+                    PyValueError::new_err(e.to_string())
+                }
+                _ => errors::other(e),
+            };
+            guard(|| {
+                let chosen = samples(&scene.inner, pixel, sample).map_err(refused)?;
+                let stop = Arc::new(AtomicBool::new(false));
+                interruptible(py, &stop, || {
+                    let mut renderer = lock(&self.inner);
+                    let settings = RenderSettings {
+                        precision: Precision::F32,
+                        ..renderer.settings()
+                    };
+                    let mut out = Vec::new();
+                    for s in &chosen {
+                        let tree =
+                            record_on_gpu(&mut renderer, &scene.inner, &settings, *s, "gpu f32")
+                                .map_err(errors::gpu)?
+                                .map_err(refused)?;
+                        let e = Reference::new(&scene.inner, settings.accel, *s)
+                            .map_err(refused)?
+                            .explain(vec![tree]);
+                        out.push(json!({
+                            "explanation": e,
+                            "table": e.table,
+                            "verdict": e.verdict(),
+                        }));
+                    }
+                    serde_json::to_string(&out).map_err(errors::other)
+                })
+            })
+        }
+
         fn __repr__(&self) -> String {
             format!("<glint.Renderer on {:?}>", self.device)
         }

@@ -113,3 +113,29 @@ def test_an_obj_file_loads_with_a_camera_that_frames_it():
     assert lit.any()
     assert not lit[0].any() and not lit[-1].any()
     assert not lit[:, 0].any() and not lit[:, -1].any()
+
+
+@gpu
+def test_explain_agrees_on_a_scene_that_compares_well_and_names_a_near_tie(renderer):
+    [why] = glint.explain(small("seed-fig5.toml"), (40, 30), renderer=renderer)
+    assert why.agree and why.divergence is None, str(why)
+    assert [t["renderer"] for t in why.trees] == ["gpu f32", "cpu f32", "cpu f64"]
+    assert "every tree agrees" in str(why)
+    # Two spheres 1e-7 apart: f32 cannot tell which is nearer.
+    d = {
+        "image": {"width": 32, "height": 24},
+        "camera": {"eye": [0.0, 0.0, 0.0], "look_at": [0.0, 0.0, -1.0], "vfov": 30.0},
+        "materials": {"red": {"diffuse": [0.9, 0.0, 0.0]}, "green": {"diffuse": [0.0, 0.9, 0.0]}},
+        "spheres": [
+            {"center": [0.0, 0.0, -5.0000001], "radius": 1.0, "material": "red"},
+            {"center": [0.0, 0.0, -5.0], "radius": 1.0, "material": "green"},
+        ],
+        "lights": [{"type": "point", "position": [0.0, 5.0, 0.0], "diffuse": [1.0, 1.0, 1.0]}],
+    }
+    [tie] = renderer.explain(glint.Scene.from_dict(d), (16, 12))
+    assert not tie.agree
+    assert tie.divergence["quantity"] == "ray 1: hit"
+    assert "sphere 1 on the CPU and sphere 0 on the GPU" in tie.divergence["cause"]
+    assert "(a near-tie)" in tie.divergence["cause"]
+    with pytest.raises(ValueError, match="pixel 32,0 is outside the 32x24 image"):
+        renderer.explain(glint.Scene.from_dict(d), (32, 0))
