@@ -73,12 +73,8 @@ pub fn ill_conditioned(
         let moved = if trial == TRIALS {
             cpu::render_rows::<f32>(scene, accel, progress)
         } else {
-            cpu::render_moved(
-                &perturbed(scene, trial),
-                accel,
-                (hit_seed(trial), MOVE),
-                progress,
-            )
+            let (moved, moves) = self::trial(scene, trial);
+            cpu::render_moved(&moved, accel, moves, progress)
         };
         let errors = pixel_errors(&moved, reference).expect("the same size");
         for (flag, e) in ill.iter_mut().zip(errors) {
@@ -117,7 +113,8 @@ fn perturbed(scene: &Scene, trial: u32) -> Scene {
 }
 
 /// Trial `trial`'s scene and its moves of hit points and leaving
-/// directions (`cpu::Probe::moved`), for one sample's trials (`glint explain`).
+/// directions (`World::hit_move`): the whole image's (`ill_conditioned`),
+/// or one sample's (`glint explain`, `cpu::Probe::moved`).
 pub(crate) fn trial(scene: &Scene, trial: u32) -> (Scene, (u64, f64)) {
     (perturbed(scene, trial), (hit_seed(trial), MOVE))
 }

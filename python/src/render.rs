@@ -350,11 +350,12 @@ mod gpu_side {
             pixel: (u32, u32),
             sample: Option<u32>,
         ) -> PyResult<String> {
-            use glint::explain::{record_on_gpu, samples, ExplainError, Reference};
+            use glint::explain::{explain_on_gpu, samples, ExplainError};
             let refused = |e: ExplainError| match e {
                 ExplainError::Outside { .. } | ExplainError::Sample { .. } => {
                     PyValueError::new_err(e.to_string())
                 }
+                ExplainError::Gpu(e) => errors::gpu(e),
                 _ => errors::other(e),
             };
             guard(|| {
@@ -362,19 +363,12 @@ mod gpu_side {
                 let stop = Arc::new(AtomicBool::new(false));
                 interruptible(py, &stop, || {
                     let mut renderer = lock(&self.inner);
-                    let settings = RenderSettings {
-                        precision: Precision::F32,
-                        ..renderer.settings()
-                    };
+                    let settings = renderer.settings();
                     let mut out = Vec::new();
                     for s in &chosen {
-                        let tree =
-                            record_on_gpu(&mut renderer, &scene.inner, &settings, *s, "gpu f32")
-                                .map_err(errors::gpu)?
+                        let e =
+                            explain_on_gpu(&mut renderer, &scene.inner, &settings, *s, Vec::new())
                                 .map_err(refused)?;
-                        let e = Reference::new(&scene.inner, settings.accel, *s)
-                            .map_err(refused)?
-                            .explain(vec![tree]);
                         out.push(json!({
                             "explanation": e,
                             "table": e.table,

@@ -82,6 +82,9 @@ pub const CAPACITY: usize = 1 << 16;
 /// Words before the first entry: the sample recorded (x, y, i, j), the
 /// count of entries written (past [`CAPACITY`] where cut short), padding.
 pub const HEADER_WORDS: usize = 8;
+/// The header's word that counts the entries written (the shader's
+/// `record_count`, after the uvec4 `record_at`).
+pub const COUNT_WORD: usize = 4;
 
 /// The tags of the entries, as the shader writes them.
 const RAY: u32 = 1;
@@ -153,7 +156,7 @@ impl Words<'_> {
 /// where `doubles` (the f64 variant); Err where the shader recorded more
 /// than the buffer holds, or wrote a tag this does not know.
 pub fn decode(buffer: &[u32], doubles: bool) -> Result<Vec<Event>, String> {
-    let count = buffer[4] as usize;
+    let count = buffer[COUNT_WORD] as usize;
     if count > CAPACITY {
         return Err(format!(
             "the ray tree has {count} events, more than the {CAPACITY} the shader's record holds"
@@ -174,12 +177,8 @@ pub fn decode(buffer: &[u32], doubles: bool) -> Result<Vec<Event>, String> {
         };
         let event = match w.words[0] {
             RAY => Event::Ray {
-                kind: match w.word() {
-                    0 => RayType::Eye,
-                    1 => RayType::Reflect,
-                    2 => RayType::Refract,
-                    _ => RayType::Shadow,
-                },
+                // RAY_EYE and the others are the types' places in `ALL`.
+                kind: RayType::ALL[(w.word() as usize).min(RayType::ALL.len() - 1)],
                 depth: w.word(),
                 from: w.prim(),
                 origin: w.vec(),

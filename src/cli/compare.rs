@@ -226,12 +226,5 @@ fn explain_worst(
         icds: Vec::new(),
         forward: Vec::new(),
     };
-    super::explain::explain(
-        renderer,
-        scene,
-        &options.settings,
-        device.accel,
-        &chosen,
-        &others,
-    )
+    super::explain::explain(renderer, scene, &options.settings, &chosen, &others)
 }

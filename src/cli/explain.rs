@@ -11,12 +11,10 @@ use clap::Args;
 use serde_json::json;
 
 use glint::explain::{
-    in_frame, record_on_gpu, record_words, samples, tree_of_words, Explanation, Reference, Sample,
-    Tree,
+    explain_on_gpu, in_frame, record_words, samples, tree_of_words, Explanation, Sample, Tree,
 };
 use glint::gpu::{self, Renderer};
 use glint::scene::Scene;
-use glint::settings::Accel;
 
 use super::console::outln;
 use super::{DeviceArgs, Precision, SceneArgs};
@@ -68,14 +66,7 @@ pub fn run(a: &ExplainArgs) -> anyhow::Result<ExitCode> {
         icds: a.icd.clone(),
         forward: forward(a),
     };
-    let explained = explain(
-        &mut renderer,
-        &scene,
-        &options.settings,
-        a.device.accel,
-        &chosen,
-        &others,
-    )?;
+    let explained = explain(&mut renderer, &scene, &options.settings, &chosen, &others)?;
     let info = renderer.device_info();
     let agree = explained.iter().all(|e| e.agree);
     if a.json {
@@ -153,24 +144,17 @@ pub fn explain(
     renderer: &mut Renderer,
     scene: &Scene,
     settings: &gpu::RenderSettings,
-    accel: Accel,
     chosen: &[Sample],
     others: &Others,
 ) -> anyhow::Result<Vec<Explanation>> {
-    let settings = gpu::RenderSettings {
-        precision: Precision::F32,
-        ..*settings
-    };
     let mut out = Vec::new();
     for sample in chosen {
-        let mut trees = vec![record_on_gpu(
-            renderer, scene, &settings, *sample, "gpu f32",
-        )??];
+        let mut trees = Vec::new();
         for icd in &others.icds {
             let tree = child_tree(icd, &others.forward, *sample)?;
             trees.push(in_frame(tree, scene, settings.intersect));
         }
-        out.push(Reference::new(scene, accel, *sample)?.explain(trees));
+        out.push(explain_on_gpu(renderer, scene, settings, *sample, trees)?);
     }
     Ok(out)
 }

@@ -9,9 +9,6 @@ use super::flat::{Bound, Entry, Value};
 use super::tree::{Primitive, Tree};
 use super::{number, Geometry};
 
-/// f32's unit roundoff.
-const U32: f64 = 1.0 / 16_777_216.0;
-
 /// A shadow ray blocked this close to where it starts, relative to the
 /// size of its origin's coordinates (2^-12: thousands of f32 roundings),
 /// is blocked by the surface it leaves or its neighbour: a self-intersection.
@@ -120,31 +117,28 @@ pub fn divergence(
         );
         return Some(d);
     }
-    let ray = b.ray.map(|n| (n, &tree.rays[n], &ref_tree.rays[n]));
+    let ray = b.ray.map(|n| (&tree.rays[n], &ref_tree.rays[n]));
     let ill = if unstable {
         "; a conditioning trial (f32-sized moves of the scene) changes it too: the pixel is ill-conditioned"
     } else {
         ""
     };
     d.cause = match (ray, b.label.rsplit(": ").next()) {
-        (Some((_, g, c)), Some("hit")) => {
+        (Some((g, c)), Some("hit")) => {
             let kind = ray_name(c.kind);
             match (&g.hit, &c.hit) {
                 (Some(gh), Some(ch)) => {
                     let other = geometry.distance(gh.primitive, c);
-                    let tie_bound = reference
-                        .iter()
-                        .zip(bounds)
-                        .find(|(e, _)| e.label == b.label.replace(": hit", ": distance"))
-                        .map_or(64.0 * U32 * ch.distance, |(_, bd)| bd.bound)
-                        .max(64.0 * U32 * ch.distance.max(number::largest(&c.origin)));
+                    // The bound of the distance, the entry after a hit
+                    // (`flat::entries`).
+                    let tie_bound = bounds[k + 1].bound;
+                    debug_assert!(reference[k + 1].label.ends_with(": distance"));
+                    let (cpu_t, gpu_t) = number::show_apart(ch.distance, gh.distance);
                     match other {
                         Some(t) if (t - ch.distance).abs() <= tie_bound => format!(
-                            "the {kind} hits {} on the CPU and {} on {gpu}: distances {} and {}; the two are within f32 rounding of each other (a near-tie)",
+                            "the {kind} hits {} on the CPU and {} on {gpu}: distances {cpu_t} and {gpu_t}; the two are within f32 rounding of each other (a near-tie)",
                             ch.primitive,
                             gh.primitive,
-                            number::show_apart(ch.distance, gh.distance).0,
-                            number::show_apart(ch.distance, gh.distance).1
                         ),
                         Some(t) => format!(
                             "the {kind} hits {} on the CPU at {} and {} on {gpu} at {}; along the CPU's ray {} is at {}, past f32 rounding: not a near-tie, a wrong ray or intersection on {gpu}{ill}",
@@ -186,7 +180,7 @@ pub fn divergence(
                 (None, None) => unreachable!("both met nothing: the same value"),
             }
         }
-        (Some((_, g, c)), Some("shadow ray")) => {
+        (Some((g, c)), Some("shadow ray")) => {
             let light = light_of(&b.label);
             let (gs, cs) = (shadow_of(g, light), shadow_of(c, light));
             match (gs.and_then(|s| s.blocker), cs.and_then(|s| s.blocker)) {

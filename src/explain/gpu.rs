@@ -1,7 +1,7 @@
 //! A sample's tree on the GPU: the scene prepared with the recording
 //! variant (shaders/record.glsl), the pixel rendered alone, the record read.
 
-use super::{ExplainError, Sample, Tree};
+use super::{ExplainError, Explanation, Reference, Sample, Tree};
 use crate::base::record::{decode, HEADER_WORDS};
 use crate::base::Precision;
 use crate::gpu::{GpuError, RenderSettings, Renderer};
@@ -56,17 +56,38 @@ pub fn tree_of_words(
     Tree::of(name, &events).map_err(ExplainError::Record)
 }
 
-/// The tree of `sample` of `scene` on `renderer`'s device, named `name`.
+/// The tree of `sample` of `scene` on `renderer`'s device, named `name`,
+/// in the reference's frame.
 pub fn record_on_gpu(
     renderer: &mut Renderer,
     scene: &Scene,
     settings: &RenderSettings,
     sample: Sample,
     name: &str,
-) -> Result<Result<Tree, ExplainError>, GpuError> {
+) -> Result<Tree, ExplainError> {
     let words = record_words(renderer, scene, settings, sample)?;
-    Ok(tree_of_words(&words, settings.precision, name)
-        .map(|t| in_frame(t, scene, settings.intersect)))
+    tree_of_words(&words, settings.precision, name).map(|t| in_frame(t, scene, settings.intersect))
+}
+
+/// `sample` of `scene` explained: its tree on `renderer`'s device in f32
+/// ("gpu f32", the recording variant of `settings`), then `others` (other
+/// devices' trees, in the reference's frame), against the reference's.
+pub fn explain_on_gpu(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    settings: &RenderSettings,
+    sample: Sample,
+    others: Vec<Tree>,
+) -> Result<Explanation, ExplainError> {
+    let settings = RenderSettings {
+        precision: Precision::F32,
+        ..*settings
+    };
+    let mut trees = vec![record_on_gpu(
+        renderer, scene, &settings, sample, "gpu f32",
+    )?];
+    trees.extend(others);
+    Ok(Reference::new(scene, settings.accel, sample)?.explain(trees))
 }
 
 /// `tree` in the reference's camera-relative coordinates: the naive forms

@@ -33,11 +33,11 @@ use crate::scene::{Sampling, Scene};
 use crate::base::record::Event;
 pub use diverge::Divergence;
 #[cfg(feature = "gpu")]
-pub use gpu::{in_frame, record_on_gpu, record_words, tree_of_words};
+pub use gpu::{explain_on_gpu, in_frame, record_on_gpu, record_words, tree_of_words};
 pub use tree::{Blocker, Hit, Light, Primitive, Shadow, Tree, TreeRay};
 
 /// Why a pixel cannot be explained: one line each.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 pub enum ExplainError {
     /// The pixel is not in the image.
     #[error(
@@ -74,6 +74,10 @@ pub enum ExplainError {
     /// A recording that could not be read.
     #[error("{0}")]
     Record(String),
+    /// The device could not record the tree.
+    #[cfg(feature = "gpu")]
+    #[error(transparent)]
+    Gpu(#[from] crate::gpu::GpuError),
 }
 
 /// One sample of a pixel: its index among the pixel's samples and the

@@ -210,23 +210,27 @@ impl Variant {
         // For `glint explain`'s record (shaders/record.glsl): a bounded
         // kind's array is in the BVH's leaf order, and a tree names a
         // primitive by its place in the scene file, as the CPU's does.
-        s += &"#ifdef RECORD_TREE\n\
+        s += "#ifdef RECORD_TREE\n\
               // The primitive `prim` (an id; NONE: none) as a record names it: its\n\
               // kind above its index in the scene file.\n\
               uint prim_in_file(uint prim) {\n\
-              \x20   uint kind = prim >> KIND_SHIFT;\n\
-              \x20   uint i = prim & INDEX_MASK;\n"
-            .replace("KIND_SHIFT", &KIND_SHIFT.to_string())
-            .replace("INDEX_MASK", &format!("{:#x}u", (1u32 << KIND_SHIFT) - 1));
-        for k in &declared {
-            let _ = writeln!(
-                s,
-                "    if (prim != NONE && kind == KIND_{upper}) {{\n        return prim_id(kind, {name}_test_at(i).meta.y);\n    }}",
-                upper = k.upper(),
-                name = k.name
-            );
-        }
-        s += "    return prim;\n}\n#endif\n\n";
+              \x20   if (prim == NONE) {\n\
+              \x20       return NONE;\n\
+              \x20   }\n";
+        let in_array = format!("prim & {:#x}u", (1u32 << KIND_SHIFT) - 1);
+        s += &return_by_kind(
+            "prim",
+            &declared,
+            |k| {
+                format!(
+                    "prim_id(KIND_{}, {}_test_at({in_array}).meta.y)",
+                    k.upper(),
+                    k.name
+                )
+            },
+            "prim",
+        );
+        s += "}\n#endif\n\n";
         // The scans: every declared kind, or those outside the BVH.
         let scanned: Vec<&KindInfo> = declared
             .iter()
@@ -280,11 +284,12 @@ impl Variant {
               vec3r surface(Hit hit, vec3r p) {\n";
         s += &match declared.split_last() {
             Some((last, rest)) => return_by_kind(
+                "hit.prim",
                 rest,
                 |k| format!("{}_normal({index}, hit.shape, p)", k.name),
                 &format!("{}_normal({index}, hit.shape, p)", last.name),
             ),
-            None => return_by_kind(&[], |_| String::new(), "vec3r(0.0)"),
+            None => return_by_kind("hit.prim", &[], |_| String::new(), "vec3r(0.0)"),
         };
         s += "}\n\n\
               // The unit normal that shading uses at p, on the side of the outward\n\
@@ -292,6 +297,7 @@ impl Variant {
               vec3r shading_normal(Hit hit, vec3r p, vec3r geometric) {\n";
         let smooth: Vec<&KindInfo> = declared.iter().copied().filter(|k| k.shading).collect();
         s += &return_by_kind(
+            "hit.prim",
             &smooth,
             |k| format!("{}_shading({index}, p, geometric)", k.name),
             "geometric",
@@ -301,7 +307,7 @@ impl Variant {
               // off the kinds that ask for it (intersect.glsl's lift()), else p.\n\
               vec3r leave(Hit hit, vec3r p, vec3r o, vec3r side) {\n";
         let lifted: Vec<&KindInfo> = declared.iter().copied().filter(|k| k.lift).collect();
-        s += &return_by_kind(&lifted, |_| "lift(p, o, side)".to_owned(), "p");
+        s += &return_by_kind("hit.prim", &lifted, |_| "lift(p, o, side)".to_owned(), "p");
         s += "}\n";
         let framed: Vec<&KindInfo> = declared.iter().copied().filter(|k| k.frame).collect();
         s += "\n#if HAS_TEXTURES\n\
@@ -326,6 +332,7 @@ impl Variant {
               // (the scene's checks give those only to primitives with them).\n\
               vec2r surface_uv(Hit hit, vec3r p) {\n";
         s += &return_by_kind(
+            "hit.prim",
             &mapped,
             |k| format!("{}_uv({index}, hit.shape, p)", k.name),
             "vec2r(0.0)",
@@ -335,16 +342,18 @@ impl Variant {
     }
 }
 
-/// The body of a function of the primitive hit (`hit`): it returns
-/// `value(k)` where the hit is of a kind `k` of `kinds`, else `otherwise`.
+/// The body of a function of a primitive (`id`, its id: `hit.prim` for
+/// the primitive hit): it returns `value(k)` where the primitive is of a
+/// kind `k` of `kinds`, else `otherwise`.
 fn return_by_kind(
+    id: &str,
     kinds: &[&KindInfo],
     value: impl Fn(&KindInfo) -> String,
     otherwise: &str,
 ) -> String {
     let mut s = String::new();
     if !kinds.is_empty() {
-        let _ = writeln!(s, "    uint kind = hit.prim >> {KIND_SHIFT};");
+        let _ = writeln!(s, "    uint kind = {id} >> {KIND_SHIFT};");
     }
     for k in kinds {
         let _ = writeln!(

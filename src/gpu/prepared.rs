@@ -399,7 +399,9 @@ impl Prepared {
         let counters = stage
             .buffer(Block::Counts)
             .map(|b| (b.raw, 0, ash::vk::WHOLE_SIZE));
-        let record_count = stage.buffer(Block::Record).map(|b| (b.raw, 16, 4));
+        let record_count = stage
+            .buffer(Block::Record)
+            .map(|b| (b.raw, 4 * record::COUNT_WORD as u64, 4));
         let mut zero = counters.or(record_count);
         let queues = stage.buffer(Block::Queues);
         let mut last = None;
@@ -468,7 +470,7 @@ impl Prepared {
         // the tree was cut short: `decode` says so).
         self.record = stage.buffer(Block::Record).map(|record| {
             let header: &[u32] = record.read(done, record::HEADER_WORDS);
-            let used = (header[4] as usize).min(record::CAPACITY);
+            let used = (header[record::COUNT_WORD] as usize).min(record::CAPACITY);
             let words = record::HEADER_WORDS + used * record::ENTRY_WORDS;
             record.read::<u32>(done, words).to_vec()
         });

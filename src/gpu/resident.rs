@@ -224,9 +224,9 @@ fn bind_as(device: &Arc<Device>, form: Option<Form>, buffer: Buffer) -> Result<B
     })
 }
 
-/// A record's header: the sample it records and no entry yet; written
-/// again before each render of the stage (`Prepared::render`).
-pub(crate) fn record_header(dst: &mut [u8], sample: [u32; 4]) {
+/// A record's header: the sample it records and no entry yet. Each render
+/// zeroes the count again, on the device (`Prepared::tiles`).
+fn record_header(dst: &mut [u8], sample: [u32; 4]) {
     let mut header = [0u32; record::HEADER_WORDS];
     header[..4].copy_from_slice(&sample);
     dst[..4 * record::HEADER_WORDS].copy_from_slice(bytemuck::cast_slice(&header));
