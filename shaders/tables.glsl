@@ -60,18 +60,23 @@ uvec2 shadow_list(Ray r, real dist, Light l, out real bound) {
     if (HAS_DIRECTIONAL == 0 || l.meta.x != LIGHT_DIRECTIONAL) {
         // A cube's face: its map takes a direction d to (+-d[axis],
         // d[axis + 1], d[axis + 2]), so its rows are not read.
-        if (dist <= reach) {
-            vec3r d = -r.dir;
-            vec3r a = abs(d);
-            uint axis = a.x >= a.y && a.x >= a.z ? 0u : (a.y >= a.z ? 1u : 2u);
-            uint face = 2u * axis + (d[axis] < 0.0 ? 1u : 0u);
-            real lam = abs(d[axis]);
-            if (lam > 0.0) {
-                uint at = first + 5u * face;
-                list = table_cell(uintBitsToFloat(table_at(at).w), table_at(at + 1u).w,
-                                  d[(axis + 1u) % 3u] / lam, d[(axis + 2u) % 3u] / lam);
-                bound = dist * KEY_SLACK;
-            }
+        vec3r d = -r.dir;
+        vec3r a = abs(d);
+        uint axis = a.x >= a.y && a.x >= a.z ? 0u : (a.y >= a.z ? 1u : 2u);
+        uint face = 2u * axis + (d[axis] < 0.0 ? 1u : 0u);
+        real lam = abs(d[axis]);
+        if (lam > 0.0) {
+            uint at = first + 5u * face;
+            list = table_cell(uintBitsToFloat(table_at(at).w), table_at(at + 1u).w,
+                              d[(axis + 1u) % 3u] / lam, d[(axis + 2u) % 3u] / lam);
+            bound = dist * KEY_SLACK;
+        }
+        // A ray from beyond the reach walks, though it has read a cell:
+        // Mesa 22.3's llvmpipe (LLVM 15) crashes at run time (SIGSEGV in
+        // the driver) where a branch on the reach skips the lookup in f64
+        // (docs/guide.md, Shadow and eye rays from tables).
+        if (!(dist <= reach)) {
+            list = uvec2(0u, TABLE_WALK);
         }
     }
 #endif

@@ -69,27 +69,14 @@ fn gpu_images_do_not_depend_on_the_bvh() {
         let mut bvh = gpu(Accel::Bvh, intersect, precision);
         let mut none = gpu(Accel::None, intersect, precision);
         let mut tables = gpu(Accel::Tables, intersect, precision);
-        // Mesa 22.3's llvmpipe (LLVM 15) dies of SIGSEGV on a tables
-        // variant in the naive or f64 forms (found late in issue 40, not
-        // narrowed down yet; `auto` never takes the tables there): there
-        // the tables are held to the BVH in robust f32 on scenes/ and
-        // scenes/extreme/, the SPD's databases left to the CPU's check and
-        // to the_tables_count_as_the_cpu_and_serve_every_schedule.
-        let old_llvmpipe = !bvh.device_info().skips_untaken_branches;
-        let check_tables =
-            !old_llvmpipe || (intersect, precision) == (Intersect::Robust, Precision::F32);
         for (name, scene) in all_scenes() {
-            if old_llvmpipe && name.ends_with(".nff") {
-                continue;
-            }
             let a = bvh
                 .render(&scene, &|_| {})
                 .unwrap_or_else(|e| panic!("{name}: {e}"));
             // The SPD's databases are here for the tables: scanned without
             // a tree, balls needs more loop iterations than Mesa 22.3
             // allows, so they are held to the BVH's image alone.
-            let spd = name.ends_with(".nff");
-            let b = if spd {
+            let b = if name.ends_with(".nff") {
                 None
             } else {
                 Some(
@@ -113,9 +100,6 @@ fn gpu_images_do_not_depend_on_the_bvh() {
                     a.0 == b.0,
                     "{name} ({intersect:?}, {precision:?}): BVH and none differ"
                 );
-            }
-            if !check_tables {
-                continue;
             }
             let c = tables
                 .render(&scene, &|_| {})
