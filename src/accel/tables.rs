@@ -143,13 +143,6 @@ pub struct CameraSpec {
     pub height: u32,
 }
 
-/// What to build tables for.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct Want {
-    pub lights: bool,
-    pub eye: bool,
-}
-
 /// A primitive of the tree, as a leaf of its own, and its padded box.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Leaf {
@@ -432,21 +425,21 @@ pub fn device_bytes(t: &Tables) -> usize {
     16 * (5 * t.grids.len() + t.cells.len().div_ceil(2) + t.entries.len().div_ceil(2))
 }
 
-/// Builds the tables of `tree` for `lights` and `camera` (all in the
-/// coordinates the tree is in), within `budget` bytes on the device; None
-/// where nothing was wanted or nothing fits. `boxes[kind][i]` is the padded
+/// Builds the tables of `tree` for the `lights` that cast shadow rays and
+/// for `camera`'s eye rays (all in the coordinates the tree is in), within
+/// `budget` bytes on the device; None where neither asks for one or nothing
+/// fits. `boxes[kind][i]` is the padded
 /// box of primitive `i` of that kind in the scene.
 pub fn build(
     tree: &Bvh,
     boxes: &[Vec<([f32; 3], [f32; 3])>],
     lights: &[LightSpec],
     camera: Option<&CameraSpec>,
-    want: Want,
     budget: usize,
 ) -> Option<Tables> {
     let t0 = std::time::Instant::now();
     let leaves = leaves(tree, boxes);
-    if leaves.is_empty() || !(want.lights || want.eye) {
+    if leaves.is_empty() || !(camera.is_some() || lights.iter().any(|l| l.casts)) {
         return None;
     }
     let mut scale = 0.0f64;
@@ -472,7 +465,7 @@ pub fn build(
     // The plans: each light's six faces or one parallel grid, then the eye's.
     let mut plans: Vec<(Option<usize>, Plan)> = Vec::new();
     for (i, l) in lights.iter().enumerate() {
-        if !want.lights || !l.casts {
+        if !l.casts {
             continue;
         }
         match l.position {
@@ -512,7 +505,7 @@ pub fn build(
             }
         }
     }
-    if let Some(c) = camera.filter(|_| want.eye) {
+    if let Some(c) = camera {
         let m = DMat3::from_cols(c.to_screen, c.right, c.up);
         let det = m.determinant();
         if det.is_finite() && det.abs() > 0.0 {
@@ -585,7 +578,8 @@ pub fn build(
 pub enum Lookup<R> {
     Walk,
     /// The entries' range in `Tables::entries`; the scan ends at the first
-    /// entry whose key is over `bound`.
+    /// entry whose key is over `bound` (and, for a nearest hit, over the
+    /// nearest so far with `KEY_SLACK`).
     List(std::ops::Range<usize>, R),
 }
 
@@ -594,7 +588,8 @@ pub enum Lookup<R> {
 pub const KEY_SLACK: f64 = 1.0 + 1.0 / 4096.0;
 
 impl Tables {
-    fn cell_of<R: Real>(&self, g: &Grid, a: R, b: R) -> Lookup<R> {
+    /// The entries of the cell at (a, b) of `g`; None where it walks.
+    fn cell_of<R: Real>(&self, g: &Grid, a: R, b: R) -> Option<std::ops::Range<usize>> {
         let index = |x: R, x0: f32, s: f32, n: u32| -> u32 {
             let c = ((x - R::of(x0.into())) * R::of(s.into())).floor();
             let c = c.max(R::zero()).min(R::of(f64::from(n - 1)));
@@ -603,11 +598,8 @@ impl Tables {
         let i = index(a, g.a0, g.sa, g.na);
         let j = index(b, g.b0, g.sb, g.nb);
         let cell = self.cells[(g.first_cell + j * g.na + i) as usize];
-        if cell.count == WALK {
-            return Lookup::Walk;
-        }
         let first = cell.first as usize;
-        Lookup::List(first..first + cell.count as usize, R::zero())
+        (cell.count != WALK).then(|| first..first + cell.count as usize)
     }
 
     fn row<R: Real>(g: &Grid, k: usize, v: Vec3<R>) -> R {
@@ -615,55 +607,55 @@ impl Tables {
         Vec3::new(R::of(r[0].into()), R::of(r[1].into()), R::of(r[2].into())).dot(v)
     }
 
-    /// A perspective grid's cell for direction `d`.
-    fn perspective<R: Real>(&self, g: &Grid, d: Vec3<R>) -> Lookup<R> {
+    /// A perspective grid's cell for direction `d`; None behind its apex.
+    fn perspective<R: Real>(&self, g: &Grid, d: Vec3<R>) -> Option<std::ops::Range<usize>> {
         let lam = Self::row(g, 0, d);
         if lam.is_nan() || lam <= R::zero() {
-            return Lookup::Walk;
+            return None;
         }
         self.cell_of(g, Self::row(g, 1, d) / lam, Self::row(g, 2, d) / lam)
     }
 
-    /// The list a shadow ray from `p` to light `light` (unit direction `l`,
-    /// at distance `dist`) reads.
-    pub fn shadow<R: Real>(&self, light: usize, p: Vec3<R>, l: Vec3<R>, dist: R) -> Lookup<R> {
-        let Some(first) = self.lights.get(light).copied().flatten() else {
-            return Lookup::Walk;
-        };
-        let g = &self.grids[first as usize];
-        match g.form {
+    /// What a shadow ray from `p` to light `light` (unit direction `l`, at
+    /// distance `dist`) reads: None where the light has no buffer, so that
+    /// no cell is read.
+    pub fn shadow<R: Real>(
+        &self,
+        light: usize,
+        p: Vec3<R>,
+        l: Vec3<R>,
+        dist: R,
+    ) -> Option<Lookup<R>> {
+        let first = self.lights.get(light).copied().flatten()? as usize;
+        let g = &self.grids[first];
+        let list = match g.form {
             Form::Perspective => {
-                if dist.is_nan() || dist > R::of(g.reach.into()) {
-                    return Lookup::Walk;
-                }
                 let d = -l;
-                let face = cube_face(d);
-                let g = &self.grids[first as usize + face];
-                match self.perspective(g, d) {
-                    Lookup::List(r, _) => Lookup::List(r, dist * R::of(KEY_SLACK)),
-                    w => w,
-                }
+                let within = dist <= R::of(g.reach.into());
+                within
+                    .then(|| self.perspective(&self.grids[first + cube_face(d)], d))
+                    .flatten()
+                    .map(|r| Lookup::List(r, dist * R::of(KEY_SLACK)))
             }
             Form::Parallel => {
                 let big = p.x.abs().max(p.y.abs()).max(p.z.abs());
-                if big.is_nan() || big > R::of(g.reach.into()) {
-                    return Lookup::Walk;
-                }
-                match self.cell_of(g, Self::row(g, 1, p), Self::row(g, 2, p)) {
-                    Lookup::List(r, _) => Lookup::List(r, -Self::row(g, 0, p)),
-                    w => w,
-                }
+                let within = big <= R::of(g.reach.into());
+                within
+                    .then(|| self.cell_of(g, Self::row(g, 1, p), Self::row(g, 2, p)))
+                    .flatten()
+                    .map(|r| Lookup::List(r, -Self::row(g, 0, p)))
             }
-        }
+        };
+        Some(list.unwrap_or(Lookup::Walk))
     }
 
-    /// The list an eye ray of direction `d` reads, where the eye has one;
-    /// its bound is the slack on the hit's t (`KEY_SLACK`).
-    pub fn eye<R: Real>(&self, d: Vec3<R>) -> Lookup<R> {
-        match self.eye {
-            Some(g) => self.perspective(&self.grids[g as usize], d),
-            None => Lookup::Walk,
-        }
+    /// What an eye ray of direction `d` reads: None where the eye has no
+    /// tiles. A list has no bound of its own (infinity): a nearest-hit scan
+    /// ends beyond its nearest hit so far (`KEY_SLACK`).
+    pub fn eye<R: Real>(&self, d: Vec3<R>) -> Option<Lookup<R>> {
+        let g = &self.grids[self.eye? as usize];
+        let range = self.perspective(g, d);
+        Some(range.map_or(Lookup::Walk, |r| Lookup::List(r, R::infinity())))
     }
 }
 

@@ -3,7 +3,7 @@
 //! kind's own intersect and normal are in its module of `crate::prim`.
 
 use crate::accel::bvh::{Bvh, Child, EMPTY, MAX_DEPTH, WIDTH};
-use crate::accel::tables::{Lookup, KEY_SLACK};
+use crate::accel::tables::{Entry, Lookup, KEY_SLACK};
 use crate::prim::{PrimId, KINDS};
 use crate::stats::{Counter, Tally};
 
@@ -38,13 +38,14 @@ pub fn intersect_eye<R: Real, T: Tally>(
     ray: &Ray<R>,
     tally: &mut T,
 ) -> Option<Hit<R>> {
-    let lookup = match &w.tables {
-        Some(t) if w.bvh.is_some() && t.eye.is_some() => {
-            tally.count(Counter::Cell);
-            t.eye(ray.dir)
-        }
-        _ => Lookup::Walk,
+    let lookup = match (&w.tables, &w.bvh) {
+        (Some(t), Some(_)) => t.eye(ray.dir),
+        _ => None,
     };
+    if lookup.is_some() {
+        tally.count(Counter::Cell);
+    }
+    let lookup = lookup.unwrap_or(Lookup::Walk);
     nearest(w, ray, PrimId::NONE, R::infinity(), lookup, tally)
 }
 
@@ -59,7 +60,7 @@ fn nearest<R: Real, T: Tally>(
     let mut best: Option<Hit<R>> = None;
     let mut limit = t_max;
     if let Some(tree) = &w.bvh {
-        let mut visit = |id: PrimId, limit: &mut R, tally: &mut T| {
+        let visit = |id: PrimId, limit: &mut R, tally: &mut T| {
             tally.count(Counter::Test(id.kind));
             if let Some(t) = w.prims.intersect(id, ray, from) {
                 let tie = t == *limit && best.is_some_and(|b| id < b.prim);
@@ -70,21 +71,15 @@ fn nearest<R: Real, T: Tally>(
             }
             true
         };
-        match (lookup, &w.tables) {
-            (Lookup::List(range, _), Some(tables)) => {
-                // Nearest first: a leaf that starts beyond the hit (with
-                // slack for rounding) cannot hold a nearer one, nor a tie.
-                for e in &tables.entries[range] {
-                    if R::of(e.key.into()) > limit * R::of(KEY_SLACK) {
-                        break;
-                    }
-                    for id in leaf_prims(tree, e.leaf) {
-                        visit(id, &mut limit, tally);
-                    }
-                }
+        limit = match (lookup, &w.tables) {
+            // Nearest first: a primitive that starts beyond the hit (with
+            // slack for rounding) cannot be nearer, nor a tie.
+            (Lookup::List(range, bound), Some(tables)) => {
+                let bound = |limit: R| bound.min(limit * R::of(KEY_SLACK));
+                scan_list(tree, &tables.entries[range], limit, bound, tally, visit)
             }
-            _ => limit = walk(tree, ray, limit, tally, visit),
-        }
+            _ => walk(tree, ray, limit, tally, visit),
+        };
     }
     // The kinds the tree does not hold, in the table's order: a strict `<`
     // leaves a tie to the earlier.
@@ -96,6 +91,32 @@ fn nearest<R: Real, T: Tally>(
         true
     });
     best
+}
+
+/// Scans a cell's list (`accel::tables`) in the walk's place: calls
+/// `visit(id, &mut limit)` for each primitive listed, nearest first, until it
+/// returns false or the next entry's key is over `bound(limit)`. Returns the
+/// limit. Mirrors list_next() in shaders/tables.glsl, which feeds the walk's
+/// own loop.
+fn scan_list<R: Real, T: Tally>(
+    tree: &Bvh,
+    entries: &[Entry],
+    mut limit: R,
+    bound: impl Fn(R) -> R,
+    tally: &mut T,
+    mut visit: impl FnMut(PrimId, &mut R, &mut T) -> bool,
+) -> R {
+    for e in entries {
+        if R::of(e.key.into()) > bound(limit) {
+            break;
+        }
+        for id in leaf_prims(tree, e.leaf) {
+            if !visit(id, &mut limit, tally) {
+                return limit;
+            }
+        }
+    }
+    limit
 }
 
 /// The primitives of the leaf `word` names, by their ids in the scene.
@@ -124,33 +145,24 @@ pub fn occluded<R: Real, T: Tally>(
 ) -> bool {
     let mut blocked = false;
     if let Some(tree) = &w.bvh {
-        let lookup = match &w.tables {
-            Some(t) if t.lights.get(light).copied().flatten().is_some() => {
-                tally.count(Counter::Cell);
-                t.shadow(light, ray.origin, ray.dir, dist)
-            }
-            _ => Lookup::Walk,
-        };
-        let mut test = |id: PrimId, tally: &mut T| {
+        let lookup = w
+            .tables
+            .as_ref()
+            .and_then(|t| t.shadow(light, ray.origin, ray.dir, dist));
+        if lookup.is_some() {
+            tally.count(Counter::Cell);
+        }
+        let test = |id: PrimId, _: &mut R, tally: &mut T| {
             tally.count(Counter::Test(id.kind));
             blocked = w.prims.intersect(id, ray, from).is_some_and(|t| t < dist);
             !blocked
         };
         match (lookup, &w.tables) {
-            (Lookup::List(range, bound), Some(tables)) => {
-                'list: for e in &tables.entries[range] {
-                    if R::of(e.key.into()) > bound {
-                        break;
-                    }
-                    for id in leaf_prims(tree, e.leaf) {
-                        if !test(id, tally) {
-                            break 'list;
-                        }
-                    }
-                }
+            (Some(Lookup::List(range, bound)), Some(tables)) => {
+                scan_list(tree, &tables.entries[range], dist, |_| bound, tally, test);
             }
             _ => {
-                walk(tree, ray, dist, tally, |id, _, tally| test(id, tally));
+                walk(tree, ray, dist, tally, test);
             }
         }
     }

@@ -7,13 +7,14 @@ use glam::DVec3;
 
 use super::Scene;
 use crate::accel::bvh::Bvh;
-use crate::accel::tables::{self, CameraSpec, LightSpec, Tables, Want};
+use crate::accel::tables::{self, CameraSpec, LightSpec, Tables};
 use crate::accel::{prim_boxes, tables_budget};
 
 impl Scene {
     /// The tables over `tree` (built from the primitives translated by
     /// `-origin`), in the same coordinates: a light buffer for each light
-    /// that casts shadow rays, and the eye's tiles over `width`×`height`
+    /// that casts shadow rays (none where the scene has no shadows), and the
+    /// eye's tiles over `width`×`height`
     /// pixels; None where none fits the budget (`accel::tables_budget`).
     pub(crate) fn tables(
         &self,
@@ -39,16 +40,11 @@ impl Scene {
             width,
             height,
         };
-        let want = Want {
-            lights: self.shadows,
-            eye: true,
-        };
         tables::build(
             tree,
             &prim_boxes(&self.prims, origin),
             &lights,
             Some(&camera),
-            want,
             tables_budget(&self.prims, tree),
         )
     }

@@ -1,7 +1,7 @@
 use glam::DVec3;
 
 use crate::accel::scene_bvh;
-use crate::accel::tables::{build, leaves, LightSpec, Lookup, Want};
+use crate::accel::tables::{build, leaves, LightSpec, Lookup};
 use crate::base::real::Vec3;
 use crate::scene::{Overrides, Scene};
 
@@ -54,7 +54,7 @@ fn the_lists_hold_every_leaf_a_shadow_ray_crosses() {
         let l = to / dist;
         let pr = Vec3::<f64>::of(p);
         let lr = Vec3::<f64>::of(l);
-        let Lookup::List(range, bound) = t.shadow(0, pr, lr, dist) else {
+        let Some(Lookup::List(range, bound)) = t.shadow(0, pr, lr, dist) else {
             continue;
         };
         let listed: Vec<u32> = t.entries[range.clone()]
@@ -89,11 +89,7 @@ fn a_budget_too_small_for_any_resolution_builds_nothing() {
         direction: DVec3::Y,
         casts: true,
     }];
-    let want = Want {
-        lights: true,
-        eye: false,
-    };
     let boxes = crate::accel::prim_boxes(&s.prims, glam::DVec3::ZERO);
-    assert!(build(&tree, &boxes, &lights, None, want, 1 << 20).is_some());
-    assert!(build(&tree, &boxes, &lights, None, want, 16).is_none());
+    assert!(build(&tree, &boxes, &lights, None, 1 << 20).is_some());
+    assert!(build(&tree, &boxes, &lights, None, 16).is_none());
 }
