@@ -45,6 +45,7 @@ impl Scene {
             &prim_boxes(&self.prims, origin),
             &lights,
             Some(&camera),
+            &self.prims.relative_cpu(origin),
             tables_budget(&self.prims, tree),
         )
     }
