@@ -7,7 +7,6 @@
 
 pub(crate) mod bvh;
 mod cost;
-mod judge;
 pub(crate) mod node;
 pub(crate) mod quantize;
 mod spans;

@@ -37,9 +37,7 @@ use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 
 use super::bvh::{Bvh, Child, EMPTY};
-use super::judge::{judge, Frame};
 use crate::base::real::{Real, Vec3};
-use crate::prim::CpuPrims;
 
 /// A cell's count that says "walk the tree": its list would be too long.
 pub const WALK: u32 = u32::MAX;
@@ -186,8 +184,6 @@ pub(crate) fn leaves(tree: &Bvh, boxes: &[Vec<([f32; 3], [f32; 3])>]) -> Vec<Lea
 struct Plan {
     rows: DMat3,
     form: Form,
-    /// A perspective grid's apex: the light, or the eye.
-    apex: Option<DVec3>,
     reach: f64,
     /// The grid's extent in (a, b), where it is fixed (the eye's screen).
     domain: Option<((f64, f64), (f64, f64))>,
@@ -270,7 +266,6 @@ impl Plan {
         Plan {
             rows,
             form: Form::Perspective,
-            apex: Some(apex),
             reach,
             domain: None,
             pixels: None,
@@ -424,35 +419,6 @@ impl Plan {
     }
 }
 
-impl Laid {
-    /// Leaves to the walk each cell whose list costs more than the walk
-    /// for the ray through its centre (`judge`), and drops their entries.
-    fn judge(&mut self, apex: DVec3, rows: DMat3, tree: &Bvh, prims: &CpuPrims<f64>) {
-        let g = &self.grid;
-        let frame = Frame {
-            apex,
-            inverse: rows.inverse(),
-            a0: g.a0,
-            b0: g.b0,
-            sa: g.sa,
-            sb: g.sb,
-            na: g.na,
-        };
-        if judge(&frame, &mut self.cells, &self.entries, tree, prims) == 0 {
-            return;
-        }
-        let mut kept = Vec::with_capacity(self.entries.len());
-        for cell in &mut self.cells {
-            if cell.count != WALK {
-                let (f, n) = (cell.first as usize, cell.count as usize);
-                cell.first = kept.len() as u32;
-                kept.extend_from_slice(&self.entries[f..f + n]);
-            }
-        }
-        self.entries = kept;
-    }
-}
-
 /// The bytes the tables take on the device: grids of five 16-byte words,
 /// cells and entries two to a word.
 pub fn device_bytes(t: &Tables) -> usize {
@@ -462,15 +428,13 @@ pub fn device_bytes(t: &Tables) -> usize {
 /// Builds the tables of `tree` for the `lights` that cast shadow rays and
 /// for `camera`'s eye rays (all in the coordinates the tree is in), within
 /// `budget` bytes on the device; None where neither asks for one or nothing
-/// fits. `boxes[kind][i]` is the padded box of primitive `i` of that kind
-/// in the scene; `prims` are the primitives, in the tree's coordinates, that
-/// `judge` traces a cell's centre ray through.
+/// fits. `boxes[kind][i]` is the padded
+/// box of primitive `i` of that kind in the scene.
 pub fn build(
     tree: &Bvh,
     boxes: &[Vec<([f32; 3], [f32; 3])>],
     lights: &[LightSpec],
     camera: Option<&CameraSpec>,
-    prims: &CpuPrims<f64>,
     budget: usize,
 ) -> Option<Tables> {
     let t0 = std::time::Instant::now();
@@ -531,7 +495,6 @@ pub fn build(
                     Plan {
                         rows,
                         form: Form::Parallel,
-                        apex: None,
                         reach,
                         domain: None,
                         pixels: None,
@@ -575,13 +538,7 @@ pub fn build(
             let laid: Vec<Laid> = plans
                 .par_iter()
                 .zip(counted)
-                .map(|((_, plan), c)| {
-                    let mut laid = plan.fill(c);
-                    if let Some(apex) = plan.apex {
-                        laid.judge(apex, plan.rows, tree, prims);
-                    }
-                    laid
-                })
+                .map(|((_, plan), c)| plan.fill(c))
                 .collect();
             let mut t = Tables {
                 lights: vec![None; lights.len()],

@@ -45,7 +45,6 @@ impl Scene {
             &prim_boxes(&self.prims, origin),
             &lights,
             Some(&camera),
-            &self.prims.relative_cpu(origin),
             tables_budget(&self.prims, tree),
         )
     }

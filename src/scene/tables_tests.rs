@@ -90,7 +90,6 @@ fn a_budget_too_small_for_any_resolution_builds_nothing() {
         casts: true,
     }];
     let boxes = crate::accel::prim_boxes(&s.prims, glam::DVec3::ZERO);
-    let prims = s.prims.relative_cpu(glam::DVec3::ZERO);
-    assert!(build(&tree, &boxes, &lights, None, &prims, 1 << 20).is_some());
-    assert!(build(&tree, &boxes, &lights, None, &prims, 16).is_none());
+    assert!(build(&tree, &boxes, &lights, None, 1 << 20).is_some());
+    assert!(build(&tree, &boxes, &lights, None, 16).is_none());
 }
