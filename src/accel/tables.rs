@@ -373,12 +373,21 @@ impl Plan {
             }
         }
         let mut entries = vec![Entry { leaf: 0, key: 0.0 }; at as usize];
-        for &(leaf, s) in &self.spans {
-            let (ra, rb) = c.cover(&s);
-            let entry = Entry {
-                leaf,
-                key: f32_down(s.key),
-            };
+        // Filled in the order of their entries, each list comes out sorted
+        // nearest key first (ties to the lower word), with no sort a cell.
+        let mut order: Vec<(Entry, &Span)> = self
+            .spans
+            .iter()
+            .map(|(leaf, s)| {
+                let key = f32_down(s.key);
+                (Entry { leaf: *leaf, key }, s)
+            })
+            .collect();
+        order.par_sort_unstable_by(|(x, _), (y, _)| {
+            x.key.total_cmp(&y.key).then(x.leaf.cmp(&y.leaf))
+        });
+        for (entry, s) in order {
+            let (ra, rb) = c.cover(s);
             for j in rb {
                 for i in ra.clone() {
                     let cell = &mut cells[(j * c.na + i) as usize];
@@ -387,12 +396,6 @@ impl Plan {
                         cell.count += 1;
                     }
                 }
-            }
-        }
-        for cell in &cells {
-            if cell.count != WALK {
-                let (f, n) = (cell.first as usize, cell.count as usize);
-                entries[f..f + n].sort_by(|x, y| x.key.total_cmp(&y.key).then(x.leaf.cmp(&y.leaf)));
             }
         }
         let r = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32];
