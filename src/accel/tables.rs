@@ -25,7 +25,11 @@
 //! The lists are conservative: each leaf's box is padded by `pad` (2^-14 of
 //! the scene's largest coordinate, far beyond what f32 rounding moves a ray
 //! within `reach`), and its cell range by 2^-12 of a cell coordinate (far
-//! beyond the rounding of the lookup). So a list holds every leaf that the
+//! beyond the rounding of the lookup). Where a primitive has a hull
+//! (`prim::Hull`: a sphere's ball, a cone's end balls, a triangle's
+//! corners), its balls grown by `pad` narrow the box's range and raise its
+//! key (`spans::narrowed`): a sphere's range is its tangent cone's, not its
+//! box's corners'. So a list holds every leaf that the
 //! walk would have found a hit in, any hit ends a shadow ray whichever is
 //! found first, and a tie between hits goes to the same primitive (the
 //! lower key) in every order: the image is the tree walk's, bit for bit.
@@ -143,21 +147,31 @@ pub struct CameraSpec {
     pub height: u32,
 }
 
-/// A primitive of the tree, as a leaf of its own, and its padded box.
+/// A primitive of the tree, as a leaf of its own, its padded box and its
+/// hull.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Leaf {
     pub word: u32,
     pub lo: DVec3,
     pub hi: DVec3,
+    pub hull: Hull,
 }
 
-use super::spans::{cube_faces, f32_down, margin, parallel_span, perspective_span, Span};
+use super::spans::{
+    cube_faces, f32_down, margin, narrowed, narrowed_parallel, parallel_span, perspective_span,
+    Span,
+};
+use crate::prim::Hull;
 
 /// Each primitive of the tree's leaves, as a leaf of its own (a word of
 /// count 1), with its own padded box (`bvh::padded`): a list then names the
 /// primitives whose boxes a cell's rays can meet, not their leaves'.
 /// `boxes[kind][i]` is the box of primitive `i` of that kind in the scene.
-pub(crate) fn leaves(tree: &Bvh, boxes: &[Vec<([f32; 3], [f32; 3])>]) -> Vec<Leaf> {
+pub(crate) fn leaves(
+    tree: &Bvh,
+    boxes: &[Vec<([f32; 3], [f32; 3])>],
+    hulls: &[Vec<Hull>],
+) -> Vec<Leaf> {
     let v = |c: [f32; 3]| DVec3::new(c[0].into(), c[1].into(), c[2].into());
     let mut out = Vec::new();
     for node in &tree.nodes {
@@ -167,11 +181,13 @@ pub(crate) fn leaves(tree: &Bvh, boxes: &[Vec<([f32; 3], [f32; 3])>]) -> Vec<Lea
             }
             if let Child::Leaf(kind, range) = Child::of(word) {
                 for slot in range {
-                    let (lo, hi) = boxes[kind][tree.orders[kind][slot] as usize];
+                    let index = tree.orders[kind][slot] as usize;
+                    let (lo, hi) = boxes[kind][index];
                     out.push(Leaf {
                         word: (slot as u32) << 8 | (kind as u32) << 4 | 1,
                         lo: v(lo),
                         hi: v(hi),
+                        hull: hulls[kind][index],
                     });
                 }
             }
@@ -257,7 +273,8 @@ impl Plan {
             .iter()
             .filter_map(|l| {
                 let (lo, hi) = (l.lo - pad, l.hi + pad);
-                perspective_span(&rows, apex, lo, hi).map(|mut s| {
+                perspective_span(&rows, apex, lo, hi).map(|s| {
+                    let mut s = narrowed(s, &rows, apex, &l.hull, pad);
                     s.key -= pad;
                     (l.word, s)
                 })
@@ -431,17 +448,18 @@ pub fn device_bytes(t: &Tables) -> usize {
 /// Builds the tables of `tree` for the `lights` that cast shadow rays and
 /// for `camera`'s eye rays (all in the coordinates the tree is in), within
 /// `budget` bytes on the device; None where neither asks for one or nothing
-/// fits. `boxes[kind][i]` is the padded
-/// box of primitive `i` of that kind in the scene.
+/// fits. `boxes[kind][i]` is the padded box of primitive `i` of that kind
+/// in the scene, `hulls[kind][i]` its hull (`prim::Hull`).
 pub fn build(
     tree: &Bvh,
     boxes: &[Vec<([f32; 3], [f32; 3])>],
+    hulls: &[Vec<Hull>],
     lights: &[LightSpec],
     camera: Option<&CameraSpec>,
     budget: usize,
 ) -> Option<Tables> {
     let t0 = std::time::Instant::now();
-    let leaves = leaves(tree, boxes);
+    let leaves = leaves(tree, boxes, hulls);
     if leaves.is_empty() || !(camera.is_some() || lights.iter().any(|l| l.casts)) {
         return None;
     }
@@ -488,7 +506,8 @@ pub fn build(
                 let spans = leaves
                     .par_iter()
                     .map(|leaf| {
-                        let mut s = parallel_span(&rows, leaf.lo - pad, leaf.hi + pad);
+                        let s = parallel_span(&rows, leaf.lo - pad, leaf.hi + pad);
+                        let mut s = narrowed_parallel(s, &rows, &leaf.hull, pad);
                         s.key -= pad;
                         (leaf.word, s)
                     })

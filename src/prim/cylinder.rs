@@ -167,6 +167,15 @@ impl Kind for Cylinder {
         })
     }
 
+    /// The balls of its two end circles.
+    fn hull(&self) -> super::Hull {
+        let [rb, ra] = self.end_radii();
+        super::Hull::of(&[
+            (self.center - self.axis * self.half_length, rb.abs()),
+            (self.center + self.axis * self.half_length, ra.abs()),
+        ])
+    }
+
     fn gpu(&self, file_index: u32) -> gpu::Values {
         let (c, a) = (self.center, self.axis);
         gpu::Values {

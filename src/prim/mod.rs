@@ -91,6 +91,12 @@ pub trait Kind: Clone + PartialEq + std::fmt::Debug + Send + Sync + 'static {
     fn relative_to(&self, origin: DVec3) -> Self;
     /// Its box; None where it is unbounded.
     fn bounds(&self) -> Option<Aabb>;
+    /// Balls whose convex hull holds it, where that is tighter than its
+    /// box from some side (the light buffers' and the eye's tiles' spans,
+    /// `accel::tables`); none by default, and the box alone serves.
+    fn hull(&self) -> Hull {
+        Hull::default()
+    }
     /// Its struct in the shader's buffers, with a member `uvec4 meta`: x
     /// the material, y `file_index`, its place among its kind in the scene
     /// file (ties in t go to the lower); z and w are the kind's.
@@ -101,6 +107,28 @@ pub trait Kind: Clone + PartialEq + std::fmt::Debug + Send + Sync + 'static {
     /// that every kind must pass (src/prim/contract_tests.rs).
     #[cfg(test)]
     fn example(material: u32) -> Self;
+}
+
+/// Up to three balls (centre, radius) whose convex hull holds a primitive:
+/// a sphere's own, a cone's two end circles' balls, a triangle's corners.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Hull {
+    balls: [(DVec3, f64); 3],
+    len: usize,
+}
+
+impl Hull {
+    /// The hull of `balls` (at most three).
+    pub fn of(balls: &[(DVec3, f64)]) -> Self {
+        let mut h = Hull::default();
+        h.balls[..balls.len()].copy_from_slice(balls);
+        h.len = balls.len();
+        h
+    }
+
+    pub fn balls(&self) -> &[(DVec3, f64)] {
+        &self.balls[..self.len]
+    }
 }
 
 /// A primitive as the CPU reference traces it; mirrors its GLSL include.
@@ -348,6 +376,12 @@ macro_rules! generate {
                     }
                 )*
                 reach
+            }
+
+            /// Each primitive's hull (`Kind::hull`) translated by `-origin`,
+            /// by kind and index in the scene.
+            pub(crate) fn relative_hulls(&self, origin: DVec3) -> Vec<Vec<Hull>> {
+                vec![$(self.$key.iter().map(|p| p.relative_to(origin).hull()).collect(),)*]
             }
 
             /// The boxes of the primitives translated by `-origin` (those

@@ -92,6 +92,10 @@ impl Kind for Sphere {
         })
     }
 
+    fn hull(&self) -> super::Hull {
+        super::Hull::of(&[(self.center, self.radius)])
+    }
+
     fn gpu(&self, file_index: u32) -> gpu::Values {
         let c = self.center;
         gpu::Values {

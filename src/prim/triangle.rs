@@ -196,6 +196,10 @@ impl Kind for Triangle {
         })
     }
 
+    fn hull(&self) -> super::Hull {
+        super::Hull::of(&self.vertices.map(|v| (v, 0.0)))
+    }
+
     fn gpu(&self, file_index: u32) -> gpu::Values {
         let [a, b, c] = self.vertices;
         let g = self.normal;

@@ -43,6 +43,7 @@ impl Scene {
         tables::build(
             tree,
             &prim_boxes(&self.prims, origin),
+            &self.prims.relative_hulls(origin),
             &lights,
             Some(&camera),
             tables_budget(&self.prims, tree),

@@ -31,7 +31,7 @@ fn ring() -> Scene {
 
 /// Every leaf a ray from the light's side can meet is in the list the ray
 /// reads: for rays towards many points around the ring, the leaves whose
-/// boxes the segment crosses (sampled densely) are all listed, with keys
+/// spheres the segment meets (sampled densely) are all listed, with keys
 /// under the bound.
 #[test]
 fn the_lists_hold_every_leaf_a_shadow_ray_crosses() {
@@ -43,6 +43,7 @@ fn the_lists_hold_every_leaf_a_shadow_ray_crosses() {
     let all = leaves(
         &tree,
         &crate::accel::prim_boxes(&s.prims, glam::DVec3::ZERO),
+        &s.prims.relative_hulls(glam::DVec3::ZERO),
     );
     let light = DVec3::ZERO;
     let mut listed_somewhere = 0;
@@ -64,14 +65,18 @@ fn the_lists_hold_every_leaf_a_shadow_ray_crosses() {
             .collect();
         listed_somewhere += listed.len();
         for leaf in &all {
-            let crosses = (0..=400).any(|i| {
+            // The ring's spheres: a leaf's hull is its sphere.
+            let &[(c, r)] = leaf.hull.balls() else {
+                panic!("a sphere's hull is one ball");
+            };
+            let meets = (0..=400).any(|i| {
                 let q = p + l * (dist * f64::from(i) / 400.0);
-                q.cmpge(leaf.lo).all() && q.cmple(leaf.hi).all()
+                (q - c).length() <= r
             });
-            if crosses {
+            if meets {
                 assert!(
                     listed.contains(&leaf.word),
-                    "ray {k} crosses leaf {:#x} unlisted",
+                    "ray {k} meets leaf {:#x} unlisted",
                     leaf.word
                 );
             }
@@ -90,6 +95,7 @@ fn a_budget_too_small_for_any_resolution_builds_nothing() {
         casts: true,
     }];
     let boxes = crate::accel::prim_boxes(&s.prims, glam::DVec3::ZERO);
-    assert!(build(&tree, &boxes, &lights, None, 1 << 20).is_some());
-    assert!(build(&tree, &boxes, &lights, None, 16).is_none());
+    let hulls = s.prims.relative_hulls(glam::DVec3::ZERO);
+    assert!(build(&tree, &boxes, &hulls, &lights, None, 1 << 20).is_some());
+    assert!(build(&tree, &boxes, &hulls, &lights, None, 16).is_none());
 }
