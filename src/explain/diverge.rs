@@ -161,21 +161,13 @@ pub fn divergence(
                     "the {kind} hits {} at {} on the CPU and nothing on {gpu}{}",
                     ch.primitive,
                     number::show(ch.distance),
-                    if unstable {
-                        graze(&ch.primitive)
-                    } else {
-                        String::new()
-                    }
+                    graze(unstable, &ch.primitive)
                 ),
                 (Some(gh), None) => format!(
                     "the {kind} meets nothing on the CPU and {} at {} on {gpu}{}",
                     gh.primitive,
                     number::show(gh.distance),
-                    if unstable {
-                        graze(&gh.primitive)
-                    } else {
-                        String::new()
-                    }
+                    graze(unstable, &gh.primitive)
                 ),
                 (None, None) => unreachable!("both met nothing: the same value"),
             }
@@ -203,7 +195,7 @@ pub fn divergence(
                             gb.primitive,
                             number::show(gb.distance),
                             cb.map_or("clear".to_owned(), |cb| format!("by {} at {}", cb.primitive, number::show(cb.distance))),
-                            if unstable { graze(&gb.primitive) } else { String::new() }
+                            graze(unstable, &gb.primitive)
                         )
                     }
                 }
@@ -211,7 +203,7 @@ pub fn divergence(
                     "the shadow ray to light {light} is blocked on the CPU by {} at t = {} and clear on {gpu}{}",
                     cb.primitive,
                     number::show(cb.distance),
-                    if unstable { graze(&cb.primitive) } else { String::new() }
+                    graze(unstable, &cb.primitive)
                 ),
                 (None, None) if d.value == "blocked" => format!(
                     "the shadow ray to light {light} is blocked on {gpu} and clear on the CPU, yet {gpu}'s own nearest-hit query finds nothing before the light: its any-hit test (occluded) is wrong{ill}"
@@ -254,7 +246,12 @@ pub fn divergence(
     Some(d)
 }
 
-fn graze(p: &Primitive) -> String {
+/// Where a conditioning trial moves the answer too (`unstable`), the
+/// clause that says the ray grazes `p`; else nothing.
+fn graze(unstable: bool, p: &Primitive) -> String {
+    if !unstable {
+        return String::new();
+    }
     format!(
         "; a conditioning trial (f32-sized moves of the scene) changes it too: the ray grazes {p}, and the pixel is ill-conditioned"
     )
