@@ -214,13 +214,15 @@ fn segment_distance(p: DVec3, a: DVec3, b: DVec3) -> f64 {
 /// From `p` to the triangle (a, b, c): to its plane where p's foot lies
 /// inside it, else to its nearest edge.
 fn triangle_distance(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
+    let edges = || {
+        segment_distance(p, a, b)
+            .min(segment_distance(p, b, c))
+            .min(segment_distance(p, c, a))
+    };
     let n = (b - a).cross(c - a);
-    let edges = segment_distance(p, a, b)
-        .min(segment_distance(p, b, c))
-        .min(segment_distance(p, c, a));
     let len = n.length();
     if len.is_nan() || len <= 0.0 {
-        return edges;
+        return edges();
     }
     let n = n / len;
     let foot = p - n * n.dot(p - a);
@@ -230,7 +232,7 @@ fn triangle_distance(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
     if inside {
         n.dot(p - a).abs()
     } else {
-        edges
+        edges()
     }
 }
 
