@@ -7,8 +7,8 @@
 //! in the end is closed again when its answer finds no one to take it.
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
-use std::time::Duration;
+use std::sync::{Arc, Condvar, Mutex};
+use std::time::{Duration, Instant};
 
 use crate::gpu::error::GpuError;
 
@@ -27,34 +27,104 @@ pub fn open_abandoned() -> bool {
     ABANDONED.load(Ordering::Relaxed)
 }
 
+/// Between the opening thread and its caller: nothing yet, the answer, or
+/// that no answer will be taken (the thread ended without one, having
+/// panicked inside a driver, or the caller stopped waiting).
+enum Slot<T> {
+    Waiting,
+    Answer(Result<T, GpuError>),
+    Ended,
+}
+
+/// Sets the slot to `Ended` if the opening thread unwinds before it answers.
+struct EndGuard<T>(Arc<(Mutex<Slot<T>>, Condvar)>);
+
+impl<T> Drop for EndGuard<T> {
+    fn drop(&mut self) {
+        let (slot, ready) = &*self.0;
+        let mut slot = slot.lock().unwrap_or_else(|p| p.into_inner());
+        if matches!(*slot, Slot::Waiting) {
+            *slot = Slot::Ended;
+        }
+        ready.notify_all();
+    }
+}
+
 /// `open()`'s answer, or [`GpuError::OpenTimeout`] where it takes longer than
 /// `limit`.
 pub fn bounded<T: Send + 'static>(
     limit: Duration,
     open: impl FnOnce() -> Result<T, GpuError> + Send + 'static,
 ) -> Result<T, GpuError> {
-    let (tx, rx) = mpsc::sync_channel(1);
-    std::thread::Builder::new()
-        .name("glint-vulkan-open".to_owned())
-        .spawn(move || {
-            // The receiver has gone where the caller stopped waiting; the
-            // answer (an instance or device) is then dropped, and closed.
-            let _ = tx.send(open());
-        })
-        .map_err(|e| GpuError::Unsupported(format!("cannot start a thread to open Vulkan: {e}")))?;
-    match rx.recv_timeout(limit) {
-        Ok(answer) => answer,
-        Err(mpsc::RecvTimeoutError::Timeout) => {
-            ABANDONED.store(true, Ordering::Relaxed);
-            Err(GpuError::OpenTimeout {
-                seconds: limit.as_secs_f64(),
+    Opening::start(open)?.wait(limit)
+}
+
+/// An open running on a thread of its own, its answer not yet taken.
+///
+/// The caller waits on a mutex and a condition variable, not a channel:
+/// std's channels set up a thread-local with a destructor the first time a
+/// thread waits on one, and glibc registers that destructor under the
+/// dynamic loader's lock, which the opening thread may hold for ever inside
+/// `dlopen`. A caller that reached its wait after that never reached its
+/// limit. (No thread can be started under that lock either: glibc's thread
+/// creation takes it too, so the opening thread is started first.)
+struct Opening<T> {
+    shared: Arc<(Mutex<Slot<T>>, Condvar)>,
+}
+
+impl<T: Send + 'static> Opening<T> {
+    fn start(
+        open: impl FnOnce() -> Result<T, GpuError> + Send + 'static,
+    ) -> Result<Self, GpuError> {
+        let shared = Arc::new((Mutex::new(Slot::Waiting), Condvar::new()));
+        let guard = EndGuard(Arc::clone(&shared));
+        std::thread::Builder::new()
+            .name("glint-vulkan-open".to_owned())
+            .spawn(move || {
+                let answer = open();
+                let (slot, _) = &*guard.0;
+                let mut slot = slot.lock().unwrap_or_else(|p| p.into_inner());
+                // Where the caller has stopped waiting, the answer (an
+                // instance or device) is dropped here, and closed.
+                if matches!(*slot, Slot::Waiting) {
+                    *slot = Slot::Answer(answer);
+                }
             })
+            .map_err(|e| {
+                GpuError::Unsupported(format!("cannot start a thread to open Vulkan: {e}"))
+            })?;
+        Ok(Opening { shared })
+    }
+
+    fn wait(self, limit: Duration) -> Result<T, GpuError> {
+        let (slot, ready) = &*self.shared;
+        let deadline = Instant::now() + limit;
+        let mut slot = slot.lock().unwrap_or_else(|p| p.into_inner());
+        loop {
+            match std::mem::replace(&mut *slot, Slot::Waiting) {
+                Slot::Answer(answer) => return answer,
+                Slot::Ended => {
+                    return Err(GpuError::Unsupported(
+                        "opening the Vulkan device failed inside the driver (its thread ended without an answer)"
+                            .to_owned(),
+                    ))
+                }
+                Slot::Waiting => {}
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                // Marked so that a late answer is dropped by its own thread.
+                *slot = Slot::Ended;
+                ABANDONED.store(true, Ordering::Relaxed);
+                return Err(GpuError::OpenTimeout {
+                    seconds: limit.as_secs_f64(),
+                });
+            }
+            slot = ready
+                .wait_timeout(slot, deadline - now)
+                .unwrap_or_else(|p| p.into_inner())
+                .0;
         }
-        // The thread ended without an answer: it panicked inside a driver.
-        Err(mpsc::RecvTimeoutError::Disconnected) => Err(GpuError::Unsupported(
-            "opening the Vulkan device failed inside the driver (its thread ended without an answer)"
-                .to_owned(),
-        )),
     }
 }
 
@@ -72,5 +142,86 @@ mod tests {
         assert!(matches!(e, GpuError::OpenTimeout { .. }), "{e}");
         assert!(start.elapsed() < Duration::from_secs(5));
         assert_eq!(bounded(Duration::from_secs(5), || Ok(7)).unwrap(), 7);
+    }
+
+    #[test]
+    fn an_open_that_panics_is_an_error_not_a_wait() {
+        let e = bounded::<()>(Duration::from_secs(20), || panic!("inside a driver")).unwrap_err();
+        assert!(e.to_string().contains("ended without an answer"), "{e}");
+    }
+
+    const CHILD: &str = "GLINT_TEST_STUCK_LOADER";
+    const NAME: &str = "gpu::vk::bounded::tests::a_wait_begun_while_the_loader_is_held_still_ends";
+
+    /// A caller that reaches its wait only after the opening thread holds the
+    /// dynamic loader's lock for ever (a `dlopen` of a FIFO) still stops at
+    /// its limit. A waiting channel took that lock (std's thread-local
+    /// destructor, registered by glibc under it), so a slow caller hung.
+    /// The child process this runs in is left with a thread stuck in
+    /// `dlopen`, and ends with `_exit`, as glint does.
+    #[test]
+    fn a_wait_begun_while_the_loader_is_held_still_ends() {
+        if std::env::var_os(CHILD).is_some() {
+            stuck_loader_child();
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let mut child = std::process::Command::new(std::env::current_exe().unwrap())
+            .args([NAME, "--exact", "--nocapture", "--test-threads=1"])
+            .env(CHILD, dir.path())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let start = std::time::Instant::now();
+        let status = loop {
+            if let Some(status) = child.try_wait().unwrap() {
+                break status;
+            }
+            if start.elapsed() > Duration::from_secs(30) {
+                let _ = child.kill();
+                let _ = child.wait();
+                panic!("the wait begun under the loader's lock did not end within 30 s");
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        let mut out = String::new();
+        std::io::Read::read_to_string(&mut child.stdout.take().unwrap(), &mut out).unwrap();
+        assert!(status.success(), "{status}: {out}");
+        assert!(out.contains("stopped at the limit"), "{out}");
+    }
+
+    fn stuck_loader_child() -> ! {
+        use std::ffi::CString;
+        use std::os::unix::ffi::OsStrExt;
+        let fifo = std::path::PathBuf::from(std::env::var_os(CHILD).unwrap()).join("lib.so");
+        let name = CString::new(fifo.as_os_str().as_bytes()).unwrap();
+        // SAFETY: mkfifo reads a NUL-terminated path.
+        assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0);
+        // A caller that has never waited on anything, running before the
+        // lock is taken (a thread cannot start under it).
+        let started = Arc::new(std::sync::Barrier::new(2));
+        let caller_started = Arc::clone(&started);
+        let caller = std::thread::spawn(move || {
+            caller_started.wait();
+            let opening = Opening::<()>::start(move || {
+                // SAFETY: dlopen of a NUL-terminated path; it blocks in
+                // open(2) for ever, holding the loader's lock, as the Vulkan
+                // loader's dlopen of a FIFO library does.
+                unsafe { libc::dlopen(name.as_ptr(), libc::RTLD_NOW) };
+                Ok(())
+            })
+            .unwrap();
+            // The caller comes to its wait after the open holds the lock,
+            // as a slow main thread did.
+            std::thread::sleep(Duration::from_millis(500));
+            opening.wait(Duration::from_millis(200))
+        });
+        started.wait();
+        let e = caller.join().unwrap().unwrap_err();
+        assert!(matches!(e, GpuError::OpenTimeout { .. }), "{e}");
+        println!("stopped at the limit");
+        // SAFETY: ends the process at once; an exit's handlers would wait
+        // for the loader's lock.
+        unsafe { libc::_exit(0) }
     }
 }
