@@ -1,7 +1,7 @@
 use glam::DVec3;
 
 use crate::accel::scene_bvh;
-use crate::accel::tables::{build, leaves, LightSpec, Lookup};
+use crate::accel::tables::{build, device_bytes, leaves, LightSpec, Lookup};
 use crate::base::real::Vec3;
 use crate::scene::{Overrides, Scene};
 
@@ -85,8 +85,11 @@ fn the_lists_hold_every_leaf_a_shadow_ray_crosses() {
     assert!(listed_somewhere > 0, "no ray read a non-empty list");
 }
 
+/// The tables fit the budget they are given: a budget under what the
+/// finest resolution takes gets coarser grids that fit it, not more bytes,
+/// and one too small for any resolution gets none.
 #[test]
-fn a_budget_too_small_for_any_resolution_builds_nothing() {
+fn the_tables_fit_their_budget_or_are_not_built() {
     let s = ring();
     let tree = scene_bvh(&s.prims);
     let lights = [LightSpec {
@@ -96,6 +99,16 @@ fn a_budget_too_small_for_any_resolution_builds_nothing() {
     }];
     let boxes = crate::accel::prim_boxes(&s.prims, glam::DVec3::ZERO);
     let hulls = s.prims.relative_hulls(glam::DVec3::ZERO);
-    assert!(build(&tree, &boxes, &hulls, &lights, None, 1 << 20).is_some());
+    let fine = build(&tree, &boxes, &hulls, &lights, None, 1 << 20).unwrap();
+    let fine_bytes = device_bytes(&fine);
+    assert!(fine_bytes <= 1 << 20);
+    let budget = fine_bytes / 3;
+    let coarse = build(&tree, &boxes, &hulls, &lights, None, budget).unwrap();
+    assert!(
+        device_bytes(&coarse) <= budget,
+        "{} > {budget}",
+        device_bytes(&coarse)
+    );
+    assert!(coarse.cells.len() < fine.cells.len());
     assert!(build(&tree, &boxes, &hulls, &lights, None, 16).is_none());
 }
