@@ -7,8 +7,8 @@
 //! in the end is closed again when its answer finds no one to take it.
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Condvar, Mutex};
-use std::time::{Duration, Instant};
+use std::sync::{Arc, Condvar, Mutex, PoisonError};
+use std::time::Duration;
 
 use crate::gpu::error::GpuError;
 
@@ -25,29 +25,6 @@ static ABANDONED: AtomicBool = AtomicBool::new(false);
 /// `_exit`.
 pub fn open_abandoned() -> bool {
     ABANDONED.load(Ordering::Relaxed)
-}
-
-/// Between the opening thread and its caller: nothing yet, the answer, or
-/// that no answer will be taken (the thread ended without one, having
-/// panicked inside a driver, or the caller stopped waiting).
-enum Slot<T> {
-    Waiting,
-    Answer(Result<T, GpuError>),
-    Ended,
-}
-
-/// Sets the slot to `Ended` if the opening thread unwinds before it answers.
-struct EndGuard<T>(Arc<(Mutex<Slot<T>>, Condvar)>);
-
-impl<T> Drop for EndGuard<T> {
-    fn drop(&mut self) {
-        let (slot, ready) = &*self.0;
-        let mut slot = slot.lock().unwrap_or_else(|p| p.into_inner());
-        if matches!(*slot, Slot::Waiting) {
-            *slot = Slot::Ended;
-        }
-        ready.notify_all();
-    }
 }
 
 /// `open()`'s answer, or [`GpuError::OpenTimeout`] where it takes longer than
@@ -69,62 +46,53 @@ pub fn bounded<T: Send + 'static>(
 /// limit. (No thread can be started under that lock either: glibc's thread
 /// creation takes it too, so the opening thread is started first.)
 struct Opening<T> {
-    shared: Arc<(Mutex<Slot<T>>, Condvar)>,
+    answer: Arc<Answer<T>>,
 }
+
+/// The open's answer once it has one, and the signal that it has.
+type Answer<T> = (Mutex<Option<Result<T, GpuError>>>, Condvar);
 
 impl<T: Send + 'static> Opening<T> {
     fn start(
         open: impl FnOnce() -> Result<T, GpuError> + Send + 'static,
     ) -> Result<Self, GpuError> {
-        let shared = Arc::new((Mutex::new(Slot::Waiting), Condvar::new()));
-        let guard = EndGuard(Arc::clone(&shared));
+        let answer = Arc::new((Mutex::new(None), Condvar::new()));
+        let shared = Arc::clone(&answer);
         std::thread::Builder::new()
             .name("glint-vulkan-open".to_owned())
             .spawn(move || {
-                let answer = open();
-                let (slot, _) = &*guard.0;
-                let mut slot = slot.lock().unwrap_or_else(|p| p.into_inner());
-                // Where the caller has stopped waiting, the answer (an
-                // instance or device) is dropped here, and closed.
-                if matches!(*slot, Slot::Waiting) {
-                    *slot = Slot::Answer(answer);
-                }
+                let got = std::panic::catch_unwind(std::panic::AssertUnwindSafe(open))
+                    .unwrap_or_else(|_| {
+                        Err(GpuError::Unsupported(
+                            "opening the Vulkan device failed inside the driver (its thread ended without an answer)"
+                                .to_owned(),
+                        ))
+                    });
+                let (slot, ready) = &*shared;
+                *slot.lock().unwrap_or_else(PoisonError::into_inner) = Some(got);
+                ready.notify_one();
+                // Where the caller has stopped waiting, this thread holds
+                // the last reference: the answer (an instance or device) is
+                // dropped here, and closed.
             })
             .map_err(|e| {
                 GpuError::Unsupported(format!("cannot start a thread to open Vulkan: {e}"))
             })?;
-        Ok(Opening { shared })
+        Ok(Opening { answer })
     }
 
     fn wait(self, limit: Duration) -> Result<T, GpuError> {
-        let (slot, ready) = &*self.shared;
-        let deadline = Instant::now() + limit;
-        let mut slot = slot.lock().unwrap_or_else(|p| p.into_inner());
-        loop {
-            match std::mem::replace(&mut *slot, Slot::Waiting) {
-                Slot::Answer(answer) => return answer,
-                Slot::Ended => {
-                    return Err(GpuError::Unsupported(
-                        "opening the Vulkan device failed inside the driver (its thread ended without an answer)"
-                            .to_owned(),
-                    ))
-                }
-                Slot::Waiting => {}
-            }
-            let now = Instant::now();
-            if now >= deadline {
-                // Marked so that a late answer is dropped by its own thread.
-                *slot = Slot::Ended;
-                ABANDONED.store(true, Ordering::Relaxed);
-                return Err(GpuError::OpenTimeout {
-                    seconds: limit.as_secs_f64(),
-                });
-            }
-            slot = ready
-                .wait_timeout(slot, deadline - now)
-                .unwrap_or_else(|p| p.into_inner())
-                .0;
-        }
+        let (slot, ready) = &*self.answer;
+        let slot = slot.lock().unwrap_or_else(PoisonError::into_inner);
+        let (mut slot, _) = ready
+            .wait_timeout_while(slot, limit, |s| s.is_none())
+            .unwrap_or_else(PoisonError::into_inner);
+        slot.take().unwrap_or_else(|| {
+            ABANDONED.store(true, Ordering::Relaxed);
+            Err(GpuError::OpenTimeout {
+                seconds: limit.as_secs_f64(),
+            })
+        })
     }
 }
 
