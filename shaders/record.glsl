@@ -73,8 +73,12 @@ void record_hit(Hit hit, vec3r p, vec3r outward, vec3r shading) {
         record_word(prim_in_file(hit.prim));
         record_word(hit.material);
 #if HAS_IMAGES
-        record_word(1u);
-        vec2r uv = surface_uv(hit, p);
+        // The generic variant has the images' code whatever the scene: the
+        // uvs are recorded where the scene has image textures (g.lights.w),
+        // as the CPU records them (issue 57, defect 3).
+        bool uvs = g.lights.w != 0u;
+        record_word(uvs ? 1u : 0u);
+        vec2r uv = uvs ? surface_uv(hit, p) : vec2r(0.0);
 #else
         record_word(0u);
         vec2r uv = vec2r(0.0);

@@ -64,6 +64,8 @@ pub mod cpu;
 pub mod explain;
 pub mod files;
 pub mod fnv;
+pub mod fuzz;
+pub mod generate;
 #[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod input;

@@ -738,15 +738,6 @@ fn a_fifo_among_the_manifests_does_not_block_the_run() {
     );
 }
 
-/// The command lines of the processes running now.
-fn command_lines() -> Vec<String> {
-    std::fs::read_dir("/proc")
-        .unwrap()
-        .filter_map(|e| std::fs::read(e.ok()?.path().join("cmdline")).ok())
-        .map(|b| String::from_utf8_lossy(&b).replace('\0', " "))
-        .collect()
-}
-
 /// Issue 42, defect 4: SIGTERM in the middle of a run kills its children,
 /// removes its temporary folder and leaves the last run's tables and
 /// reproducers as they were.
@@ -796,7 +787,7 @@ fn an_interrupted_run_leaves_nothing_running_and_the_last_run_whole() {
     // Until its child hangs on the scene.
     let tmp_name = tmp.to_str().unwrap().to_owned();
     let probing = || {
-        command_lines()
+        common::command_lines()
             .iter()
             .any(|c| c.contains("driver-probe") && c.contains(&tmp_name) && c.contains("--scene"))
     };

@@ -20,12 +20,12 @@ const LAYERS: &[&[&str]] = &[
     &["accel", "stats"],
     &["scene", "settings"],
     // The two renderers.
-    &["cpu", "gpu"],
+    &["cpu", "gpu", "generate"],
     // What is built on both renderers.
     &["stability", "tiles", "bench"],
     &["condition", "report"],
     // One pixel's trees on every renderer, bounded by the conditioning.
-    &["explain"],
+    &["explain", "fuzz"],
 ];
 
 /// The modules the binary's files are in: not part of the library.

@@ -140,7 +140,7 @@ class PreparedScene:
         pixels are bit for bit those of the whole image). With
         ``stats=True``, ``(image, stats)``: the times, and the ray counts
         where the scene was prepared with ``stats=True``."""
-        image, raw = self._native.render(region, stats)
+        image, raw = self._native.render(_region(region), stats)
         return _result(image, raw, stats)
 
     @property
@@ -218,7 +218,7 @@ class Renderer:
         stats: bool = False,
     ) -> Union[Image, Tuple[Image, Stats]]:
         """``prepare`` then one render: the image, or ``(image, stats)``."""
-        image, raw = self._native.render(scene, precision, region, stats)
+        image, raw = self._native.render(scene, precision, _region(region), stats)
         return _result(image, raw, stats)
 
     def explain(
@@ -227,7 +227,7 @@ class Renderer:
         """``glint explain``: pixel ``(x, y)``'s ray tree on this device and
         on the CPU in f32 and f64, one :class:`Explanation` a sample (``sample``:
         that one alone)."""
-        raw = self._native.explain(scene, (int(pixel[0]), int(pixel[1])), sample)
+        raw = self._native.explain(scene, _pixel(pixel), sample)
         return [Explanation._from(e) for e in json.loads(raw)]
 
     def __repr__(self) -> str:
@@ -243,7 +243,8 @@ class Explanation:
     #: ``pixel`` (x, y), ``index`` among the pixel's samples, and ``traced``
     #: (x, y, i, j of the image the renderers trace).
     sample: Dict[str, Any]
-    #: Whether the GPU's tree stays within every quantity's f32 bound.
+    #: Whether the GPU's tree stays within every quantity's f32 bound, and
+    #: the pixel the render wrote is its recorded samples' mean.
     agree: bool
     #: The GPU's first divergence (quantity, stage, value, reference,
     #: difference, bound, ill_conditioned, cause), or None.
@@ -255,6 +256,9 @@ class Explanation:
     table: str
     #: The verdict in words.
     verdict: str
+    #: Where the pixel the plain render wrote is not the mean of its
+    #: recorded samples: what it wrote and what they say; else None.
+    render: Optional[str] = None
 
     @classmethod
     def _from(cls, d: Mapping[str, Any]) -> "Explanation":
@@ -266,6 +270,7 @@ class Explanation:
             trees=e["trees"],
             table=d["table"],
             verdict=d["verdict"],
+            render=e.get("render"),
         )
 
     def __str__(self) -> str:
@@ -309,10 +314,10 @@ def render(
     ``glint render --stats`` writes them)."""
     if backend == "gpu":
         r = renderer if renderer is not None else _default_renderer()
-        image, raw = r._native.render(scene, precision, region, stats)
+        image, raw = r._native.render(scene, precision, _region(region), stats)
         return _result(image, raw, stats)
     if backend == "cpu":
-        image, raw = _glint.render_cpu(scene, precision, region, stats)
+        image, raw = _glint.render_cpu(scene, precision, _region(region), stats)
         return _result(image, raw, stats)
     raise ValueError(f'backend {backend!r}: glint renders with "gpu" or "cpu"')
 
@@ -338,7 +343,45 @@ class Figures:
         return cls(d["max_abs"], d["rmse"], psnr, d["frac_over_1_255"], d["nonfinite"])
 
 
+def _whole_numbers(value: Any, count: int, what: str) -> Tuple[int, ...]:
+    """``value`` as ``count`` whole numbers >= 0, else ValueError: a float
+    is not cut to an int, nor a third number dropped (issue 57)."""
+    try:
+        items = list(value)
+    except TypeError:
+        raise ValueError(f"{what}: {value!r} is not {count} whole numbers") from None
+    ok = len(items) == count and all(
+        isinstance(v, (int, np.integer)) and not isinstance(v, (bool, np.bool_)) and v >= 0
+        for v in items
+    )
+    if not ok:
+        raise ValueError(f"{what}: {value!r} is not {count} whole numbers >= 0")
+    return tuple(int(v) for v in items)
+
+
+def _region(region: Any) -> Optional[Tuple[int, int, int, int]]:
+    if region is None:
+        return None
+    x, y, w, h = _whole_numbers(region, 4, "region (x, y, width, height)")
+    return (x, y, w, h)
+
+
+def _pixel(pixel: Any) -> Tuple[int, int]:
+    x, y = _whole_numbers(pixel, 2, "pixel (x, y)")
+    return (x, y)
+
+
 def _image(a: Any, what: str) -> Image:
+    # An 8- or 16-bit array holds display levels: 255 (65535) is 1.0, as a
+    # PNG reads back (issue 57: a uint8 image of 128s was written white).
+    # Other integers and bools say nothing of a scale: refused.
+    kind = np.asarray(a).dtype
+    if kind == np.uint8 or kind == np.uint16:
+        a = np.asarray(a, dtype=np.float32) / np.float32(np.iinfo(kind).max)
+    elif kind == np.bool_ or np.issubdtype(kind, np.integer):
+        raise ValueError(
+            f"{what}: a {kind} array; an image is floats (linear, 1.0 white), or uint8 or uint16 levels"
+        )
     image: Image = np.ascontiguousarray(a, dtype=np.float32)
     if image.ndim != 3 or image.shape[2] != 3:
         raise ValueError(f"{what}: shape {image.shape}; an image is (height, width, 3)")

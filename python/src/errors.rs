@@ -62,6 +62,35 @@ pub fn panic_words(payload: &(dyn std::any::Any + Send)) -> String {
         .unwrap_or_else(|| "a panic without words".to_owned())
 }
 
+/// The command line's advice in a message, and Python's words for it: a
+/// Python user has no `--force` or `--timeout` (issue 57, defect 9).
+const ADVICE: &[(&str, &str)] = &[
+    ("(remove it, or use --force)", "(remove it first)"),
+    ("give --sample ", "give sample="),
+    ("with --timeout SECONDS", "with Renderer(timeout=SECONDS)"),
+    (
+        "(--width, --height, --samples)",
+        "(width=, height=, samples= of glint.load)",
+    ),
+    ("--backend cpu", "backend=\"cpu\""),
+    ("--max-depth", "max_depth"),
+    ("--samples", "samples"),
+    ("--width", "width"),
+    ("--height", "height"),
+];
+
+/// `message` with the command line's advice in Python's words.
+pub fn in_python(message: String) -> String {
+    ADVICE
+        .iter()
+        .fold(message, |m, (cli, py)| m.replace(cli, py))
+}
+
+/// A `ValueError` saying `message` in Python's words.
+pub fn value(message: impl std::fmt::Display) -> PyErr {
+    pyo3::exceptions::PyValueError::new_err(in_python(message.to_string()))
+}
+
 /// A scene error with where it is, as attributes.
 pub fn scene(e: LibSceneError) -> PyErr {
     let (file, line, column) = match &e {
@@ -75,7 +104,7 @@ pub fn scene(e: LibSceneError) -> PyErr {
         _ => (None, None, None),
     };
     scene_at(
-        e.to_string(),
+        in_python(e.to_string()),
         file.map(|f| f.display().to_string()),
         line,
         column,
@@ -101,12 +130,18 @@ pub fn scene_at(
 }
 
 pub fn image(e: ImageIoError) -> PyErr {
-    ImageError::new_err(e.to_string())
+    ImageError::new_err(in_python(e.to_string()))
+}
+
+/// Images that would not fit: a `MemoryError`, before they are allocated,
+/// so that the interpreter lives (issue 57, defect 7).
+pub fn memory(e: glint::raster::memory::TooLarge) -> PyErr {
+    pyo3::exceptions::PyMemoryError::new_err(in_python(e.to_string()))
 }
 
 /// Any other error of glint's, as the binary words it.
 pub fn other(e: impl std::fmt::Display) -> PyErr {
-    Error::new_err(e.to_string())
+    Error::new_err(in_python(e.to_string()))
 }
 
 #[cfg(feature = "gpu")]
@@ -115,14 +150,14 @@ pub fn gpu(e: glint::gpu::GpuError) -> PyErr {
     match e {
         G::Interrupted => pyo3::exceptions::PyKeyboardInterrupt::new_err(()),
         G::Shader(log) => {
-            let err = ShaderError::new_err(G::Shader(log.clone()).to_string());
+            let err = ShaderError::new_err(in_python(G::Shader(log.clone()).to_string()));
             Python::attach(|py| {
                 let _ = err.value(py).setattr("log", log);
             });
             err
         }
-        e @ (G::Unsupported(_) | G::Reference(_)) => Error::new_err(e.to_string()),
-        e => DeviceError::new_err(e.to_string()),
+        e @ (G::Unsupported(_) | G::Reference(_)) => Error::new_err(in_python(e.to_string())),
+        e => DeviceError::new_err(in_python(e.to_string())),
     }
 }
 

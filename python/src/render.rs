@@ -136,9 +136,10 @@ pub fn render_cpu<'py>(
     guard(|| {
         let scene = &scene.inner;
         cpu::bound::check(scene).map_err(errors::other)?;
+        let (w, h) = region.map_or((scene.width, scene.height), |r| (r.width, r.height));
+        glint::raster::memory::check_render(w, h).map_err(errors::memory)?;
         if let Some(r) = region {
-            r.within(scene.width, scene.height)
-                .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            r.within(scene.width, scene.height).map_err(errors::value)?;
         }
         let stop = Arc::new(AtomicBool::new(false));
         let (image, stats) = interruptible(py, &stop, || {
@@ -154,6 +155,10 @@ pub fn render_cpu<'py>(
                 let setup_s = t0.elapsed().as_secs_f64();
                 let t1 = Instant::now();
                 let (image, counts) = match region {
+                    Some(r) if counted => {
+                        let (image, counts) = prepared.render_region_counted(r, &|_| {});
+                        (image, Some(counts))
+                    }
                     Some(r) => (prepared.render_region(r, &|_| {}), None),
                     None if counted => {
                         let (image, counts) = prepared.render_counted(&|_| {});
@@ -254,6 +259,11 @@ mod gpu_side {
                     opts.timeout = Some(Duration::from_secs_f64(t));
                 }
                 opts.defines = defines.unwrap_or_default().into_iter().collect();
+                // As the binary refuses -D and -I (issue 57, defect 4).
+                for (name, value) in &opts.defines {
+                    gpu::check_define(name, value.as_deref())
+                        .map_err(|e| PyValueError::new_err(format!("defines: {name:?}: {e}")))?;
+                }
                 let mut texts = None;
                 match include {
                     None => {}
@@ -279,6 +289,10 @@ mod gpu_side {
                         opts.include_dirs = vec![dir.path().to_owned()];
                         texts = Some(dir);
                     }
+                }
+                for dir in &opts.include_dirs {
+                    gpu::check_include_dir(dir)
+                        .map_err(|e| PyValueError::new_err(format!("include: {e}")))?;
                 }
                 let inner = py
                     .detach(|| gpu::Renderer::new(&opts))
@@ -350,11 +364,9 @@ mod gpu_side {
             pixel: (u32, u32),
             sample: Option<u32>,
         ) -> PyResult<String> {
-            use glint::explain::{explain_on_gpu, samples, ExplainError};
+            use glint::explain::{check_renders, explain_on_gpu, samples, ExplainError};
             let refused = |e: ExplainError| match e {
-                ExplainError::Outside { .. } | ExplainError::Sample { .. } => {
-                    PyValueError::new_err(e.to_string())
-                }
+                ExplainError::Outside { .. } | ExplainError::Sample { .. } => errors::value(e),
                 ExplainError::Gpu(e) => errors::gpu(e),
                 _ => errors::other(e),
             };
@@ -364,11 +376,17 @@ mod gpu_side {
                 interruptible(py, &stop, || {
                     let mut renderer = lock(&self.inner);
                     let settings = renderer.settings();
-                    let mut out = Vec::new();
+                    let mut explained = Vec::new();
                     for s in &chosen {
-                        let e =
+                        explained.push(
                             explain_on_gpu(&mut renderer, &scene.inner, &settings, *s, Vec::new())
-                                .map_err(refused)?;
+                                .map_err(refused)?,
+                        );
+                    }
+                    check_renders(&mut renderer, &scene.inner, &settings, &mut explained)
+                        .map_err(refused)?;
+                    let mut out = Vec::new();
+                    for e in explained {
                         out.push(json!({
                             "explanation": e,
                             "table": e.table,
@@ -415,6 +433,13 @@ mod gpu_side {
             stats: bool,
         ) -> PyResult<Rendered<'py>> {
             let region = super::region(region);
+            if let Some(r) = region {
+                // As the CPU's: ValueError, not glint.Error (issue 57).
+                r.within(self.scene.0, self.scene.1)
+                    .map_err(errors::value)?;
+            }
+            let (w, h) = region.map_or(self.scene, |r| (r.width, r.height));
+            glint::raster::memory::check_render(w, h).map_err(super::errors::memory)?;
             guard(|| {
                 let (rendered, call_s) = interruptible(py, &self.stop, || {
                     let mut prepared = lock(&self.inner);

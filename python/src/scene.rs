@@ -52,11 +52,55 @@ pub fn load(
                 lib::Scene::load(&path, &o)
             }
         });
+        let scene = if is_obj(&path) {
+            scene.map_err(|e| obj_error(&path, e))?
+        } else {
+            scene.map_err(errors::scene)?
+        };
         Ok(Scene {
-            inner: scene.map_err(errors::scene)?,
+            inner: scene,
             source: path.display().to_string(),
         })
     })
+}
+
+/// The tables of the scene file `obj_scene` writes around a mesh.
+const MADE_AROUND_A_MESH: &[&str] = &["image", "render", "camera", "materials", "meshes", "lights"];
+
+/// An error of an OBJ file loaded as a scene, said of the OBJ: one found
+/// in the OBJ keeps its line; one the scene glint made around the mesh
+/// gives names no line of that scene, which the caller never sees (issue
+/// 57: errors at lines 20 or 25 of a 3-line OBJ, a light glint placed
+/// blamed).
+fn obj_error(path: &Path, e: LibSceneError) -> PyErr {
+    match e {
+        LibSceneError::Invalid { key, message, .. }
+            if MADE_AROUND_A_MESH
+                .iter()
+                .any(|t| key.split(['.', '[']).next() == Some(*t)) =>
+        {
+            let named = format!("{}: ", glint::printable::path(path));
+            let what = if key.starts_with("meshes") {
+                message.strip_prefix(&named).unwrap_or(&message).to_owned()
+            } else {
+                format!(
+                    "the view glint makes of the mesh cannot be placed ({}: {message})",
+                    glint::printable::text(&key)
+                )
+            };
+            errors::scene_at(
+                format!(
+                    "{}: {}",
+                    glint::printable::path(path),
+                    glint::printable::one_line(&what)
+                ),
+                Some(path.display().to_string()),
+                None,
+                None,
+            )
+        }
+        e => errors::scene(e),
+    }
 }
 
 #[pyfunction]
@@ -89,23 +133,49 @@ pub fn loads(
     })
 }
 
-/// A Python value as TOML; `at` is its key path, for the error.
-fn to_toml(v: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
+/// How deep a scene's dict may nest: a scene file's tables go 3 deep; past
+/// this a dict or list holds itself, or was built to crash the reader
+/// (issue 57: 10,000 levels overflowed the stack, SIGSEGV).
+const MAX_NESTING: usize = 64;
+
+/// A Python value as TOML text, appended to `out` (a dict's entries as
+/// inline tables): written as it is walked, with no tree of values beside
+/// the text (issue 57: 200,000 spheres took 630 MB as `toml::Value`s, 40
+/// MB as text). `at` is its key path, for the error.
+fn to_toml(v: &Bound<'_, PyAny>, at: &str, depth: usize, out: &mut String) -> PyResult<()> {
+    let shown = || {
+        if at.is_empty() {
+            "the scene".to_owned()
+        } else {
+            glint::printable::text(at)
+        }
+    };
     let named = |what: &str| {
         PyTypeError::new_err(format!(
             "{}: {what} has no TOML form (numbers, strings, booleans, lists and dicts do)",
-            if at.is_empty() { "the scene" } else { at }
+            shown()
         ))
     };
+    if depth > MAX_NESTING {
+        return Err(PyValueError::new_err(format!(
+            "{}: nested more than {MAX_NESTING} deep (a dict or list that holds itself?)",
+            shown()
+        )));
+    }
     if v.is_none() {
         return Err(named("None"));
     }
     if let Ok(b) = v.cast::<pyo3::types::PyBool>() {
-        return Ok(toml::Value::Boolean(b.is_true()));
+        out.push_str(if b.is_true() { "true" } else { "false" });
+        return Ok(());
     }
     if let Ok(d) = v.cast::<PyDict>() {
-        let mut t = toml::Table::new();
-        for (k, item) in d.iter() {
+        // The top level as `key = value` lines, the rest inline.
+        let top = depth == 0;
+        if !top {
+            out.push('{');
+        }
+        for (n, (k, item)) in d.iter().enumerate() {
             let k: String = k.extract().map_err(|_| {
                 named(&format!(
                     "the key {}",
@@ -117,30 +187,47 @@ fn to_toml(v: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
             } else {
                 format!("{at}.{k}")
             };
-            t.insert(k, to_toml(&item, &path)?);
+            if !top && n > 0 {
+                out.push_str(", ");
+            }
+            out.push_str(&toml::Value::String(k).to_string());
+            out.push_str(" = ");
+            to_toml(&item, &path, depth + 1, out)?;
+            if top {
+                out.push('\n');
+            }
         }
-        return Ok(toml::Value::Table(t));
+        if !top {
+            out.push('}');
+        }
+        return Ok(());
     }
     if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
-        let items = v
-            .try_iter()?
-            .enumerate()
-            .map(|(i, item)| to_toml(&item?, &format!("{at}[{i}]")))
-            .collect::<PyResult<Vec<_>>>()?;
-        return Ok(toml::Value::Array(items));
+        out.push('[');
+        for (i, item) in v.try_iter()?.enumerate() {
+            if i > 0 {
+                out.push_str(", ");
+            }
+            to_toml(&item?, &format!("{at}[{i}]"), depth + 1, out)?;
+        }
+        out.push(']');
+        return Ok(());
     }
     if let Ok(s) = v.extract::<String>() {
-        return Ok(toml::Value::String(s));
+        out.push_str(&toml::Value::String(s).to_string());
+        return Ok(());
     }
     // A numpy array or scalar: its plain Python form.
     if v.hasattr("tolist")? && !v.is_instance_of::<pyo3::types::PyFloat>() {
-        return to_toml(&v.call_method0("tolist")?, at);
+        return to_toml(&v.call_method0("tolist")?, at, depth + 1, out);
     }
     if let Ok(i) = v.extract::<i64>() {
-        return Ok(toml::Value::Integer(i));
+        out.push_str(&i.to_string());
+        return Ok(());
     }
     if let Ok(f) = v.extract::<f64>() {
-        return Ok(toml::Value::Float(f));
+        out.push_str(&toml::Value::Float(f).to_string());
+        return Ok(());
     }
     Err(named(&format!("a {}", v.get_type().name()?)))
 }
@@ -242,16 +329,13 @@ impl Scene {
         // The dict is written out as TOML and read as a file is.
         let o = overrides(width, height, samples, max_depth);
         guard(|| {
-            let table = match to_toml(d.as_any(), "")? {
-                toml::Value::Table(t) => t,
-                _ => unreachable!("a dict converts to a table"),
-            };
-            let text = toml::to_string(&table).map_err(|e| PyValueError::new_err(e.to_string()))?;
+            let mut text = String::new();
+            to_toml(d.as_any(), "", 0, &mut text)?;
             let scene = lib::parse(&text, Path::new("<dict>"), &o).map_err(|e| match e {
                 // The line and column are of the TOML the dict was written
                 // as, which the caller never sees: the key says where.
                 LibSceneError::Invalid { key, message, .. } => errors::scene_at(
-                    format!("<dict>: {key}: {message}"),
+                    format!("<dict>: {}: {message}", glint::printable::text(&key)),
                     Some("<dict>".into()),
                     None,
                     None,

@@ -61,6 +61,13 @@ pub const TILE: u32 = 2;
 /// a cube and four times that for a parallel grid.
 const LIGHT_SCALE: f64 = 8.0;
 const MAX_SIDE: u32 = 256;
+/// The build's spans may take this many budgets of host memory; past it
+/// the scene has no tables (the walk serves every ray, the same bits).
+const WORK_FACTOR: usize = 4;
+/// The least a grid takes on the device (`Counted::bytes` of one cell).
+const MIN_GRID_BYTES: usize = 88;
+/// How many plans are counted at once.
+const COUNT_CHUNK: usize = 64;
 
 /// How a grid reads a ray.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -484,10 +491,20 @@ pub fn build(
     let reach = 16.0 * scale.max(pad);
 
     // The plans: each light's six faces or one parallel grid, then the eye's.
+    // Their spans are the build's working memory: at most WORK_FACTOR
+    // budgets, however many lights there are (issue 57: 3,000 lights over
+    // 3,000 spheres took 2.3 GB before).
+    let span_bytes = std::mem::size_of::<(u32, Span)>();
+    let held = |plans: &[(Option<usize>, Plan)]| {
+        plans.iter().map(|(_, p)| p.spans.len()).sum::<usize>() * span_bytes
+    };
     let mut plans: Vec<(Option<usize>, Plan)> = Vec::new();
     for (i, l) in lights.iter().enumerate() {
         if !l.casts {
             continue;
+        }
+        if held(&plans) > WORK_FACTOR * budget || MIN_GRID_BYTES * plans.len() > budget {
+            return None;
         }
         match l.position {
             Some(apex) => plans.extend(
@@ -540,22 +557,35 @@ pub fn build(
 
     // The finest resolution that fits the budget: each try halves the
     // lights' cells a side and doubles the eye's tile.
+    if held(&plans) > WORK_FACTOR * budget || MIN_GRID_BYTES * plans.len() > budget {
+        return None;
+    }
     let mut light_scale = LIGHT_SCALE;
     let mut tile = TILE;
     for _ in 0..12 {
-        let counted: Vec<Counted> = plans
-            .par_iter()
-            .map(|(_, plan)| {
-                let side = match plan.form {
-                    Form::Perspective => side_for(plan.spans.len(), light_scale, MAX_SIDE),
-                    Form::Parallel => side_for(plan.spans.len(), light_scale, 4 * MAX_SIDE),
-                };
-                plan.count(side, tile)
-            })
-            .collect();
         // Laid end to end, the cells and the entries each round up to a
-        // whole word once (`device_bytes`): 32 bytes at most.
-        let bytes: usize = counted.iter().map(Counted::bytes).sum::<usize>() + 32;
+        // whole word once (`device_bytes`): 32 bytes at most. The plans are
+        // counted a few at a time, and a resolution whose counts pass the
+        // budget is left at once: the counts held stay within it.
+        let mut bytes = 32;
+        let mut counted: Vec<Counted> = Vec::with_capacity(plans.len());
+        for chunk in plans.chunks(COUNT_CHUNK) {
+            let c: Vec<Counted> = chunk
+                .par_iter()
+                .map(|(_, plan)| {
+                    let side = match plan.form {
+                        Form::Perspective => side_for(plan.spans.len(), light_scale, MAX_SIDE),
+                        Form::Parallel => side_for(plan.spans.len(), light_scale, 4 * MAX_SIDE),
+                    };
+                    plan.count(side, tile)
+                })
+                .collect();
+            bytes += c.iter().map(Counted::bytes).sum::<usize>();
+            counted.extend(c);
+            if bytes > budget {
+                break;
+            }
+        }
         if bytes <= budget {
             let laid: Vec<Laid> = plans
                 .par_iter()

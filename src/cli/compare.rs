@@ -38,6 +38,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     let t_load = std::time::Instant::now();
     let scene = a.scene.load()?;
     glint::cpu::bound::check(&scene)?;
+    glint::raster::memory::check_render(scene.width, scene.height)?;
     let load_s = t_load.elapsed().as_secs_f64();
     let mut outputs = Outputs::new(super::inputs(&a.scene.scene, &scene, &a.device), false);
     if let Some(path) = &a.diff_out {

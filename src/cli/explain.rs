@@ -58,6 +58,7 @@ pub fn run(a: &ExplainArgs) -> anyhow::Result<ExitCode> {
     let chosen = samples(&scene, a.pixel, a.sample)?;
     let options = a.device.options()?;
     options.check()?;
+    super::drivers::icd::check_given(&a.icd)?;
     let mut renderer = super::render_gpu::open(&options)?;
     if a.record_only {
         return record_only(&mut renderer, &scene, &options.settings, &chosen);
@@ -156,6 +157,7 @@ pub fn explain(
         }
         out.push(explain_on_gpu(renderer, scene, settings, *sample, trees)?);
     }
+    glint::explain::check_renders(renderer, scene, settings, &mut out)?;
     Ok(out)
 }
 

@@ -11,20 +11,32 @@
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-static CHILDREN: Mutex<Vec<u32>> = Mutex::new(Vec::new());
+/// The children to kill, and whether the run is stopping: one lock, so
+/// that a child is either started and listed before the clean-up looks,
+/// or not started at all (issue 57, defect 11: a probe spawned while the
+/// signal thread cleaned up outlived glint and wrote its folder back).
+static CHILDREN: Mutex<(Vec<u32>, bool)> = Mutex::new((Vec::new(), false));
 static FOLDERS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
-/// A child process that an interrupted run kills.
-pub fn child_started(pid: u32) {
-    if let Ok(mut v) = CHILDREN.lock() {
-        v.push(pid);
+/// Starts `c` and lists it for an interrupted run to kill; refused once the
+/// run is stopping.
+pub fn spawn(c: &mut std::process::Command) -> std::io::Result<std::process::Child> {
+    let mut guard = CHILDREN.lock().unwrap_or_else(|e| e.into_inner());
+    if guard.1 {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::Interrupted,
+            "the run is stopping",
+        ));
     }
+    let child = c.spawn()?;
+    guard.0.push(child.id());
+    Ok(child)
 }
 
 /// The child `pid` was waited for: it is no longer this run's to kill.
 pub fn child_ended(pid: u32) {
     if let Ok(mut v) = CHILDREN.lock() {
-        v.retain(|p| *p != pid);
+        v.0.retain(|p| *p != pid);
     }
 }
 
@@ -42,13 +54,15 @@ pub fn folder_kept(path: &Path) {
     }
 }
 
-/// Kills and reaps the listed children, then removes the listed folders
-/// (the children first, so that none writes into a folder being removed).
-/// Runs on the signal handler's thread (ctrlc's, outside the signal
-/// context).
+/// Stops new children, kills and reaps the listed ones, then removes the
+/// listed folders (the children first, so that none writes into a folder
+/// being removed). Runs on the signal handler's thread (ctrlc's, outside
+/// the signal context); once it has run, `spawn` starts no child.
 pub fn clean_up() {
-    if let Ok(v) = CHILDREN.lock() {
-        for &pid in v.iter() {
+    let mut guard = CHILDREN.lock().unwrap_or_else(|e| e.into_inner());
+    guard.1 = true;
+    {
+        for &pid in guard.0.iter() {
             let Ok(pid) = libc::pid_t::try_from(pid) else {
                 continue;
             };
@@ -59,6 +73,7 @@ pub fn clean_up() {
                 libc::waitpid(pid, std::ptr::null_mut(), 0);
             }
         }
+        guard.0.clear();
     }
     if let Ok(v) = FOLDERS.lock() {
         for f in v.iter() {

@@ -14,6 +14,7 @@ mod diff;
 mod drivers;
 #[cfg(feature = "gpu")]
 mod explain;
+mod fuzz;
 #[cfg(feature = "gpu")]
 mod info;
 pub mod interrupt;
@@ -95,6 +96,8 @@ enum Command {
     /// One driver's run of one scene, for `glint drivers` (internal).
     #[command(hide = true)]
     DriverProbe(driver_probe::ProbeArgs),
+    /// Generated scenes held to the CPU f64 reference and to their own variants (random, the CI set, or every small scene); each failure shrunk to a scene file; exit 1 where one fails.
+    Fuzz(fuzz::FuzzArgs),
     /// Print a shell's completion script: `glint completions bash > /etc/bash_completion.d/glint`.
     Completions(shell::CompletionsArgs),
     /// Print the man page (roff): `glint man > glint.1; man ./glint.1`.
@@ -376,28 +379,8 @@ pub fn parse_define(d: &str) -> anyhow::Result<(String, Option<String>)> {
         Some((n, v)) => (n, Some(v.to_owned())),
         None => (d, None),
     };
-    let ok = name
-        .chars()
-        .next()
-        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
-        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
-    anyhow::ensure!(
-        ok,
-        "-D {}: a define is NAME or NAME=VALUE, NAME made of letters, digits and _",
-        glint::printable::text(d)
-    );
-    // These end or break the preprocessor line the define becomes, and
-    // glslang would blame a line of the shader for them.
-    if let Some(bad) = value.as_deref().and_then(|v| {
-        v.chars()
-            .find(|c| matches!(c, '"' | '\\' | '#') || c.is_control())
-    }) {
-        anyhow::bail!(
-            "-D {}: a define's value may not hold {}",
-            glint::printable::text(d),
-            bad.escape_default()
-        );
-    }
+    glint::gpu::check_define(name, value.as_deref())
+        .map_err(|e| anyhow::anyhow!("-D {}: {e}", glint::printable::text(d)))?;
     Ok((name.to_owned(), value))
 }
 
@@ -417,6 +400,7 @@ pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Assemble(a) => assemble::run(&a),
         Command::Drivers(a) => drivers::run(&a),
         Command::DriverProbe(a) => driver_probe::run(&a),
+        Command::Fuzz(a) => fuzz::run(&a),
         Command::Completions(a) => shell::completions(&a),
         Command::Man => shell::man(),
     }

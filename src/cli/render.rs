@@ -132,6 +132,11 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     if a.backend == Backend::Cpu {
         cpu::bound::check(&scene)?;
     }
+    // A whole render's images fit, or it is refused before they are
+    // allocated (a tile's are its own, smaller).
+    if !a.tiles.is_set() {
+        glint::raster::memory::check_render(scene.width, scene.height)?;
+    }
     // Every output can be written, and none is an input, before the render.
     let mut outputs = Outputs::new(a.inputs(&scene), a.force);
     for out in a.outputs(&output) {

@@ -126,6 +126,16 @@ impl<R: Real> Prepared<R> {
         render_tallied(&self.0, None, progress)
     }
 
+    /// `region` of the image and the render's counts of rays, tests and
+    /// BVH nodes within it.
+    pub fn render_region_counted(
+        &self,
+        region: Region,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> (Image, Counts) {
+        render_tallied(&self.0, Some(region), progress)
+    }
+
     /// The direction of the eye ray through sample (i, j) of pixel (x, y),
     /// as this precision computes it.
     pub fn eye_ray_direction(&self, x: u32, y: u32, i: u32, j: u32) -> glam::DVec3 {

@@ -39,7 +39,7 @@ pub struct Divergence {
 
 /// The entry index of `tree`'s first divergence from the reference (`reference`,
 /// bounded by `bounds`); None where every quantity is within its bound.
-fn first(tree: &[Entry], reference: &[Entry], bounds: &[Bound]) -> Option<usize> {
+pub fn first(tree: &[Entry], reference: &[Entry], bounds: &[Bound]) -> Option<usize> {
     let k = tree
         .iter()
         .zip(reference)

@@ -276,13 +276,11 @@ pub struct Bound {
     pub unstable: bool,
 }
 
-/// The bounds of `reference`'s entries, from the trials' trees: the
-/// widest a trial moved a quantity, [`SPREAD_FACTOR`] times, at least
-/// [`FLOOR_ULPS`] roundings of its scale. A trial's tree says nothing of
-/// the quantities after its first change of shape (another primitive,
-/// verdict or ray), and calls that one unstable.
-pub fn bounds(reference: &[Entry], trials: &[Vec<Entry>]) -> Vec<Bound> {
-    let mut out: Vec<Bound> = reference
+/// The bounds of `reference`'s entries before any trial: [`FLOOR_ULPS`]
+/// roundings of each one's scale. [`widen`] adds each trial's tree: the
+/// widest a trial moved a quantity, [`SPREAD_FACTOR`] times.
+pub fn floor_bounds(reference: &[Entry]) -> Vec<Bound> {
+    reference
         .iter()
         .map(|e| Bound {
             bound: match &e.value {
@@ -291,18 +289,23 @@ pub fn bounds(reference: &[Entry], trials: &[Vec<Entry>]) -> Vec<Bound> {
             },
             unstable: false,
         })
-        .collect();
-    for t in trials {
-        let changed = first_change(reference, t);
-        for (k, (e, b)) in reference.iter().zip(&mut out).enumerate().take(changed + 1) {
-            if k == changed {
-                b.unstable = true;
-            } else if let Some(d) = e.value.difference(&t[k].value) {
-                b.bound = b.bound.max(SPREAD_FACTOR * d);
-            }
+        .collect()
+}
+
+/// Widens `bounds` by one trial's entries `t`. A trial's tree says nothing
+/// of the quantities after its first change of shape (another primitive,
+/// verdict or ray), and calls that one unstable. A trial at a time, so that
+/// no more than one trial's entries are held (issue 57, defect 6: a tree
+/// of 1,953 rays held nine, and `explain` peaked at 0.7-1 GB).
+pub fn widen(bounds: &mut [Bound], reference: &[Entry], t: &[Entry]) {
+    let changed = first_change(reference, t);
+    for (k, (e, b)) in reference.iter().zip(bounds).enumerate().take(changed + 1) {
+        if k == changed {
+            b.unstable = true;
+        } else if let Some(d) = e.value.difference(&t[k].value) {
+            b.bound = b.bound.max(SPREAD_FACTOR * d);
         }
     }
-    out
 }
 
 /// The first entry where `t` differs from `reference` in shape: another

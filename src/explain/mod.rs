@@ -33,7 +33,9 @@ use crate::scene::{Sampling, Scene};
 use crate::base::record::Event;
 pub use diverge::Divergence;
 #[cfg(feature = "gpu")]
-pub use gpu::{explain_on_gpu, in_frame, record_on_gpu, record_words, tree_of_words};
+pub use gpu::{
+    check_renders, explain_on_gpu, in_frame, record_on_gpu, record_words, tree_of_words,
+};
 pub use tree::{Blocker, Hit, Light, Primitive, Shadow, Tree, TreeRay};
 
 /// Why a pixel cannot be explained: one line each.
@@ -217,14 +219,20 @@ impl Reference {
             "cpu f32",
             Probe::<f32>::new(scene, accel).record(sample.traced),
         )?;
-        let mut trials = vec![flat::entries(&f32)];
+        let entries = flat::entries(&f64);
+        // The CPU's f32, then each trial, folded into the bounds one at a
+        // time.
+        let mut bounds = flat::floor_bounds(&entries);
+        flat::widen(&mut bounds, &entries, &flat::entries(&f32));
         for t in 0..crate::condition::TRIALS {
             let (moved, moves) = crate::condition::trial(scene, t);
             let events = Probe::<f64>::moved(&moved, accel, moves).record(sample.traced);
-            trials.push(flat::entries(&tree("trial", events)?));
+            flat::widen(
+                &mut bounds,
+                &entries,
+                &flat::entries(&tree("trial", events)?),
+            );
         }
-        let entries = flat::entries(&f64);
-        let bounds = flat::bounds(&entries, &trials);
         Ok(Self {
             sample,
             f64,
@@ -241,30 +249,40 @@ impl Reference {
         let mut divergences = Vec::new();
         let mut trees = others;
         trees.push(self.f32.clone());
+        // Each tree laid flat once, for the judging and the table alike.
+        let flats: Vec<Vec<flat::Entry>> = trees.iter().map(flat::entries).collect();
+        let cpu_f32 = flats.last().expect("the CPU's f32 tree");
         let mut marks = Vec::new();
-        let cpu_f32 = flat::entries(&self.f32);
-        for t in &trees {
-            let entries = flat::entries(t);
+        let mut focus = Vec::new();
+        for (t, entries) in trees.iter().zip(&flats) {
             divergences.push(diverge::divergence(
                 t,
-                &entries,
+                entries,
                 &self.f64,
                 &self.entries,
                 &self.bounds,
                 &self,
-                &cpu_f32,
+                cpu_f32,
             ));
-            marks.push(table::marks(&entries, &self.entries, &self.bounds));
+            marks.push(table::marks(entries, &self.entries, &self.bounds));
+            if let Some(k) = diverge::first(entries, &self.entries, &self.bounds) {
+                focus.extend(self.entries.get(k).and_then(|e| e.ray));
+            }
         }
         // The CPU's own f32 is one of the trials: it is shown, not judged.
         divergences.pop();
         marks.push(vec![false; self.entries.len()]);
         trees.push(self.f64.clone());
+        let mut columns: Vec<&[flat::Entry]> = flats.iter().map(Vec::as_slice).collect();
+        columns.push(&self.entries);
+        let shown = table::shown_rays(&self.f64, &focus);
+        let table = table::render(&trees, &columns, &self.bounds, &marks, shown.as_deref());
         Explanation {
             sample: self.sample,
             agree: divergences.iter().all(Option::is_none),
+            render: None,
             divergences,
-            table: table::render(&trees, &self.entries, &self.bounds, &marks),
+            table,
             trees,
         }
     }
@@ -276,8 +294,13 @@ impl Reference {
 pub struct Explanation {
     /// The sample.
     pub sample: Sample,
-    /// Whether no judged tree leaves the reference past a bound.
+    /// Whether no judged tree leaves the reference past a bound, and the
+    /// render's pixel is its recorded samples' mean.
     pub agree: bool,
+    /// Where the pixel the plain variant wrote is not the mean of its
+    /// recorded samples (`check_renders`): a divergence of its own kind.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub render: Option<String>,
     /// The first divergence of each judged tree (the GPU's, then any other
     /// devices'), in the order of `trees`.
     pub divergences: Vec<Option<Divergence>>,
@@ -292,13 +315,13 @@ impl Explanation {
     /// The verdict in a line or a few: every tree agrees, or each
     /// divergence and its cause.
     pub fn verdict(&self) -> String {
-        if self.agree {
+        if self.agree && self.render.is_none() {
             return format!(
                 "every tree agrees: no quantity of {} leaves the f64 reference by more than its f32 bound",
                 names(&self.trees[..self.divergences.len()])
             );
         }
-        let mut lines = Vec::new();
+        let mut lines: Vec<String> = self.render.iter().cloned().collect();
         for (t, d) in self.trees.iter().zip(&self.divergences) {
             match d {
                 None => lines.push(format!("{}: agrees with the f64 reference", t.renderer)),

@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use std::fmt::Write;
 
 use super::diverge::show;
-use super::flat::{self, Bound, Entry, Value};
+use super::flat::{Bound, Entry, Value};
 use super::number;
 use super::tree::Tree;
 
@@ -24,30 +24,80 @@ pub fn marks(entries: &[Entry], reference: &[Entry], bounds: &[Bound]) -> Vec<bo
         .collect()
 }
 
-/// The table of `trees` (the reference last, its entries `reference`).
+/// A tree of more rays than this is shown in part: the first ray, the
+/// rays on the path to each first divergence, and a line for the rest
+/// (issue 57, defect 6: 1,953 rays printed 55 MB).
+pub const FULL_RAYS: usize = 64;
+
+/// The rays of `reference` (the f64 tree) to show in full, where it has
+/// more than `FULL_RAYS`: the first, and each of `focus` (the rays of the
+/// first divergences) with the rays that led to it; None: every ray.
+pub fn shown_rays(reference: &Tree, focus: &[usize]) -> Option<Vec<bool>> {
+    let rays = &reference.rays;
+    if rays.len() <= FULL_RAYS {
+        return None;
+    }
+    let mut shown = vec![false; rays.len()];
+    shown[0] = true;
+    for &f in focus {
+        let mut n = f.min(rays.len() - 1);
+        loop {
+            shown[n] = true;
+            match parent(rays, n) {
+                Some(p) => n = p,
+                None => break,
+            }
+        }
+    }
+    Some(shown)
+}
+
+/// The ray that spawned ray `n`: of the earlier rays one shallower, the
+/// latest whose hit point is nearest `n`'s origin (a refraction ray waits
+/// on a stack, so the latest alone is not always its parent).
+fn parent(rays: &[super::tree::TreeRay], n: usize) -> Option<usize> {
+    let r = &rays[n];
+    let dist = |p: &[f64; 3]| {
+        p.iter()
+            .zip(&r.origin)
+            .map(|(a, b)| (a - b) * (a - b))
+            .sum::<f64>()
+    };
+    (0..n)
+        .rev()
+        .filter(|&m| rays[m].depth + 1 == r.depth)
+        .filter_map(|m| rays[m].hit.as_ref().map(|h| (m, dist(&h.point))))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(m, _)| m)
+}
+
+/// The table of `trees` (the reference last), each laid flat in
+/// `columns`, the rays `shown` in full (None: all) and a line for the
+/// others.
 pub fn render(
     trees: &[Tree],
-    reference: &[Entry],
+    columns: &[&[Entry]],
     bounds: &[Bound],
     marks: &[Vec<bool>],
+    shown: Option<&[bool]>,
 ) -> String {
-    let flats: Vec<HashMap<String, Entry>> = trees
+    let reference = *columns.last().expect("the reference's entries");
+    let flats: Vec<HashMap<&str, &Entry>> = columns
         .iter()
-        .map(|t| {
-            flat::entries(t)
-                .into_iter()
-                .map(|e| (e.label.clone(), e))
-                .collect()
-        })
+        .map(|c| c.iter().map(|e| (e.label.as_str(), e)).collect())
         .collect();
+    let full = |ray: Option<usize>| ray.is_none_or(|n| shown.is_none_or(|s| s[n]));
     let mut rows: Vec<(Option<usize>, String, Vec<String>, String)> = Vec::new();
     for (k, r) in reference.iter().enumerate() {
+        if !full(r.ray) {
+            continue;
+        }
         let cells = flats
             .iter()
             .zip(marks)
             .map(|(f, m)| {
                 let mark = if m[k] { " *" } else { "" };
-                format!("{}{mark}", show(f.get(&r.label)))
+                format!("{}{mark}", show(f.get(r.label.as_str()).copied()))
             })
             .collect();
         let bound = match (&r.value, &bounds[k]) {
@@ -88,8 +138,14 @@ pub fn render(
         s.push_str(row.trim_end());
         s.push('\n');
     };
+    let mut note = hidden_note(trees, reference, marks, shown);
     let mut current = None;
     for (ray, label, cells, bound) in &rows {
+        if ray.is_none() {
+            if let Some(n) = note.take() {
+                let _ = write!(s, "\n{n}\n");
+            }
+        }
         if *ray != current || s.is_empty() {
             current = *ray;
             let title = match ray {
@@ -108,6 +164,39 @@ pub fn render(
         line(&mut s, field(label), cells, bound);
     }
     s
+}
+
+/// A line for the rays not shown: how many, how deep, and how many hold a
+/// value past its bound in a judged column.
+fn hidden_note(
+    trees: &[Tree],
+    reference: &[Entry],
+    marks: &[Vec<bool>],
+    shown: Option<&[bool]>,
+) -> Option<String> {
+    let shown = shown?;
+    let rays = &trees.last()?.rays;
+    let hidden: Vec<usize> = (0..rays.len()).filter(|&n| !shown[n]).collect();
+    if hidden.is_empty() {
+        return None;
+    }
+    let deepest = hidden.iter().map(|&n| rays[n].depth).max().unwrap_or(0);
+    let shallowest = hidden.iter().map(|&n| rays[n].depth).min().unwrap_or(0);
+    let mut past = vec![false; rays.len()];
+    for (k, e) in reference.iter().enumerate() {
+        if let Some(n) = e.ray {
+            past[n] |= marks.iter().any(|m| m[k]);
+        }
+    }
+    let marked = hidden.iter().filter(|&&n| past[n]).count();
+    Some(format!(
+        "{} more rays, {shallowest} to {deepest} deep, are not shown ({}): the first ray and the path to each first divergence are; `glint explain --json` holds every ray",
+        hidden.len(),
+        match marked {
+            0 => "every quantity of theirs is within its bound".to_owned(),
+            m => format!("{m} of them hold a value past its bound"),
+        }
+    ))
 }
 
 /// A label without its ray: `ray 2, light 0: diffuse` is `light 0: diffuse`.

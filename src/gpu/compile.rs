@@ -94,11 +94,8 @@ impl Sources {
     /// error where a user's file of that name is there but cannot be read
     /// as a shader (see `read_source`).
     pub fn find(&self, name: &str) -> Result<Option<(String, String)>, String> {
-        for dir in &self.dirs {
-            let path = dir.join(name);
-            if std::fs::metadata(&path).is_ok() {
-                return read_source(&path).map(Some);
-            }
+        if let Some(mine) = self.users(name) {
+            return mine.map(Some);
         }
         if let Some((n, text)) = self.generated.iter().find(|(n, _)| n == name) {
             return Ok(Some((format!("(generated) {n}"), text.clone())));
@@ -106,6 +103,39 @@ impl Sources {
         Ok(builtin()
             .find(|(n, _)| n == name)
             .map(|(n, text)| (format!("shaders/{n}"), text.to_owned())))
+    }
+
+    /// The user's files that replace one of glint's that records a ray
+    /// tree (calls a `RECORD_` hook: main.comp, trace.glsl, shade.glsl)
+    /// and call no such hook themselves, as messages name them (`glint
+    /// explain` says which file records nothing).
+    pub fn unrecording(&self) -> Vec<String> {
+        let records = |text: &str| text.contains("RECORD_");
+        let mut out = Vec::new();
+        for (name, glints) in BUILTIN {
+            if !records(glints) {
+                continue;
+            }
+            let mine = match &self.main {
+                Some(path) if *name == "main.comp" => Some(read_source(path)),
+                _ => self.users(name),
+            };
+            if let Some(Ok((path, text))) = mine {
+                if !records(&text) {
+                    out.push(path);
+                }
+            }
+        }
+        out
+    }
+
+    /// The user's file `name` from the include folders, where one has it.
+    fn users(&self, name: &str) -> Option<Result<(String, String), String>> {
+        self.dirs
+            .iter()
+            .map(|dir| dir.join(name))
+            .find(|path| std::fs::metadata(path).is_ok())
+            .map(|path| read_source(&path))
     }
 
     /// These sources with the files generated for `variant`.

@@ -24,7 +24,9 @@ crate::base::interface::gpu_struct!(
         background: real4,
         /// width, height, samples, max_depth
         size: uvec4,
-        /// x lights, y shadows (0 or 1), z the SPD's ray tree (0 or 1)
+        /// x lights, y shadows (0 or 1), z the SPD's ray tree (0 or 1),
+        /// w 1 where the scene has texels (image textures): a recording
+        /// holds the hits' uvs then, as the CPU's does
         lights: uvec4,
         /// primitives of kinds 0..4 of `prim::KINDS`
         kinds_lo: uvec4,
@@ -95,7 +97,7 @@ fn globals(scene: &Scene, origin: glam::DVec3, tables: Option<&Tables>) -> globa
             scene.lights.len() as u32,
             u32::from(scene.shadows),
             u32::from(scene.spd_rays),
-            0,
+            u32::from(!scene.texels.is_empty()),
         ],
         kinds_lo: [kinds[0], kinds[1], kinds[2], kinds[3]],
         kinds_hi: [kinds[4], kinds[5], kinds[6], kinds[7]],

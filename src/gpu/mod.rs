@@ -43,7 +43,7 @@ pub use crate::base::{Precision, WORKGROUP};
 pub use crate::settings::Intersect;
 pub use error::{GpuError, VkCode};
 pub use features::EXPERIMENTS;
-pub use options::{GpuOptions, RenderSettings};
+pub use options::{check_define, check_include_dir, GpuOptions, RenderSettings};
 pub use prepared::{Prepared, Rendered};
 pub use renderer::Renderer;
 pub use schedule::Schedule;
@@ -100,6 +100,37 @@ mod tests {
         let (again, _) = renderer.render(&scene, &|_| {}).unwrap();
         assert!(again == before);
         assert_eq!(renderer.pipelines(), 1);
+    }
+
+    /// A renderer keeps at most `KEPT_PIPELINES` pipelines that no
+    /// prepared scene holds: one that rendered 40 variants (depths 1 to
+    /// 40) keeps the last ones, while a prepared scene's pipeline stays
+    /// alive and renders the same bits after the others went.
+    #[test]
+    fn a_renderer_keeps_a_bounded_number_of_pipelines() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let at_depth = |d: u32| {
+            let o = Overrides {
+                width: Some(8),
+                height: Some(6),
+                max_depth: Some(d),
+                ..Overrides::default()
+            };
+            Scene::load(&root.join("scenes/seed-fig5.toml"), &o).unwrap()
+        };
+        let mut renderer = Renderer::new(&GpuOptions::from_env(None)).unwrap();
+        let settings = renderer.settings();
+        let first = at_depth(1);
+        let mut held = renderer.prepare(&first, &settings).unwrap();
+        let before = held.render(None, &|_| {}).unwrap().image;
+        for d in 2..=40 {
+            renderer.render(&at_depth(d), &|_| {}).unwrap();
+            assert!(
+                renderer.pipelines() <= shared::KEPT_PIPELINES + 1,
+                "depth {d}"
+            );
+        }
+        assert_eq!(held.render(None, &|_| {}).unwrap().image, before);
     }
 
     /// A set stop flag fails the render before its first tile, and the

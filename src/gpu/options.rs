@@ -42,6 +42,50 @@ pub struct GpuOptions {
     pub stage_uploads: Option<bool>,
 }
 
+/// Whether `name` (and `value`) can be a preprocessor define: a name of
+/// letters, digits and _ that does not start with a digit, and a value
+/// without a character that ends or breaks the line the define becomes
+/// (glslang would blame a line of the shader for it). The reason where not.
+pub fn check_define(name: &str, value: Option<&str>) -> Result<(), String> {
+    let ok = name
+        .chars()
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+    if !ok {
+        return Err("a define is NAME or NAME=VALUE, NAME made of letters, digits and _".into());
+    }
+    let bad = value.and_then(|v| {
+        v.chars()
+            .find(|c| matches!(c, '"' | '\\' | '#') || c.is_control())
+    });
+    match bad {
+        Some(c) => Err(format!(
+            "a define's value may not hold {}",
+            c.escape_default()
+        )),
+        None => Ok(()),
+    }
+}
+
+/// Whether `dir` is a folder to search for shader files; the reason where
+/// not (a file, or nothing there).
+pub fn check_include_dir(dir: &std::path::Path) -> Result<(), String> {
+    if dir.is_dir() {
+        Ok(())
+    } else {
+        Err(format!(
+            "include folder {}: {}",
+            crate::printable::path(dir),
+            if dir.exists() {
+                "not a folder"
+            } else {
+                "no such folder"
+            }
+        ))
+    }
+}
+
 impl GpuOptions {
     /// Refuses what every render with these options would refuse, before
     /// any device is opened: a `-D` of a name glint defines itself for each
@@ -51,6 +95,14 @@ impl GpuOptions {
     /// driver's child.
     pub fn check(&self) -> Result<(), GpuError> {
         super::features::check_experiment()?;
+        for (name, value) in &self.defines {
+            check_define(name, value.as_deref()).map_err(|e| {
+                GpuError::Unsupported(format!("define {}: {e}", crate::printable::text(name)))
+            })?;
+        }
+        for dir in &self.include_dirs {
+            check_include_dir(dir).map_err(GpuError::Unsupported)?;
+        }
         match self
             .defines
             .iter()

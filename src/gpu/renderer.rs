@@ -123,6 +123,12 @@ impl Renderer {
         Ok((rendered.image, rendered.times))
     }
 
+    /// The user's shader files that replace one of glint's recording ones
+    /// and record nothing (`compile::Sources::unrecording`).
+    pub fn unrecording(&self) -> Vec<String> {
+        self.shared.sources.unrecording()
+    }
+
     /// The variant `prepare` would compile `scene` with under `settings`,
     /// and its defines (the user's last), without compiling it: `glint
     /// shader dump`'s source.

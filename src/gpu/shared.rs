@@ -21,6 +21,59 @@ use super::vk::pipeline_cache::PipelineCache;
 use super::{GpuError, Precision};
 use crate::scene::Scene;
 
+/// The pipelines a renderer keeps, each with when it was last asked for.
+#[derive(Default)]
+pub(super) struct Pipelines {
+    pub(super) map: HashMap<PipelineKey, (Arc<Pipeline>, u64)>,
+    clock: u64,
+}
+
+/// How many pipelines a renderer keeps beyond those its prepared scenes
+/// hold: a process that renders many variants (`glint fuzz`, a notebook)
+/// took 2.6 GB by its 300th on lavapipe, each kept for ever.
+pub(super) const KEPT_PIPELINES: usize = 32;
+
+impl Pipelines {
+    /// The pipeline of `key`, where kept, marked as just used.
+    fn get(&mut self, key: &PipelineKey) -> Option<Arc<Pipeline>> {
+        self.clock += 1;
+        let now = self.clock;
+        self.map.get_mut(key).map(|(p, used)| {
+            *used = now;
+            p.clone()
+        })
+    }
+
+    /// Keeps `pipeline` under `key`, in place of the variant's older one
+    /// (an edit's); then lets go of the least recently used ones that no
+    /// prepared scene holds, down to `KEPT_PIPELINES`.
+    fn insert(&mut self, key: PipelineKey, pipeline: Arc<Pipeline>) {
+        self.map.retain(|(v, _), _| *v != key.0);
+        self.clock += 1;
+        self.map.insert(key, (pipeline, self.clock));
+        while self.map.len() > KEPT_PIPELINES {
+            let idle = self
+                .map
+                .iter()
+                .filter(|(_, (p, _))| Arc::strong_count(p) == 1)
+                .min_by_key(|(_, (_, used))| *used)
+                .map(|(k, _)| k.clone());
+            match idle {
+                Some(k) => {
+                    self.map.remove(&k);
+                }
+                None => break,
+            }
+        }
+    }
+
+    /// How many are kept.
+    #[cfg(test)]
+    pub(super) fn len(&self) -> usize {
+        self.map.len()
+    }
+}
+
 /// What the renderer and every scene it prepared share. Field order is
 /// drop order: the pipelines and the pipeline cache go before the device
 /// (each holds its own `Arc` of it as well).
@@ -29,7 +82,7 @@ pub(crate) struct Shared {
     /// that an edited shader file makes a new pipeline (`glint watch`),
     /// which replaces the variant's old one here; a scene prepared with
     /// the old one keeps it.
-    pub(super) pipelines: Mutex<HashMap<PipelineKey, Arc<Pipeline>>>,
+    pub(super) pipelines: Mutex<Pipelines>,
     pub(super) pipeline_cache: PipelineCache,
     pub device: Arc<Device>,
     pub(super) sources: compile::Sources,
@@ -124,7 +177,7 @@ impl Shared {
         };
         let mut pipelines = self.pipelines.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(p) = pipelines.get(&key) {
-            return Ok((p.clone(), setup));
+            return Ok((p, setup));
         }
         let t0 = Instant::now();
         let (spirv, cached) =
@@ -141,8 +194,6 @@ impl Shared {
         setup.compile_s = (t1 - t0).as_secs_f64();
         setup.pipeline_s = t1.elapsed().as_secs_f64();
         setup.spirv_cached = cached;
-        // An edit's pipeline replaces the variant's old one.
-        pipelines.retain(|(v, _), _| *v != key.0);
         let pipeline = Arc::new(Pipeline {
             raw,
             driver_compiled: AtomicBool::new(false),

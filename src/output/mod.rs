@@ -17,7 +17,7 @@ use std::fs::{File, Metadata};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-pub use partial::remove_in_progress;
+pub use partial::{alive, remove_in_progress};
 
 /// An output that may not be written; each names the file.
 #[derive(Debug, thiserror::Error)]

@@ -65,14 +65,16 @@ fn stale_pid(name: &str) -> Option<u32> {
     pid.parse().ok()
 }
 
+/// Whether process `pid` runs (a run's leftovers are removed only where
+/// it does not).
 #[cfg(target_os = "linux")]
-fn alive(pid: u32) -> bool {
+pub fn alive(pid: u32) -> bool {
     Path::new(&format!("/proc/{pid}")).exists()
 }
 
 /// Without /proc, every pid counts as alive: nothing is removed.
 #[cfg(not(target_os = "linux"))]
-fn alive(_pid: u32) -> bool {
+pub fn alive(_pid: u32) -> bool {
     true
 }
 

@@ -239,6 +239,9 @@ impl Kind for SwappedMeta {
     fn example(material: u32) -> Self {
         SwappedMeta(sphere::Sphere::example(material))
     }
+    fn sample(p: &mut crate::base::place::Place) -> Self::File {
+        sphere::Sphere::sample(p)
+    }
 }
 
 #[test]

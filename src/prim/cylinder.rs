@@ -22,6 +22,7 @@ use serde::{Deserialize, Serialize};
 use super::{Kind, Shape};
 use crate::base::aabb::Aabb;
 use crate::base::exact::power;
+use crate::base::place::Place;
 use crate::base::ray::Ray;
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
@@ -190,6 +191,20 @@ impl Kind for Cylinder {
     fn example(material: u32) -> Self {
         let (base, apex) = (DVec3::new(-1.0, 0.0, 0.5), DVec3::new(1.0, 0.5, 1.0));
         Cylinder::new(base, 0.5, apex, 0.25, material).expect("a cylinder with an axis")
+    }
+
+    /// A cylinder, a cone or a truncated cone along a random axis.
+    fn sample(p: &mut Place) -> CylinderFile {
+        let axis = p.unit() * p.size;
+        let base_radius = p.size * 0.5;
+        let apex_radius = [base_radius, 0.0, base_radius * 0.3][p.pick(3)];
+        CylinderFile {
+            base: Triple(Place::triple(p.center - axis)),
+            base_radius,
+            apex: Triple(Place::triple(p.center + axis)),
+            apex_radius,
+            material: p.material.to_owned(),
+        }
     }
 
     fn cpu<R: Real>(&self) -> CylinderR<R> {

@@ -21,6 +21,7 @@ use serde::de::DeserializeOwned;
 use crate::base::aabb::Aabb;
 use crate::base::count::Counter;
 use crate::base::interface::{self, Array, GpuStruct};
+use crate::base::place::Place;
 use crate::base::ray::Ray;
 use crate::base::real::{Real, Vec3};
 use crate::base::tally::Tally;
@@ -47,7 +48,7 @@ pub(crate) use with_kinds;
 /// What one kind provides.
 pub trait Kind: Clone + PartialEq + std::fmt::Debug + Send + Sync + 'static {
     /// Its table in the scene file.
-    type File: DeserializeOwned + std::fmt::Debug;
+    type File: DeserializeOwned + serde::Serialize + std::fmt::Debug;
     /// Its struct in the shader's buffers.
     type Gpu: GpuStruct;
     /// Its form in the CPU reference's arithmetic.
@@ -107,6 +108,9 @@ pub trait Kind: Clone + PartialEq + std::fmt::Debug + Send + Sync + 'static {
     /// that every kind must pass (src/prim/contract_tests.rs).
     #[cfg(test)]
     fn example(material: u32) -> Self;
+    /// One primitive of this kind about `p.center`, of about `p.size`, as a
+    /// scene file's table: what `crate::generate` puts in a scene.
+    fn sample(p: &mut Place) -> Self::File;
 }
 
 /// Up to three balls (centre, radius) whose convex hull holds a primitive:
@@ -186,6 +190,13 @@ pub struct KindInfo {
     pub lift: bool,
     pub frame: bool,
     pub uv: bool,
+    /// `Kind::sample`, as a scene file's table.
+    pub(crate) sample: fn(&mut Place) -> toml::Table,
+}
+
+/// `K::sample` as a TOML table (a file struct always serializes to one).
+fn sample_table<K: Kind>(p: &mut Place) -> toml::Table {
+    toml::Table::try_from(K::sample(p)).expect("a kind's file table serializes")
 }
 
 impl KindInfo {
@@ -203,6 +214,7 @@ impl KindInfo {
             lift: K::LIFT,
             frame: K::FRAME,
             uv: K::UV,
+            sample: sample_table::<K>,
         }
     }
 

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{Frame, Kind, Shape};
 use crate::base::aabb::Aabb;
+use crate::base::place::Place;
 use crate::base::ray::Ray;
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
@@ -112,6 +113,16 @@ impl Kind for Plane {
             normal: DVec3::Y,
             origin: DVec3::new(0.5, -1.0, 0.25),
             material,
+        }
+    }
+
+    /// A floor through the place, below its centre, tilted at random.
+    fn sample(p: &mut Place) -> PlaneFile {
+        let normal = p.upward();
+        PlaneFile {
+            point: Triple(Place::triple(p.center - normal * p.size)),
+            normal: Triple(Place::triple(normal)),
+            material: p.material.to_owned(),
         }
     }
 

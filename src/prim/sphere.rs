@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 use super::{Kind, Shape};
 use crate::base::aabb::Aabb;
 use crate::base::exact::power;
+use crate::base::place::Place;
 use crate::base::ray::Ray;
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
@@ -110,6 +111,14 @@ impl Kind for Sphere {
             center: DVec3::new(0.5, -1.0, 2.0),
             radius: 0.75,
             material,
+        }
+    }
+
+    fn sample(p: &mut Place) -> SphereFile {
+        SphereFile {
+            center: Triple(Place::triple(p.center)),
+            radius: p.size,
+            material: p.material.to_owned(),
         }
     }
 

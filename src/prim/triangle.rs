@@ -18,6 +18,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{Frame, Kind, Shape};
 use crate::base::aabb::Aabb;
+use crate::base::place::Place;
 use crate::base::ray::Ray;
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
@@ -229,6 +230,32 @@ impl Kind for Triangle {
             DVec3::new(0.0, 1.0, 2.0),
         ];
         Triangle::new(vertices, None, material).expect("a triangle with area")
+    }
+
+    /// An equilateral triangle turned at random, with uvs (so that an
+    /// image texture has something to read) and, half the time, vertex
+    /// normals leaning out of its plane.
+    fn sample(p: &mut Place) -> TriangleFile {
+        let normal = p.unit();
+        let (u, v) = Place::frame(normal);
+        let turn = p.uniform(0.0, std::f64::consts::TAU);
+        let corner = |k: f64| {
+            let a = turn + k * std::f64::consts::TAU / 3.0;
+            p.center + (u * a.cos() + v * a.sin()) * p.size
+        };
+        let vertices = [0.0, 1.0, 2.0].map(|k| Triple(Place::triple(corner(k))));
+        let normals = (p.pick(2) == 1).then(|| {
+            [0, 1, 2].map(|_| {
+                let lean = p.unit() * 0.3;
+                Triple(Place::triple((normal + lean).normalize()))
+            })
+        });
+        TriangleFile {
+            vertices,
+            normals,
+            uvs: Some([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]),
+            material: p.material.to_owned(),
+        }
     }
 
     fn cpu<R: Real>(&self) -> TriangleR<R> {

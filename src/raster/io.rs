@@ -12,6 +12,9 @@ use crate::output::{self, OutputError, Outputs, TargetKind};
 /// An image file that cannot be read or written; each names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum ImageIoError {
+    /// An image whose pixels do not fit in this process's memory.
+    #[error(transparent)]
+    TooLarge(super::memory::TooLarge),
     /// An extension other than .png, .pfm and .exr.
     #[error("{}: unsupported image type (expected .png, .pfm or .exr)", crate::printable::path(.0))]
     Format(PathBuf),
@@ -223,6 +226,8 @@ pub fn read(path: &Path) -> Result<Image, ImageIoError> {
                 .read_to_end(&mut bytes)
                 .map_err(io_err(path))?;
             let (w, h, _, pos) = pfm_header(&bytes).map_err(bad)?;
+            // The bytes and the image made of them.
+            fits(path, w, h, 2 * 12)?;
             // The pixels the header promises and one byte more, which shows
             // any excess: a 1x1 header over a gigabyte is refused once 14
             // bytes are read, not the gigabyte (issue 31).
@@ -248,6 +253,8 @@ pub fn read(path: &Path) -> Result<Image, ImageIoError> {
             };
             let mut decoder = reader_of(path, format)?.into_decoder().map_err(codec)?;
             let (w, h) = image::ImageDecoder::dimensions(&decoder);
+            // The decode (16 bytes a pixel at most) and the image.
+            fits(path, w, h, 16 + 12)?;
             let pixels = (u64::from(w) * u64::from(h)).min(MAX_PIXELS);
             let mut bound = limits(pixels * 16 + HEADER_BYTES);
             bound
@@ -269,6 +276,23 @@ pub fn read(path: &Path) -> Result<Image, ImageIoError> {
             Ok(Image::new(w, h, pixels))
         }
     }
+}
+
+/// Refuses to read `path`, a `w`×`h` image, where `per_pixel` bytes a
+/// pixel do not fit in this process's memory (issue 57, defect 7: a 783
+/// KB PNG that declares 16384² aborted the Python interpreter).
+fn fits(path: &Path, w: u32, h: u32, per_pixel: u64) -> Result<(), ImageIoError> {
+    let pixels = (u64::from(w) * u64::from(h)).min(MAX_PIXELS);
+    super::memory::check(
+        || {
+            format!(
+                "{}: reading its {w}x{h} pixels",
+                crate::printable::path(path)
+            )
+        },
+        pixels * per_pixel,
+    )
+    .map_err(ImageIoError::TooLarge)
 }
 
 fn check_size(w: u32, h: u32) -> Result<(), String> {

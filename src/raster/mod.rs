@@ -2,6 +2,7 @@
 
 pub mod diff;
 pub mod io;
+pub mod memory;
 pub mod region;
 
 /// A linear RGB image, rows top to bottom.

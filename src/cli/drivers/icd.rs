@@ -4,6 +4,18 @@
 
 use std::path::{Path, PathBuf};
 
+/// Refuses an `--icd` that is not a manifest file, saying what the path is
+/// (issue 42, defect 15: a directory, a FIFO and a loop of links were all
+/// "no such file"; issue 57, defect 8: `explain --icd` took a folder or a
+/// FIFO and waited on it), before any child starts.
+pub fn check_given(files: &[PathBuf]) -> anyhow::Result<()> {
+    for f in files {
+        glint::input::check(f, glint::input::Kind::Manifest)
+            .map_err(|e| anyhow::anyhow!("--icd {}: {e}", glint::printable::path(f)))?;
+    }
+    Ok(())
+}
+
 /// Where the Vulkan loader looks for ICD manifests on Linux, in its order:
 /// `VK_DRIVER_FILES` (or the older `VK_ICD_FILENAMES`) alone where set,
 /// else the `vulkan/icd.d` folder of each XDG config and data folder and

@@ -2,54 +2,17 @@
 //! may use, checked before minutes of rendering (issue 42, defect 12:
 //! 16384x16384 aborted on an allocation after the reference was made).
 
+use glint::raster::memory::{limit, OVERHEAD};
+
 /// The images of one scene the parent holds at once, at most: the CPU
 /// reference, the driver's image, and what judging a wrong one adds (the
 /// conditioning trials, the heat map). Measured: 220 MB at the peak of a
 /// passing 2048x2048 run and 293 MB of a failing one, 50 MB an image.
 pub const IMAGES_AT_ONCE: u64 = 6;
 
-/// What the rest of the parent takes, besides the images.
-const OVERHEAD: u64 = 256 << 20;
-
 /// Bytes the parent needs for images of `pixels` pixels.
 pub fn needed(pixels: u64) -> u64 {
     IMAGES_AT_ONCE * pixels * std::mem::size_of::<[f32; 3]>() as u64 + OVERHEAD
-}
-
-/// The most this process may use, and what says so: its address-space
-/// limit (`ulimit -v`) or the memory the machine has available, whichever
-/// is less; None where neither is known.
-pub fn limit() -> Option<(u64, &'static str)> {
-    let mut limits = Vec::new();
-    let mut rl = libc::rlimit {
-        rlim_cur: 0,
-        rlim_max: 0,
-    };
-    // SAFETY: a query into a struct of the right type.
-    if unsafe { libc::getrlimit(libc::RLIMIT_AS, &mut rl) } == 0
-        && rl.rlim_cur != libc::RLIM_INFINITY
-    {
-        limits.push((rl.rlim_cur, "its address-space limit (ulimit -v)"));
-    }
-    if let Some(kb) = std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .and_then(|t| available_kb(&t))
-    {
-        limits.push((kb * 1024, "the memory available on this machine"));
-    }
-    limits.into_iter().min_by_key(|(bytes, _)| *bytes)
-}
-
-/// MemAvailable of /proc/meminfo, in kB.
-fn available_kb(meminfo: &str) -> Option<u64> {
-    meminfo
-        .lines()
-        .find_map(|l| l.strip_prefix("MemAvailable:"))?
-        .trim()
-        .strip_suffix("kB")?
-        .trim()
-        .parse()
-        .ok()
 }
 
 /// Refuses a size whose images do not fit, in one line that says what
@@ -74,13 +37,6 @@ fn gb(bytes: u64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn available_memory_is_read_from_meminfo() {
-        let text = "MemTotal:       24000000 kB\nMemAvailable:   20123456 kB\n";
-        assert_eq!(available_kb(text), Some(20_123_456));
-        assert_eq!(available_kb("MemTotal: 1 kB\n"), None);
-    }
 
     #[test]
     fn the_largest_size_needs_six_images() {

@@ -5,7 +5,7 @@
 
 use crate::cli::console::{out, outln};
 
-mod icd;
+pub mod icd;
 mod memory;
 pub mod probe;
 mod repro;
@@ -85,6 +85,9 @@ struct Driver {
 }
 
 /// What every run of one scene shares.
+/// The shortest --deadline: a probe's start and its driver's load.
+const MIN_DEADLINE: Duration = Duration::from_secs(1);
+
 struct Run<'a> {
     args: &'a DriversArgs,
     device_args: Vec<OsString>,
@@ -108,17 +111,21 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
         Ok(Duration::from_secs_f64(v))
     };
     let deadline = seconds("--deadline", a.deadline.unwrap_or(120.0))?;
+    // Below a second a probe is killed while its process and the driver
+    // load, and every driver, with a device or none, would read "hung"
+    // (issue 57, item 13): that is no verdict on a driver.
+    anyhow::ensure!(
+        deadline >= MIN_DEADLINE,
+        "--deadline {:?}: must be at least {} s, the time a probe takes to start and load its driver",
+        a.deadline.unwrap_or_default(),
+        MIN_DEADLINE.as_secs()
+    );
     let shrink_budget = seconds("--shrink-budget", a.shrink_budget.unwrap_or(60.0))?;
     let budget = a.budget.map(|b| seconds("--budget", b)).transpose()?;
     // The options every child would refuse, refused once here (issue 42,
     // defect 5: each driver became "no device" or "refused", exit 0).
     a.device.options()?.check()?;
-    // What the path is, where it is not a manifest (issue 42, defect 15:
-    // a directory, a FIFO and a loop of links were all "no such file").
-    for f in &a.icd {
-        glint::input::check(f, glint::input::Kind::Manifest)
-            .map_err(|e| anyhow::anyhow!("--icd {}: {e}", glint::printable::path(f)))?;
-    }
+    icd::check_given(&a.icd)?;
     let size = Overrides {
         width: Some(a.width.unwrap_or(if a.quick { 64 } else { 160 })),
         height: Some(a.height.unwrap_or(if a.quick { 48 } else { 120 })),
@@ -172,8 +179,13 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
             outputs.check(&f)?;
         }
     }
-    let work = tempfile::tempdir().context("cannot make a temporary folder")?;
+    staging::remove_stale_work();
+    let work = tempfile::Builder::new()
+        .prefix(&staging::work_prefix())
+        .tempdir()
+        .context("cannot make a temporary folder")?;
     crate::cli::interrupt::folder_made(work.path());
+    staging::room(work.path())?;
     let run = Run {
         args: a,
         device_args: a.device.forward(),

@@ -340,18 +340,16 @@ pub fn bounded(
 ) -> anyhow::Result<Option<ExitStatus>> {
     let file = std::fs::File::create(stderr)
         .with_context(|| format!("cannot create {}", stderr.display()))?;
-    let mut child = c
-        .stderr(file)
-        .spawn()
-        .context("cannot start a child glint")?;
+    let mut child =
+        crate::cli::interrupt::spawn(c.stderr(file)).context("cannot start a child glint")?;
     wait(&mut child, limit)
 }
 
-/// Waits for `child` at most `limit`; kills it and returns None past that.
-/// Until it is reaped, an interrupted run kills it (`interrupt`).
+/// Waits for `child` (started by `interrupt::spawn`) at most `limit`;
+/// kills it and returns None past that. Until it is reaped, an interrupted
+/// run kills it (`interrupt`).
 fn wait(child: &mut Child, limit: Duration) -> anyhow::Result<Option<ExitStatus>> {
     let pid = child.id();
-    crate::cli::interrupt::child_started(pid);
     let status = wait_for(child, limit);
     crate::cli::interrupt::child_ended(pid);
     status

@@ -21,17 +21,7 @@ pub(super) fn file(
     position: Option<[f64; 3]>,
     direction: Option<[f64; 3]>,
 ) -> LightFile {
-    LightFile {
-        kind: kind.to_owned(),
-        position: position.map(Triple),
-        direction: direction.map(Triple),
-        ambient: Triple([0.1; 3]),
-        diffuse: Triple([1.0; 3]),
-        specular: Triple([0.5; 3]),
-        attenuation: None,
-        cutoff: None,
-        exponent: None,
-    }
+    LightFile::placed(kind, position, direction)
 }
 
 fn checked(f: &LightFile) -> Result<Light, SceneError> {
@@ -155,6 +145,9 @@ fn a_type_without_its_function_is_named() {
         }
         fn example() -> LightFile {
             file("point", Some([1.0, 2.0, 3.0]), None)
+        }
+        fn sample(_: &mut crate::base::place::Place) -> LightFile {
+            Self::example()
         }
     }
     let found = problems::<Broken>(LightKind::Point);

@@ -2,6 +2,7 @@
 //! mirrors shaders/light/directional.glsl.
 
 use super::{LightAt, LightR, LightType, Placement, Toward};
+use crate::base::place::Place;
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
 
@@ -23,6 +24,11 @@ impl LightType for Directional {
 
     fn toward<R: Real>(l: &LightR<R>, _p: Vec3<R>) -> Toward<R> {
         (-l.direction, R::infinity(), R::one())
+    }
+
+    fn sample(p: &mut Place) -> super::LightFile {
+        let way = -p.upward();
+        super::LightFile::placed(Self::NAME, None, Some(Place::triple(way)))
     }
 
     #[cfg(test)]

@@ -18,6 +18,7 @@ mod contract_tests;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+use crate::base::place::Place;
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
 use crate::input::field::{Check, Triple};
@@ -65,6 +66,26 @@ pub struct LightFile {
 }
 
 impl LightFile {
+    /// A light of type `kind` at `position` or along `direction`, white,
+    /// with a little ambient, and its other keys left out.
+    pub(crate) fn placed(
+        kind: &str,
+        position: Option<[f64; 3]>,
+        direction: Option<[f64; 3]>,
+    ) -> Self {
+        LightFile {
+            kind: kind.to_owned(),
+            position: position.map(Triple),
+            direction: direction.map(Triple),
+            ambient: Triple([0.1; 3]),
+            diffuse: Triple([1.0; 3]),
+            specular: Triple([0.5; 3]),
+            attenuation: None,
+            cutoff: None,
+            exponent: None,
+        }
+    }
+
     /// The keys a type may take (beside `type` and the three colours),
     /// each with whether this table has it.
     fn typed_keys(&self) -> [(&'static str, bool); 5] {
@@ -256,6 +277,10 @@ pub trait LightType {
     /// One light of this type, for the contract tests.
     #[cfg(test)]
     fn example() -> LightFile;
+    /// One light of this type that lights `p.center` from about `p.size`
+    /// away, as a scene file's table: what `crate::generate` puts in a
+    /// scene (it sets the colours).
+    fn sample(p: &mut Place) -> LightFile;
 }
 
 /// What the generated code knows of a light type.
@@ -273,6 +298,8 @@ pub struct LightTypeInfo {
     pub positioned: bool,
     /// `LightType::CONE`.
     pub cone: bool,
+    /// `LightType::sample`.
+    pub(crate) sample: fn(&mut Place) -> LightFile,
 }
 
 impl LightTypeInfo {
@@ -284,6 +311,7 @@ impl LightTypeInfo {
             keys: T::KEYS,
             positioned: T::POSITIONED,
             cone: T::CONE,
+            sample: T::sample,
         }
     }
 

@@ -2,8 +2,10 @@
 //! distance; mirrors shaders/light/point.glsl.
 
 use super::{LightAt, LightR, LightType, Placement, Toward};
+use crate::base::place::Place;
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
+use crate::input::field::Triple;
 
 pub struct Point;
 
@@ -27,6 +29,15 @@ impl LightType for Point {
         let a = l.attenuation;
         let att = (a.x + a.y * dist + a.z * dist * dist).recip();
         (to_light / dist, dist, att)
+    }
+
+    fn sample(p: &mut Place) -> super::LightFile {
+        let at = p.center + p.upward() * (3.0 * p.size);
+        let mut f = super::LightFile::placed(Self::NAME, Some(Place::triple(at)), None);
+        if p.pick(2) == 1 {
+            f.attenuation = Some(Triple([1.0, p.uniform(0.0, 0.2), p.uniform(0.0, 0.05)]));
+        }
+        f
     }
 
     #[cfg(test)]

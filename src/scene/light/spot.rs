@@ -3,6 +3,7 @@
 
 use super::point::Point;
 use super::{LightAt, LightR, LightType, Placement, Toward};
+use crate::base::place::Place;
 use crate::base::real::{spec_pow, Real, Vec3};
 use crate::input::error::SceneError;
 
@@ -54,6 +55,21 @@ impl LightType for Spot {
         } else {
             R::zero()
         }
+    }
+
+    /// A spot above the place, aimed near its centre.
+    fn sample(p: &mut Place) -> super::LightFile {
+        let at = p.center + p.upward() * (3.0 * p.size);
+        let aim = p.center + p.unit() * (0.5 * p.size);
+        let way = (aim - at).normalize();
+        let mut f = super::LightFile::placed(
+            Self::NAME,
+            Some(Place::triple(at)),
+            Some(Place::triple(way)),
+        );
+        f.cutoff = Some(p.uniform(15.0, 70.0));
+        f.exponent = Some([0.0, 1.0, p.uniform(0.0, 16.0)][p.pick(3)]);
+        f
     }
 
     #[cfg(test)]

@@ -1,7 +1,8 @@
 //! The checkers: squares in a surface's own coordinates, and cubes in the
 //! scene's; mirrors shaders/texture/checker.glsl.
 
-use super::{Needs, PatternType, TextureR};
+use super::{sample_colors, Needs, PatternType, TextureFile, TextureR};
+use crate::base::place::Place;
 use crate::base::real::{Real, Vec3};
 use crate::prim::Shape;
 
@@ -39,6 +40,16 @@ impl PatternType for Checker {
             ((c * a + s * b) / t.size).floor() + ((c * b - s * a) / t.size).floor(),
         )
     }
+
+    fn sample(p: &mut Place) -> TextureFile {
+        TextureFile {
+            pattern: Some(Self::NAME.to_owned()),
+            size: Some(p.size * p.uniform(0.2, 0.7)),
+            colors: Some(sample_colors(p)),
+            angle: Some(p.uniform(0.0, 90.0)),
+            ..TextureFile::default()
+        }
+    }
 }
 
 /// Cubes of side `size` in the scene's coordinates, from a corner at
@@ -59,5 +70,16 @@ impl PatternType for SolidChecker {
             t,
             (q.x / t.size).floor() + (q.y / t.size).floor() + (q.z / t.size).floor(),
         )
+    }
+
+    fn sample(p: &mut Place) -> TextureFile {
+        let corner = p.center + p.unit() * p.size;
+        TextureFile {
+            pattern: Some(Self::NAME.to_owned()),
+            size: Some(p.size * p.uniform(0.2, 0.7)),
+            colors: Some(sample_colors(p)),
+            origin: Some(crate::input::field::Triple(Place::triple(corner))),
+            ..TextureFile::default()
+        }
     }
 }

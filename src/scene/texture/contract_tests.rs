@@ -164,6 +164,9 @@ fn a_pattern_without_its_function_is_named() {
         ) -> Vec3<R> {
             t.colors[0] * R::of(0.5)
         }
+        fn sample(_: &mut crate::base::place::Place) -> TextureFile {
+            TextureFile::default()
+        }
     }
     let found = problems::<Broken>(PATTERNS[0].pattern);
     for wanted in [

@@ -1,7 +1,8 @@
 //! An image's texels at the surface's uv coordinates, filtered bilinearly
 //! and repeated; mirrors shaders/texture/image.glsl.
 
-use super::{Needs, PatternType, TextureR};
+use super::{Needs, PatternType, TextureFile, TextureR};
+use crate::base::place::Place;
 use crate::base::real::{Real, Vec3};
 use crate::prim::Shape;
 
@@ -32,6 +33,22 @@ impl PatternType for Image {
             t,
             [(c * a + s * b) / t.size, (c * b - s * a) / t.size],
         )
+    }
+
+    /// A 4×4 PFM of random texels beside the scene.
+    fn sample(p: &mut Place) -> TextureFile {
+        let name = format!("texture-{}.pfm", p.files.len());
+        let mut bytes = b"PF\n4 4\n-1.0\n".to_vec();
+        for _ in 0..4 * 4 * 3 {
+            bytes.extend((p.uniform(0.0, 1.0) as f32).to_le_bytes());
+        }
+        p.files.push((name.clone(), bytes));
+        TextureFile {
+            image: Some(name),
+            size: Some(p.uniform(0.3, 1.0)),
+            angle: Some(p.uniform(0.0, 90.0)),
+            ..TextureFile::default()
+        }
     }
 }
 

@@ -22,6 +22,7 @@ mod contract_tests;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+use crate::base::place::Place;
 use crate::base::real::{Real, Vec3};
 use crate::input::field::Triple;
 use crate::prim::Shape;
@@ -41,7 +42,7 @@ macro_rules! with_patterns {
 }
 
 /// `[textures.NAME]` as written: a `pattern` or an `image`.
-#[derive(Debug, Deserialize, Serialize)]
+#[derive(Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TextureFile {
     /// A pattern's name (the table's patterns not read from a file).
@@ -231,6 +232,36 @@ pub trait PatternType {
         surface: &dyn Shape<R>,
         p: Vec3<R>,
     ) -> Vec3<R>;
+    /// One texture of this pattern, of squares about `p.size`, as a scene
+    /// file's table (an image's file added to `p.files`): what
+    /// `crate::generate` gives a textured material.
+    fn sample(p: &mut Place) -> TextureFile;
+}
+
+/// Two colours apart from each other, for a generated pattern.
+pub(crate) fn sample_colors(p: &mut Place) -> [Triple; 2] {
+    let a = [
+        p.uniform(0.5, 1.0),
+        p.uniform(0.0, 1.0),
+        p.uniform(0.0, 0.5),
+    ];
+    let b = [
+        p.uniform(0.0, 0.3),
+        p.uniform(0.0, 0.3),
+        p.uniform(0.3, 1.0),
+    ];
+    [Triple(a), Triple(b)]
+}
+
+impl Needs {
+    /// Whether primitives of `kind` have what this asks of a surface.
+    pub(crate) fn met_by(self, kind: &crate::prim::KindInfo) -> bool {
+        match self {
+            Needs::Frame => kind.frame,
+            Needs::Uv => kind.uv,
+            Needs::Nothing => true,
+        }
+    }
 }
 
 /// What the generated code knows of a pattern.
@@ -254,6 +285,8 @@ pub struct PatternInfo {
     pub default_size: Option<f64>,
     /// `PatternType::NEEDS`.
     pub needs: Needs,
+    /// `PatternType::sample`.
+    pub(crate) sample: fn(&mut Place) -> TextureFile,
 }
 
 impl PatternInfo {
@@ -268,6 +301,7 @@ impl PatternInfo {
             keys: P::KEYS,
             default_size: P::DEFAULT_SIZE,
             needs: P::NEEDS,
+            sample: P::sample,
         }
     }
 

@@ -1,0 +1,171 @@
+//! The GPU's properties of a generated scene: against the f64 reference,
+//! and against its own other forms (scene managements, schedules, a
+//! region, a second render, the counting variant).
+
+use super::{compare_failure, first_difference, Device, Failure, Property, Wanted};
+use crate::accel::Accel;
+use crate::cpu;
+use crate::gpu::{GpuError, GpuOptions, RenderSettings, Renderer};
+use crate::raster::region::Region;
+use crate::raster::Image;
+use crate::scene::Scene;
+use crate::settings::Schedule;
+use crate::stats::Counts;
+
+/// The GPU renderer the properties run on.
+pub struct GpuOracle {
+    renderer: Renderer,
+}
+
+impl GpuOracle {
+    /// A renderer on the device `opts` names.
+    pub fn new(opts: &GpuOptions) -> Result<Self, GpuError> {
+        Ok(Self {
+            renderer: Renderer::new(opts)?,
+        })
+    }
+
+    /// The renderer's device, in words.
+    pub fn device(&self) -> String {
+        let d = self.renderer.device_info();
+        format!("{} ({})", d.name, d.driver)
+    }
+
+    fn render(
+        &mut self,
+        scene: &Scene,
+        settings: &RenderSettings,
+        region: Option<Region>,
+    ) -> Result<(Image, Option<Counts>), GpuError> {
+        let r = self
+            .renderer
+            .prepare(scene, settings)?
+            .render(region, &|_| {})?;
+        Ok((r.image, r.counts))
+    }
+}
+
+/// `img`'s pixels within `r`.
+fn crop(img: &Image, r: Region) -> Image {
+    let pixels = (r.y..r.y + r.height)
+        .flat_map(|y| (r.x..r.x + r.width).map(move |x| (x, y)))
+        .map(|(x, y)| img.get(x, y))
+        .collect();
+    Image::new(r.width, r.height, pixels)
+}
+
+/// The counters where the GPU's counts and the CPU f32's differ by more
+/// than 0.1 % and 4 (a ray whose hit the two decide differently spawns a
+/// few more; docs/guarantees.md), as text.
+fn count_differences(gpu: &Counts, cpu: &Counts) -> Vec<String> {
+    gpu.named()
+        .into_iter()
+        .zip(cpu.named())
+        .filter(|((_, a), (_, b))| a.abs_diff(*b) as f64 > (1e-3 * (*a).max(*b) as f64).max(4.0))
+        .map(|((name, a), (_, b))| format!("{name} {a} on the GPU against {b}"))
+        .collect()
+}
+
+impl Device for GpuOracle {
+    fn check(&mut self, scene: &Scene, reference: &Image, wanted: Wanted) -> Vec<Failure> {
+        let mut out = Vec::new();
+        let mut fail = |property, detail: String| out.push(Failure { property, detail });
+        let plain = RenderSettings::default();
+        let image = match self.render(scene, &plain, None) {
+            Ok((image, _)) => image,
+            Err(e) => {
+                fail(Property::GpuCompare, format!("the render failed: {e}"));
+                return out;
+            }
+        };
+        if wanted(Property::GpuCompare) {
+            if let Some(d) = compare_failure(scene, &image, reference) {
+                fail(Property::GpuCompare, d);
+            }
+        }
+        // Another render of a different settings' variant, bit for bit the
+        // plain one; an unsupported combination is no failure.
+        let same = |this: &mut Self, property, what: String, settings: RenderSettings| match this
+            .render(scene, &settings, None)
+        {
+            Ok((img, _)) => {
+                first_difference(&img, &image).map(|d| (property, format!("{what}: {d}")))
+            }
+            Err(GpuError::Unsupported(_)) => None,
+            Err(e) => Some((property, format!("{what}: the render failed: {e}"))),
+        };
+        let mut found = Vec::new();
+        if wanted(Property::GpuAccel) {
+            for accel in [Accel::None, Accel::Bvh, Accel::Tables] {
+                let s = RenderSettings { accel, ..plain };
+                found.extend(same(
+                    self,
+                    Property::GpuAccel,
+                    format!("--accel {accel:?}"),
+                    s,
+                ));
+            }
+        }
+        if wanted(Property::GpuSchedule) {
+            for schedule in [Schedule::Megakernel, Schedule::Wavefront] {
+                let s = RenderSettings { schedule, ..plain };
+                found.extend(same(
+                    self,
+                    Property::GpuSchedule,
+                    format!("--schedule {schedule:?}"),
+                    s,
+                ));
+            }
+        }
+        if wanted(Property::GpuRegion) {
+            found.extend(same(
+                self,
+                Property::GpuRegion,
+                "a second render".into(),
+                plain,
+            ));
+            let (w, h) = (scene.width, scene.height);
+            let r = Region {
+                x: w / 4,
+                y: h / 3,
+                width: (w / 2).max(1),
+                height: (h / 2).max(1),
+            };
+            match self.render(scene, &plain, Some(r)) {
+                Ok((img, _)) => {
+                    if let Some(d) = first_difference(&img, &crop(&image, r)) {
+                        found.push((Property::GpuRegion, format!("the region {r:?}: {d}")));
+                    }
+                }
+                Err(e) => found.push((Property::GpuRegion, format!("the region failed: {e}"))),
+            }
+        }
+        if wanted(Property::GpuCounts) {
+            let s = RenderSettings {
+                count: true,
+                ..plain
+            };
+            match self.render(scene, &s, None) {
+                Ok((img, Some(counts))) => {
+                    if let Some(d) = first_difference(&img, &image) {
+                        found.push((
+                            Property::GpuCounts,
+                            format!("counting changed the image: {d}"),
+                        ));
+                    }
+                    let cpu = cpu::render_counted::<f32>(scene, Accel::Auto, &|_| {}).1;
+                    let off = count_differences(&counts, &cpu);
+                    if !off.is_empty() {
+                        found.push((Property::GpuCounts, off.join(", ")));
+                    }
+                }
+                Ok((_, None)) => found.push((Property::GpuCounts, "no counts came back".into())),
+                Err(e) => found.push((Property::GpuCounts, format!("the render failed: {e}"))),
+            }
+        }
+        for (property, detail) in found {
+            fail(property, detail);
+        }
+        out
+    }
+}
