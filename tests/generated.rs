@@ -313,3 +313,47 @@ fn the_found_scenes_stay_fixed() {
         }
     }
 }
+
+/// `glint drivers --generated N` holds every driver to the reference on N
+/// generated scenes, written under -o, as on the scenes named.
+#[cfg(feature = "gpu")]
+#[test]
+fn drivers_runs_generated_scenes() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let icd = std::fs::read_dir("/usr/share/vulkan/icd.d")
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .find(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("lvp_icd"))
+        })
+        .expect("lavapipe's ICD file");
+    let o = common::glint(&[
+        "drivers",
+        "--generated",
+        "3",
+        "--quick",
+        "--icd",
+        icd.to_str().unwrap(),
+        "--only",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("drivers.json")).unwrap()).unwrap();
+    let rows: Vec<&str> = json["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["scene"].as_str().unwrap())
+        .collect();
+    assert_eq!(rows, ["case-56-0", "case-56-1", "case-56-2"]);
+    assert!(out.join("generated/case-56-2.toml").is_file());
+}

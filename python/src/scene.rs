@@ -170,36 +170,17 @@ fn to_toml(v: &Bound<'_, PyAny>, at: &str, depth: usize, out: &mut String) -> Py
         return Ok(());
     }
     if let Ok(d) = v.cast::<PyDict>() {
-        // The top level as `key = value` lines, the rest inline.
-        let top = depth == 0;
-        if !top {
-            out.push('{');
-        }
+        out.push('{');
         for (n, (k, item)) in d.iter().enumerate() {
-            let k: String = k.extract().map_err(|_| {
-                named(&format!(
-                    "the key {}",
-                    k.repr().map_or_else(|_| "?".into(), |r| r.to_string())
-                ))
-            })?;
-            let path = if at.is_empty() {
-                k.clone()
-            } else {
-                format!("{at}.{k}")
-            };
-            if !top && n > 0 {
+            let (k, path) = key_of(&k, at, &named)?;
+            if n > 0 {
                 out.push_str(", ");
             }
-            out.push_str(&toml::Value::String(k).to_string());
+            toml_key(&k, out);
             out.push_str(" = ");
             to_toml(&item, &path, depth + 1, out)?;
-            if top {
-                out.push('\n');
-            }
         }
-        if !top {
-            out.push('}');
-        }
+        out.push('}');
         return Ok(());
     }
     if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
@@ -214,7 +195,7 @@ fn to_toml(v: &Bound<'_, PyAny>, at: &str, depth: usize, out: &mut String) -> Py
         return Ok(());
     }
     if let Ok(s) = v.extract::<String>() {
-        out.push_str(&toml::Value::String(s).to_string());
+        quoted(&s, out);
         return Ok(());
     }
     // A numpy array or scalar: its plain Python form.
@@ -230,6 +211,152 @@ fn to_toml(v: &Bound<'_, PyAny>, at: &str, depth: usize, out: &mut String) -> Py
         return Ok(());
     }
     Err(named(&format!("a {}", v.get_type().name()?)))
+}
+
+/// A dict's key as a string, and its key path under `at`.
+fn key_of(
+    k: &Bound<'_, PyAny>,
+    at: &str,
+    named: &dyn Fn(&str) -> PyErr,
+) -> PyResult<(String, String)> {
+    let k: String = k.extract().map_err(|_| {
+        named(&format!(
+            "the key {}",
+            k.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+        ))
+    })?;
+    let path = if at.is_empty() {
+        k.clone()
+    } else {
+        format!("{at}.{k}")
+    };
+    Ok((k, path))
+}
+
+/// The scene's dict as a TOML file reads: a table's plain values first,
+/// then a `[table]` for each dict in it and a `[[table]]` for each list of
+/// dicts (the primitives and lights), their entries a line each, nested
+/// dicts as sections of their own. glint's parser reads a file of this
+/// shape in about the text's size; one with inline tables took 10 times
+/// that (issue 57: 200,000 spheres took 430 MB with one `m = {...}`).
+fn top_level(d: &Bound<'_, PyDict>, out: &mut String) -> PyResult<()> {
+    section(d, &[], "", 0, out)
+}
+
+/// Whether `v` is a non-empty list of dicts: an array of tables.
+fn is_rows(v: &Bound<'_, PyAny>) -> bool {
+    v.cast::<PyList>()
+        .is_ok_and(|l| !l.is_empty() && l.iter().all(|i| i.cast::<PyDict>().is_ok()))
+}
+
+/// The entries of table `d`, whose header is `keys` (none: the top), at
+/// key path `at`, `depth` tables down.
+fn section(
+    d: &Bound<'_, PyDict>,
+    keys: &[String],
+    at: &str,
+    depth: usize,
+    out: &mut String,
+) -> PyResult<()> {
+    let named = |what: &str| {
+        PyTypeError::new_err(format!(
+            "{}: {what} has no TOML form (numbers, strings, booleans, lists and dicts do)",
+            if at.is_empty() {
+                "the scene".to_owned()
+            } else {
+                glint::printable::text(at)
+            }
+        ))
+    };
+    if depth > MAX_NESTING {
+        return Err(PyValueError::new_err(format!(
+            "{}: nested more than {MAX_NESTING} deep (a dict or list that holds itself?)",
+            glint::printable::text(at)
+        )));
+    }
+    let mut later = Vec::new();
+    for (k, item) in d.iter() {
+        let (name, path) = key_of(&k, at, &named)?;
+        if item.cast::<PyDict>().is_ok() || is_rows(&item) {
+            later.push((name, path, item));
+        } else {
+            toml_key(&name, out);
+            out.push_str(" = ");
+            to_toml(&item, &path, depth + 1, out)?;
+            out.push('\n');
+        }
+    }
+    let header = |out: &mut String, keys: &[String], rows: bool| {
+        out.push_str(if rows { "\n[[" } else { "\n[" });
+        for (n, k) in keys.iter().enumerate() {
+            if n > 0 {
+                out.push('.');
+            }
+            toml_key(k, out);
+        }
+        out.push_str(if rows { "]]\n" } else { "]\n" });
+    };
+    for (name, path, item) in later {
+        let mut keys = keys.to_vec();
+        keys.push(name);
+        if let Ok(table) = item.cast::<PyDict>() {
+            // A table of tables alone takes no header of its own: its
+            // sections define it, and glint's parser reads a table named
+            // both ways (`[materials]`, then `[materials.m]`) 10 times
+            // slower.
+            let plain = table
+                .iter()
+                .any(|(_, v)| v.cast::<PyDict>().is_err() && !is_rows(&v));
+            if plain || table.is_empty() {
+                header(out, &keys, false);
+            }
+            section(table, &keys, &path, depth + 1, out)?;
+        } else {
+            for (i, row) in item.try_iter()?.enumerate() {
+                let row = row?;
+                header(out, &keys, true);
+                let row = row.cast::<PyDict>().map_err(|_| named("a row"))?;
+                // A row's own dicts go inline: a section under a row of an
+                // array would need its header after every row.
+                for (k, v) in row.iter() {
+                    let (k, p) = key_of(&k, &format!("{path}[{i}]"), &named)?;
+                    toml_key(&k, out);
+                    out.push_str(" = ");
+                    to_toml(&v, &p, depth + 2, out)?;
+                    out.push('\n');
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `k` as a TOML key: bare where TOML allows one (a quoted key costs the
+/// parser more: each keeps its own text), else quoted.
+fn toml_key(k: &str, out: &mut String) {
+    if !k.is_empty()
+        && k.chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+    {
+        out.push_str(k);
+    } else {
+        quoted(k, out);
+    }
+}
+
+/// `s` as a TOML basic string on one line (inside an inline table a
+/// multi-line string may not stand).
+fn quoted(s: &str, out: &mut String) {
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if c.is_control() => out.push_str(&format!("\\u{:04X}", u32::from(c))),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
 }
 
 fn is_obj(path: &Path) -> bool {
@@ -330,12 +457,16 @@ impl Scene {
         let o = overrides(width, height, samples, max_depth);
         guard(|| {
             let mut text = String::new();
-            to_toml(d.as_any(), "", 0, &mut text)?;
+            top_level(d, &mut text)?;
             let scene = lib::parse(&text, Path::new("<dict>"), &o).map_err(|e| match e {
                 // The line and column are of the TOML the dict was written
                 // as, which the caller never sees: the key says where.
                 LibSceneError::Invalid { key, message, .. } => errors::scene_at(
-                    format!("<dict>: {}: {message}", glint::printable::text(&key)),
+                    format!(
+                        "<dict>: {}: {}",
+                        glint::printable::text(&key),
+                        glint::printable::one_line(&message)
+                    ),
                     Some("<dict>".into()),
                     None,
                     None,

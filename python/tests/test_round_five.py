@@ -161,10 +161,13 @@ def test_a_dict_that_holds_itself_or_nests_deep_is_a_value_error():
         glint.Scene.from_dict({"image": {"width": 8, "height": 8, "x": deep}})
 
 
-def test_a_bad_keys_control_characters_are_escaped():
-    with pytest.raises(glint.Error) as e:
-        glint.Scene.from_dict({"image": {"width": 8, "height": 8}, "a\nb\x1b[31m": None})
-    assert "\n" not in str(e.value) and "\x1b" not in str(e.value), repr(str(e.value))
+@pytest.mark.parametrize("value, error", [(None, TypeError), (1, glint.SceneError)])
+def test_a_bad_keys_control_characters_are_escaped(value, error):
+    bad = "a\nb\x1b[31m"
+    with pytest.raises(error) as e:
+        glint.Scene.from_dict({"image": {"width": 8, "height": 8, bad: value}})
+    text = str(e.value)
+    assert "\n" not in text and "\x1b" not in text and "31m" in text, repr(text)
 
 
 def test_a_dict_of_many_spheres_takes_about_what_its_text_does():

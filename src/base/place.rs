@@ -48,6 +48,14 @@ impl<'a> Place<'a> {
         ((self.rng.next() * n as f64) as usize).min(n.saturating_sub(1))
     }
 
+    /// A name for a file of this object's, drawn as its shape is: the same
+    /// spec names the same file, and two scenes written into one folder
+    /// (`glint drivers --generated`) do not share one.
+    pub fn file_name(&mut self, stem: &str, extension: &str) -> String {
+        let token = (self.rng.next() * (1u64 << 52) as f64) as u64;
+        format!("{stem}-{token:013x}.{extension}")
+    }
+
     /// A direction uniform on the sphere.
     pub fn unit(&mut self) -> DVec3 {
         self.rng.unit()

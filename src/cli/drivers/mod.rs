@@ -5,6 +5,7 @@
 
 use crate::cli::console::{out, outln};
 
+mod generated;
 pub mod icd;
 mod memory;
 pub mod probe;
@@ -70,6 +71,12 @@ pub struct DriversArgs {
     /// reached are "not run", and the run is not a pass [default: no limit].
     #[arg(long, value_name = "SECONDS")]
     budget: Option<f64>,
+    /// Also N generated scenes (`glint fuzz`'s random set), written into DIR/generated/; alone where no scene is named.
+    #[arg(long, value_name = "N")]
+    generated: Option<usize>,
+    /// The seed of the --generated scenes.
+    #[arg(long, default_value_t = 56, requires = "generated")]
+    seed: u64,
     #[command(flatten)]
     device: DeviceArgs,
 }
@@ -135,7 +142,7 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
         size.width.unwrap_or_default(),
         size.height.unwrap_or_default(),
     )?;
-    let paths = if !a.scenes.is_empty() {
+    let mut paths = if !a.scenes.is_empty() || a.generated.is_some() {
         a.scenes.clone()
     } else if a.quick {
         super::scene_files("scenes")?
@@ -145,6 +152,9 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
         v.extend(super::scene_files("scenes/extreme")?);
         v
     };
+    if let Some(n) = a.generated {
+        paths.extend(generated::write(&a.output, n, a.seed)?);
+    }
     // Every scene loads before minutes of rendering.
     let scenes = paths
         .iter()

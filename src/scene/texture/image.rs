@@ -37,7 +37,7 @@ impl PatternType for Image {
 
     /// A 4×4 PFM of random texels beside the scene.
     fn sample(p: &mut Place) -> TextureFile {
-        let name = format!("texture-{}.pfm", p.files.len());
+        let name = p.file_name("texture", "pfm");
         let mut bytes = b"PF\n4 4\n-1.0\n".to_vec();
         for _ in 0..4 * 4 * 3 {
             bytes.extend((p.uniform(0.0, 1.0) as f32).to_le_bytes());
