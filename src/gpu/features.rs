@@ -166,7 +166,9 @@ impl Features {
         // (planes and lights only), and with spheres as the only primitives
         // and directional lights as the only lights (tests/variants.rs
         // renders every mix of kinds and light types). Those take storage
-        // buffers.
+        // buffers. The generated scenes (issue 56) found more, and heap
+        // corruption among them: llvmpipe before Mesa 25.0 takes storage
+        // buffers for every scene (`DeviceInfo::reads_uniform_arrays`).
         let range = device.max_uniform_buffer_range as usize;
         let spheres = scene.prims.spheres.len();
         let spheres_only = spheres == scene.prims.len();
@@ -174,7 +176,9 @@ impl Features {
         let experiment = Experiment::from_env();
         let images = objects && scene.has_image_textures();
         let uniforms = (experiment.uniforms_always
-            || spheres > 0 && !(spheres_only && lights > 0 && !positioned))
+            || device.reads_uniform_arrays
+                && spheres > 0
+                && !(spheres_only && lights > 0 && !positioned))
             && !experiment.storage;
         let fits = uniforms
             && uploads.array_bytes().iter().all(|b| *b <= range)

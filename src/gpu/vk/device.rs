@@ -39,6 +39,12 @@ pub struct DeviceInfo {
     /// before Mesa 25.0 aborts the process ("stack smashing detected") on
     /// scenes/glass.toml's naive wavefront variant, so there it is refused.
     pub runs_the_wavefront: bool,
+    /// Whether the scene's arrays may be read from uniform buffers: not on
+    /// llvmpipe before Mesa 25.0, which corrupted its heap or crashed in a
+    /// worker thread on such variants (`glint fuzz`'s CI set: 3 runs of 3
+    /// over 64 generated scenes on Mesa 22.3, none with storage buffers;
+    /// two mixes of kinds were known before, issue 57).
+    pub reads_uniform_arrays: bool,
     /// Whether compute shaders have the subgroup ballot operations
     /// (`subgroupBallot`, `subgroupBallotExclusiveBitCount`), with which the
     /// wavefront schedule compacts its queues; Vulkan 1.1 requires only the
@@ -89,8 +95,9 @@ fn skips_untaken_branches(name: &str, info: &str) -> bool {
     name != "llvmpipe" || mesa_version(info) >= (24, 3)
 }
 
-/// Whether a driver runs the wavefront schedule: every driver but llvmpipe
-/// before Mesa 25.0 (see `DeviceInfo::runs_the_wavefront`).
+/// Whether a driver runs the wavefront schedule, and reads the scene from
+/// uniform buffers safely: every driver but llvmpipe before Mesa 25.0 (see
+/// `DeviceInfo::runs_the_wavefront`, `DeviceInfo::reads_uniform_arrays`).
 fn runs_the_wavefront(name: &str, info: &str) -> bool {
     name != "llvmpipe" || mesa_version(info) >= (25, 0)
 }
@@ -193,6 +200,7 @@ pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
                 loop_budget: !runs_loops_to_the_end(&driver_name, &driver_info),
                 skips_untaken_branches: skips_untaken_branches(&driver_name, &driver_info),
                 runs_the_wavefront: runs_the_wavefront(&driver_name, &driver_info),
+                reads_uniform_arrays: runs_the_wavefront(&driver_name, &driver_info),
                 buffer_device_address,
                 subgroup_ballot: subgroup
                     .supported_stages

@@ -43,9 +43,12 @@ impl PatternType for Image {
             bytes.extend((p.uniform(0.0, 1.0) as f32).to_le_bytes());
         }
         p.files.push((name.clone(), bytes));
+        // Repeated at the scene's scale: a plane's uvs are its own
+        // coordinates, and a texel a pixel's fraction wide is noise no f32
+        // renderer can match (`glint fuzz` found one at scale 1000).
         TextureFile {
             image: Some(name),
-            size: Some(p.uniform(0.3, 1.0)),
+            size: Some(p.size * p.uniform(0.3, 1.0)),
             angle: Some(p.uniform(0.0, 90.0)),
             ..TextureFile::default()
         }
