@@ -25,7 +25,9 @@ const LAYERS: &[&[&str]] = &[
     &["stability", "tiles", "bench"],
     &["condition", "report"],
     // One pixel's trees on every renderer, bounded by the conditioning.
-    &["explain", "fuzz"],
+    &["explain"],
+    // The oracle over generated scenes, held by every layer below.
+    &["fuzz"],
 ];
 
 /// The modules the binary's files are in: not part of the library.

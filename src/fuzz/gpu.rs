@@ -45,6 +45,29 @@ impl GpuOracle {
     }
 }
 
+impl GpuOracle {
+    /// Where `explain` of the middle pixel finds its recorded trees off the
+    /// pixel the render wrote, what it says; None where they agree or the
+    /// scene has nothing `explain` takes (no primitive, adaptive sampling).
+    fn explained(&mut self, scene: &Scene) -> Option<String> {
+        use crate::explain::{check_renders, explain_on_gpu, samples};
+        let pixel = (scene.width / 2, scene.height / 2);
+        let chosen = samples(scene, pixel, None).ok()?;
+        let settings = self.renderer.settings();
+        let mut explained = Vec::new();
+        for s in chosen {
+            match explain_on_gpu(&mut self.renderer, scene, &settings, s, Vec::new()) {
+                Ok(e) => explained.push(e),
+                Err(e) => return Some(format!("explain failed: {e}")),
+            }
+        }
+        if let Err(e) = check_renders(&mut self.renderer, scene, &settings, &mut explained) {
+            return Some(format!("explain failed: {e}"));
+        }
+        explained.iter().find_map(|e| e.render.clone())
+    }
+}
+
 /// `img`'s pixels within `r`.
 fn crop(img: &Image, r: Region) -> Image {
     let pixels = (r.y..r.y + r.height)
@@ -162,6 +185,9 @@ impl Device for GpuOracle {
                 Ok((_, None)) => found.push((Property::GpuCounts, "no counts came back".into())),
                 Err(e) => found.push((Property::GpuCounts, format!("the render failed: {e}"))),
             }
+        }
+        if wanted(Property::GpuExplain) {
+            found.extend(self.explained(scene).map(|d| (Property::GpuExplain, d)));
         }
         for (property, detail) in found {
             fail(property, detail);

@@ -55,6 +55,9 @@ pub enum Property {
     GpuRegion,
     /// The GPU's ray counts are the CPU f32's.
     GpuCounts,
+    /// `explain` of the middle pixel holds its recorded trees to the pixel
+    /// the render wrote (issue 57, defect 2).
+    GpuExplain,
 }
 
 impl Property {
@@ -72,6 +75,7 @@ impl Property {
         Property::GpuSchedule,
         Property::GpuRegion,
         Property::GpuCounts,
+        Property::GpuExplain,
     ];
 
     /// Whether it needs the GPU renderer.
@@ -85,7 +89,7 @@ impl Property {
     pub fn costly(self) -> bool {
         matches!(
             self,
-            Property::GpuAccel | Property::GpuSchedule | Property::GpuCounts
+            Property::GpuAccel | Property::GpuSchedule | Property::GpuCounts | Property::GpuExplain
         )
     }
 
@@ -104,6 +108,7 @@ impl Property {
             Property::GpuSchedule => "gpu-schedule",
             Property::GpuRegion => "gpu-region",
             Property::GpuCounts => "gpu-counts",
+            Property::GpuExplain => "gpu-explain",
         }
     }
 }
