@@ -134,8 +134,10 @@ fn quick_on_both_lavapipes_passes_every_scene() {
 
 /// Mesa 22.3 miscompiles the scene loops unrolled past about 100 objects
 /// (docs/performance.md, The lavapipe-specific choices): with glint's cap
-/// switched off, its lane is wrong, and the matrix says so with a
-/// reproducer that holds what a bug report needs.
+/// switched off, and the uniform buffers glint no longer gives Mesa 22.3
+/// (issue 56: they corrupted its heap), its lane is wrong, and the matrix
+/// says so with a reproducer that holds what a bug report needs. (Mesa
+/// 25.0's lane crashes on this experiment, at 676c44f too: not judged.)
 #[test]
 fn a_wrong_driver_fails_with_a_reproducer() {
     let Some((new, old)) = both_lavapipes("the broken lane") else {
@@ -147,7 +149,7 @@ fn a_wrong_driver_fails_with_a_reproducer() {
         &["scenes/seed-fig5.toml", "--accel", "none", "--quick"],
         &[&new, &old],
         &out,
-        &[("GLINT_EXPERIMENT", "unroll-all")],
+        &[("GLINT_EXPERIMENT", "unroll-all,uniforms-always")],
     );
     assert_exit(&o, 1);
     let m = matrix(&out);
@@ -217,7 +219,7 @@ fn a_wrong_driver_fails_with_a_reproducer() {
         .args(["compare", "seed-fig5.toml", "--accel", "none"])
         .args(["--width", &w.to_string(), "--height", &h.to_string()])
         .env("VK_DRIVER_FILES", &old)
-        .env("GLINT_EXPERIMENT", "unroll-all")
+        .env("GLINT_EXPERIMENT", "unroll-all,uniforms-always")
         .output()
         .unwrap();
     assert_eq!(again.status.code(), Some(1));

@@ -81,8 +81,18 @@ fn shadow_rays_in_slot_order_find_what_sorted_ones_find() {
     same_bits_with("SHADOW_ANY_ORDER", TREES);
 }
 
+/// MATERIAL_SELECT picks among the materials' uniform slots: a driver that
+/// gets no uniform buffers (llvmpipe before Mesa 25.0, which corrupted its
+/// heap on them; issue 56) has none to pick among.
 #[test]
 fn material_selects_pick_the_loaded_material() {
+    if !renderer(None).device_info().reads_uniform_arrays {
+        common::skip(
+            "MATERIAL_SELECT",
+            "this driver reads no scene from uniform buffers (llvmpipe before Mesa 25.0)",
+        );
+        return;
+    }
     same_bits_with(
         "MATERIAL_SELECT",
         &[

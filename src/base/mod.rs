@@ -9,7 +9,6 @@ pub mod aabb;
 pub mod count;
 pub mod exact;
 pub mod interface;
-pub mod place;
 pub mod ray;
 pub mod real;
 pub mod record;

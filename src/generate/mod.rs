@@ -15,8 +15,8 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
-use crate::base::place::Place;
 use crate::prim::KINDS;
+use crate::rng::Place;
 use crate::rng::Xorshift;
 use crate::scene::texture::PATTERNS;
 use crate::scene::{Overrides, Sampling, Scene, SceneError, LIGHT_TYPES};

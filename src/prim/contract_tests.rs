@@ -239,7 +239,7 @@ impl Kind for SwappedMeta {
     fn example(material: u32) -> Self {
         SwappedMeta(sphere::Sphere::example(material))
     }
-    fn sample(p: &mut crate::base::place::Place) -> Self::File {
+    fn sample(p: &mut crate::rng::Place) -> Self::File {
         sphere::Sphere::sample(p)
     }
 }

@@ -21,13 +21,13 @@ use serde::de::DeserializeOwned;
 use crate::base::aabb::Aabb;
 use crate::base::count::Counter;
 use crate::base::interface::{self, Array, GpuStruct};
-use crate::base::place::Place;
 use crate::base::ray::Ray;
 use crate::base::real::{Real, Vec3};
 use crate::base::tally::Tally;
 use crate::base::Precision;
 use crate::input::error::SceneError;
 use crate::input::field::At;
+use crate::rng::Place;
 
 /// The table of kinds: the scene file's key of each kind's array, and the
 /// kind. Kinds with bounds come before the unbounded ones (tested): a tie in

@@ -11,11 +11,11 @@ use serde::{Deserialize, Serialize};
 use super::{Kind, Shape};
 use crate::base::aabb::Aabb;
 use crate::base::exact::power;
-use crate::base::place::Place;
 use crate::base::ray::Ray;
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
 use crate::input::field::{At, Triple};
+use crate::rng::Place;
 
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]

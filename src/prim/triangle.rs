@@ -18,11 +18,11 @@ use serde::{Deserialize, Serialize};
 
 use super::{Frame, Kind, Shape};
 use crate::base::aabb::Aabb;
-use crate::base::place::Place;
 use crate::base::ray::Ray;
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
 use crate::input::field::{unit_vector, At, Triple};
+use crate::rng::Place;
 
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]

@@ -146,7 +146,7 @@ fn a_type_without_its_function_is_named() {
         fn example() -> LightFile {
             file("point", Some([1.0, 2.0, 3.0]), None)
         }
-        fn sample(_: &mut crate::base::place::Place) -> LightFile {
+        fn sample(_: &mut crate::rng::Place) -> LightFile {
             Self::example()
         }
     }

@@ -2,9 +2,9 @@
 //! mirrors shaders/light/directional.glsl.
 
 use super::{LightAt, LightR, LightType, Placement, Toward};
-use crate::base::place::Place;
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
+use crate::rng::Place;
 
 pub struct Directional;
 

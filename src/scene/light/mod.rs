@@ -18,11 +18,11 @@ mod contract_tests;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::base::place::Place;
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
 use crate::input::field::{Check, Triple};
 use crate::input::locate::KeyPath;
+use crate::rng::Place;
 
 /// The table of light types: each type's variant of [`LightKind`] and its
 /// module's type. A type's code in the shader is its place here.

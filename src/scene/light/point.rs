@@ -2,10 +2,10 @@
 //! distance; mirrors shaders/light/point.glsl.
 
 use super::{LightAt, LightR, LightType, Placement, Toward};
-use crate::base::place::Place;
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
 use crate::input::field::Triple;
+use crate::rng::Place;
 
 pub struct Point;
 

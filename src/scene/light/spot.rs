@@ -3,9 +3,9 @@
 
 use super::point::Point;
 use super::{LightAt, LightR, LightType, Placement, Toward};
-use crate::base::place::Place;
 use crate::base::real::{spec_pow, Real, Vec3};
 use crate::input::error::SceneError;
+use crate::rng::Place;
 
 pub struct Spot;
 

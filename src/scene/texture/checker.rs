@@ -2,9 +2,9 @@
 //! scene's; mirrors shaders/texture/checker.glsl.
 
 use super::{sample_colors, Needs, PatternType, TextureFile, TextureR};
-use crate::base::place::Place;
 use crate::base::real::{Real, Vec3};
 use crate::prim::Shape;
+use crate::rng::Place;
 
 /// The first colour where the cells' indices sum to an even number.
 fn pick<R: Real>(t: &TextureR<R>, cells: R) -> Vec3<R> {

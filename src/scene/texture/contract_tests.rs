@@ -164,7 +164,7 @@ fn a_pattern_without_its_function_is_named() {
         ) -> Vec3<R> {
             t.colors[0] * R::of(0.5)
         }
-        fn sample(_: &mut crate::base::place::Place) -> TextureFile {
+        fn sample(_: &mut crate::rng::Place) -> TextureFile {
             TextureFile::default()
         }
     }

@@ -2,9 +2,9 @@
 //! and repeated; mirrors shaders/texture/image.glsl.
 
 use super::{Needs, PatternType, TextureFile, TextureR};
-use crate::base::place::Place;
 use crate::base::real::{Real, Vec3};
 use crate::prim::Shape;
+use crate::rng::Place;
 
 /// An image file's texels.
 pub struct Image;
@@ -43,12 +43,13 @@ impl PatternType for Image {
             bytes.extend((p.uniform(0.0, 1.0) as f32).to_le_bytes());
         }
         p.files.push((name.clone(), bytes));
-        // Repeated at the scene's scale: a plane's uvs are its own
-        // coordinates, and a texel a pixel's fraction wide is noise no f32
-        // renderer can match (`glint fuzz` found one at scale 1000).
+        // Repeated at the scene's scale where it is large: a plane's uvs are
+        // its own coordinates, and a texel a pixel's fraction wide is noise
+        // no f32 renderer can match (`glint fuzz` found one at scale 1000);
+        // a sphere's run 0 to 1 whatever its size.
         TextureFile {
             image: Some(name),
-            size: Some(p.size * p.uniform(0.3, 1.0)),
+            size: Some(p.size.max(1.0) * p.uniform(0.3, 1.0)),
             angle: Some(p.uniform(0.0, 90.0)),
             ..TextureFile::default()
         }

@@ -22,10 +22,10 @@ mod contract_tests;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::base::place::Place;
 use crate::base::real::{Real, Vec3};
 use crate::input::field::Triple;
 use crate::prim::Shape;
+use crate::rng::Place;
 
 pub use image::filtered;
 
