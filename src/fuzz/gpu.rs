@@ -25,12 +25,6 @@ impl GpuOracle {
         })
     }
 
-    /// The renderer's device, in words.
-    pub fn device(&self) -> String {
-        let d = self.renderer.device_info();
-        format!("{} ({})", d.name, d.driver)
-    }
-
     fn render(
         &mut self,
         scene: &Scene,
@@ -43,9 +37,7 @@ impl GpuOracle {
             .render(region, &|_| {})?;
         Ok((r.image, r.counts))
     }
-}
 
-impl GpuOracle {
     /// Where `explain` of the middle pixel finds its recorded trees off the
     /// pixel the render wrote, what it says; None where they agree or the
     /// scene has nothing `explain` takes (no primitive, adaptive sampling).
@@ -94,8 +86,14 @@ impl Device for GpuOracle {
         let mut out = Vec::new();
         let mut fail = |property, detail: String| out.push(Failure { property, detail });
         let plain = RenderSettings::default();
-        let image = match self.render(scene, &plain, None) {
-            Ok((image, _)) => image,
+        // One prepared scene for the plain image, its second render and its
+        // region (`gpu-region`).
+        let prepared = self.renderer.prepare(scene, &plain);
+        let (mut prepared, image) = match prepared.and_then(|mut p| {
+            let image = p.render(None, &|_| {})?.image;
+            Ok((p, image))
+        }) {
+            Ok(done) => done,
             Err(e) => {
                 fail(Property::GpuCompare, format!("the render failed: {e}"));
                 return out;
@@ -141,12 +139,13 @@ impl Device for GpuOracle {
             }
         }
         if wanted(Property::GpuRegion) {
-            found.extend(same(
-                self,
-                Property::GpuRegion,
-                "a second render".into(),
-                plain,
-            ));
+            match prepared.render(None, &|_| {}) {
+                Ok(again) => found.extend(
+                    first_difference(&again.image, &image)
+                        .map(|d| (Property::GpuRegion, format!("a second render: {d}"))),
+                ),
+                Err(e) => found.push((Property::GpuRegion, format!("a second render failed: {e}"))),
+            }
             let (w, h) = (scene.width, scene.height);
             let r = Region {
                 x: w / 4,
@@ -154,15 +153,16 @@ impl Device for GpuOracle {
                 width: (w / 2).max(1),
                 height: (h / 2).max(1),
             };
-            match self.render(scene, &plain, Some(r)) {
-                Ok((img, _)) => {
-                    if let Some(d) = first_difference(&img, &crop(&image, r)) {
+            match prepared.render(Some(r), &|_| {}) {
+                Ok(part) => {
+                    if let Some(d) = first_difference(&part.image, &crop(&image, r)) {
                         found.push((Property::GpuRegion, format!("the region {r:?}: {d}")));
                     }
                 }
                 Err(e) => found.push((Property::GpuRegion, format!("the region failed: {e}"))),
             }
         }
+        drop(prepared);
         if wanted(Property::GpuCounts) {
             let s = RenderSettings {
                 count: true,

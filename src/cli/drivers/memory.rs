@@ -2,7 +2,7 @@
 //! may use, checked before minutes of rendering (issue 42, defect 12:
 //! 16384x16384 aborted on an allocation after the reference was made).
 
-use glint::raster::memory::{limit, OVERHEAD};
+use glint::raster::memory::{image_bytes, limit, OVERHEAD};
 
 /// The images of one scene the parent holds at once, at most: the CPU
 /// reference, the driver's image, and what judging a wrong one adds (the
@@ -12,7 +12,7 @@ pub const IMAGES_AT_ONCE: u64 = 6;
 
 /// Bytes the parent needs for images of `pixels` pixels.
 pub fn needed(pixels: u64) -> u64 {
-    IMAGES_AT_ONCE * pixels * std::mem::size_of::<[f32; 3]>() as u64 + OVERHEAD
+    IMAGES_AT_ONCE * image_bytes(pixels) + OVERHEAD
 }
 
 /// Refuses a size whose images do not fit, in one line that says what
