@@ -158,12 +158,24 @@ impl Sources {
         }
     }
 
-    /// A hash of everything a compile can read: the built-in files, the
-    /// user's main file and every file in the user's directories. A change to
-    /// any of them makes a new pipeline and a new cache entry.
+    /// A hash of everything a compile can read: which file is the main
+    /// shader, the built-in files, the user's main file and every file in
+    /// the user's directories. A change to any of them makes a new pipeline
+    /// and a new cache entry.
     pub fn fingerprint(&self) -> u64 {
         let mut h = Fnv::default();
         h.write(env!("CARGO_PKG_VERSION").as_bytes());
+        // The main file's choice first: the bench's ceiling.comp and the
+        // stock main.comp read the same files, and a one-sphere scene with
+        // no light is the ceiling's own variant, so without it the two
+        // shared a cache entry and such a scene rendered the ceiling's
+        // output (issue 57, defect 1).
+        h.write(b"main");
+        match (&self.main, &self.main_builtin) {
+            (Some(path), _) => h.write(path.display().to_string().as_bytes()),
+            (None, Some(name)) => h.write(name.as_bytes()),
+            (None, None) => h.write(b"main.comp"),
+        }
         for (name, text) in builtin() {
             h.write(name.as_bytes());
             h.write(text.as_bytes());
@@ -296,6 +308,8 @@ pub fn cache_key(fingerprint: u64, defines: &Defines) -> String {
     for (name, value) in defines {
         h.write(name.as_bytes());
         h.write(value.as_deref().unwrap_or("").as_bytes());
+        // `-D A` and `-D A=` are not the same define.
+        h.write(&[u8::from(value.is_some())]);
     }
     format!("{:016x}", h.finish())
 }
