@@ -266,7 +266,7 @@ fn defaults_follow_the_spec() {
     let s = parse(GOOD, Path::new("good.toml"), &Overrides::default()).unwrap();
     assert_eq!(
         (s.samples, s.max_depth, s.shadows, s.srgb),
-        (1, 3, true, false)
+        (1, 3, true, true)
     );
     assert_eq!(s.background, glam::DVec3::ZERO);
     let m = &s.materials[0];

@@ -226,3 +226,52 @@ fn every_mix_of_kinds_and_lights_renders() {
         }
     }
 }
+
+/// Moving one sphere through a scene keeps the scene's variant, and so its
+/// compiled shader, whether its arrays are uniform blocks (a small scene:
+/// the nodes' array is sized by the primitives' count) or not (the stack
+/// is sized by it): issue 60, where every position in a mesh scene
+/// compiled anew.
+#[test]
+fn moving_a_sphere_keeps_the_variant() {
+    let r = renderer(false, Intersect::Robust, Precision::F32);
+    for n in [40usize, 3000] {
+        let mut forms = std::collections::BTreeSet::new();
+        let mut variants = Vec::new();
+        for step in 0..8 {
+            let mut text = String::from(
+                "[image]\nwidth = 8\nheight = 6\n[camera]\neye = [0, 0, 60]\nlook_at = [0, 0, 0]\n\
+                 vfov = 60\n[materials.m]\ndiffuse = [0.5, 0.5, 0.5]\n\
+                 [[lights]]\ntype = \"point\"\nposition = [0, 30, 30]\ndiffuse = [1, 1, 1]\n",
+            );
+            let at = |i: usize, k: f64| ((i as f64 * k).fract() - 0.5) * 40.0;
+            for i in 0..n {
+                let (x, y, z) = if i == 0 {
+                    (-30.0 + 8.0 * step as f64, 25.0 - 7.0 * step as f64, 0.0)
+                } else {
+                    (at(i, 0.618_034), at(i, 0.414_214), at(i, 0.732_051))
+                };
+                text += &format!(
+                    "[[spheres]]\ncenter = [{x}, {y}, {z}]\nradius = 0.3\nmaterial = \"m\"\n"
+                );
+            }
+            let (variant, defines) = common::variant(&r, &common::scene(&text));
+            forms.insert(format!("{:?}", variant.form(Block::Nodes)));
+            variants.push((variant, defines));
+        }
+        assert!(
+            variants.windows(2).all(|w| w[0] == w[1]),
+            "{n} spheres: {:?}",
+            variants
+                .windows(2)
+                .find(|w| w[0] != w[1])
+                .map(|w| (&w[0].0, &w[1].0))
+        );
+        let uniform = forms.iter().all(|f| f.starts_with("Uniform"));
+        assert_eq!(
+            uniform,
+            n == 40,
+            "{n} spheres: the nodes are read as {forms:?}"
+        );
+    }
+}

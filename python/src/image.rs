@@ -50,15 +50,18 @@ pub fn from_numpy(a: &PyReadonlyArray3<'_, f32>, what: &str) -> PyResult<Image> 
 }
 
 #[pyfunction]
-pub fn read(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyArray3<f32>>> {
+#[pyo3(signature = (path, srgb=true))]
+pub fn read(py: Python<'_>, path: PathBuf, srgb: bool) -> PyResult<Bound<'_, PyArray3<f32>>> {
     guard(|| {
-        let image = py.detach(|| io::read(&path)).map_err(errors::image)?;
+        let image = py
+            .detach(|| io::read_as(&path, srgb))
+            .map_err(errors::image)?;
         to_numpy(py, image)
     })
 }
 
 #[pyfunction]
-#[pyo3(signature = (image, path, srgb=false))]
+#[pyo3(signature = (image, path, srgb=true))]
 pub fn write(
     py: Python<'_>,
     image: PyReadonlyArray3<'_, f32>,

@@ -1,5 +1,5 @@
 //! glint as a Python module (docs/python.md): `glint._glint`, the Rust half
-//! of the package `glint`, whose Python half (python/glint/) adds the
+//! of the package `glint`, whose Python half (python/pysrc/glint/) adds the
 //! result types and the docstrings a reader sees first.
 //!
 //! Every entry point runs inside [`errors::guard`], so a Rust panic is a
@@ -8,6 +8,7 @@
 //! (`render::interruptible`).
 
 mod compare;
+mod dict;
 mod errors;
 mod image;
 mod render;

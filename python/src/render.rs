@@ -219,6 +219,11 @@ mod gpu_side {
         /// with the renderer.
         _texts: Option<tempfile::TempDir>,
         device: String,
+        /// Whether a render's stats have counted the device's opening:
+        /// the first render through this renderer counts it, later ones
+        /// spent nothing on it (issue 60: every render of a prepared scene
+        /// counted it again).
+        device_counted: Arc<AtomicBool>,
     }
 
     fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
@@ -302,6 +307,7 @@ mod gpu_side {
                     inner: Mutex::new(inner),
                     _texts: texts,
                     device,
+                    device_counted: Arc::new(AtomicBool::new(false)),
                 })
             })
         }
@@ -333,6 +339,7 @@ mod gpu_side {
                     inner: Mutex::new(prepared),
                     stop,
                     device: self.device.clone(),
+                    device_counted: self.device_counted.clone(),
                     scene: (scene.inner.width, scene.inner.height),
                     counted: stats,
                     precision: settings.precision.name(),
@@ -418,6 +425,7 @@ mod gpu_side {
         inner: Mutex<gpu::Prepared>,
         stop: Arc<AtomicBool>,
         device: String,
+        device_counted: Arc<AtomicBool>,
         scene: (u32, u32),
         counted: bool,
         precision: &'static str,
@@ -453,6 +461,11 @@ mod gpu_side {
                     counts,
                     ..
                 } = rendered;
+                let device_s = if self.device_counted.swap(true, Ordering::Relaxed) {
+                    0.0
+                } else {
+                    times.setup.device_s
+                };
                 let stats = stats.then(|| {
                     let variant = lock(&self.inner).variant().name();
                     merge(
@@ -463,7 +476,7 @@ mod gpu_side {
                             "variant": variant,
                             "times": times,
                             "seconds": {
-                                "setup": times.setup.device_s + times.setup.compile_s
+                                "setup": device_s + times.setup.compile_s
                                     + times.setup.pipeline_s + times.setup.driver_compile_s
                                     + times.bvh_s,
                                 "tables": times.tables_s,
@@ -502,7 +515,12 @@ mod gpu_side {
     #[pyfunction]
     pub fn devices_json(py: Python<'_>) -> PyResult<String> {
         guard(|| {
-            let devices = py.detach(gpu::list_devices).map_err(errors::gpu)?;
+            // No driver, or no loader: no devices, as a listing says it
+            // (issue 60); a driver that fails otherwise still raises.
+            let devices = match py.detach(gpu::list_devices) {
+                Err(gpu::GpuError::NoDevice | gpu::GpuError::NoLoader(_)) => Vec::new(),
+                listed => listed.map_err(errors::gpu)?,
+            };
             serde_json::to_string(&devices).map_err(errors::other)
         })
     }

@@ -3,12 +3,13 @@
 
 use std::path::{Path, PathBuf};
 
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyTuple};
+use pyo3::types::PyDict;
 
 use glint::scene::{self as lib, Overrides, SceneError as LibSceneError};
 
+use crate::dict::{to_python, top_level};
 use crate::errors::{self, guard};
 
 /// A scene read and checked: what `glint.render` and `Renderer.prepare` take.
@@ -17,6 +18,48 @@ pub struct Scene {
     pub inner: lib::Scene,
     /// Where it was read from, for its repr: a path, `<string>` or `<dict>`.
     pub source: String,
+    /// The scene file's text (an OBJ's: the scene glint made around it),
+    /// which `to_dict` gives back as a dict.
+    pub file: FileText,
+    /// The folder its relative file names (meshes, textures) are of.
+    pub base: PathBuf,
+    /// The keywords it was read with, which `to_dict` writes in.
+    pub overrides: Overrides,
+}
+
+/// A scene file's text as it was given: TOML, or NFF (converted to TOML
+/// only when `to_dict` asks, as `glint convert` writes it).
+pub enum FileText {
+    Toml(String),
+    Nff(String),
+}
+
+impl FileText {
+    fn toml(&self) -> Result<std::borrow::Cow<'_, str>, LibSceneError> {
+        match self {
+            FileText::Toml(t) => Ok(t.into()),
+            FileText::Nff(t) => {
+                let path = Path::new("<nff>");
+                let read = lib::nff::read(t, path)?;
+                let toml = read.scene.to_toml().map_err(|e| LibSceneError::Invalid {
+                    file: path.to_owned(),
+                    line: 1,
+                    column: 1,
+                    key: String::new(),
+                    message: format!("cannot write the scene as TOML: {e}"),
+                })?;
+                Ok(toml.into())
+            }
+        }
+    }
+}
+
+/// The folder that relative names in the file at `path` are of.
+fn folder_of(path: &Path) -> PathBuf {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
+        _ => PathBuf::from("."),
+    }
 }
 
 fn overrides(
@@ -49,10 +92,21 @@ pub fn load(
             if is_obj(&path) {
                 obj_scene(&path, &o)
             } else {
-                lib::Scene::load(&path, &o)
+                let text =
+                    glint::input::read_text(&path, glint::input::Kind::Scene).map_err(|cause| {
+                        LibSceneError::Read {
+                            path: path.clone(),
+                            cause,
+                        }
+                    })?;
+                if lib::is_nff(&path) {
+                    Ok((lib::parse_nff(&text, &path, &o)?, FileText::Nff(text)))
+                } else {
+                    Ok((lib::parse(&text, &path, &o)?, FileText::Toml(text)))
+                }
             }
         });
-        let scene = if is_obj(&path) {
+        let (scene, file) = if is_obj(&path) {
             scene.map_err(|e| obj_error(&path, e))?
         } else {
             scene.map_err(errors::scene)?
@@ -60,6 +114,9 @@ pub fn load(
         Ok(Scene {
             inner: scene,
             source: path.display().to_string(),
+            file,
+            base: folder_of(&path),
+            overrides: o,
         })
     })
 }
@@ -117,9 +174,15 @@ pub fn loads(
     guard(|| {
         // Relative file names in the text (meshes, textures) are of the
         // working directory.
-        let scene = match format {
-            "toml" => lib::parse(text, Path::new("<string>"), &o),
-            "nff" => lib::parse_nff(text, Path::new("<string>.nff"), &o),
+        let (scene, file) = match format {
+            "toml" => (
+                lib::parse(text, Path::new("<string>"), &o),
+                FileText::Toml(text.to_owned()),
+            ),
+            "nff" => (
+                lib::parse_nff(text, Path::new("<string>.nff"), &o),
+                FileText::Nff(text.to_owned()),
+            ),
             other => {
                 return Err(PyValueError::new_err(format!(
                     "format {other:?}: glint reads \"toml\" and \"nff\" text"
@@ -129,234 +192,11 @@ pub fn loads(
         Ok(Scene {
             inner: scene.map_err(errors::scene)?,
             source: "<string>".to_owned(),
+            file,
+            base: PathBuf::from("."),
+            overrides: o,
         })
     })
-}
-
-/// How deep a scene's dict may nest: a scene file's tables go 3 deep; past
-/// this a dict or list holds itself, or was built to crash the reader
-/// (issue 57: 10,000 levels overflowed the stack, SIGSEGV).
-const MAX_NESTING: usize = 64;
-
-/// A Python value as TOML text, appended to `out` (a dict's entries as
-/// inline tables): written as it is walked, with no tree of values beside
-/// the text (issue 57: 200,000 spheres took 630 MB as `toml::Value`s, 40
-/// MB as text). `at` is its key path, for the error.
-fn to_toml(v: &Bound<'_, PyAny>, at: &str, depth: usize, out: &mut String) -> PyResult<()> {
-    let shown = || {
-        if at.is_empty() {
-            "the scene".to_owned()
-        } else {
-            glint::printable::text(at)
-        }
-    };
-    let named = |what: &str| {
-        PyTypeError::new_err(format!(
-            "{}: {what} has no TOML form (numbers, strings, booleans, lists and dicts do)",
-            shown()
-        ))
-    };
-    if depth > MAX_NESTING {
-        return Err(PyValueError::new_err(format!(
-            "{}: nested more than {MAX_NESTING} deep (a dict or list that holds itself?)",
-            shown()
-        )));
-    }
-    if v.is_none() {
-        return Err(named("None"));
-    }
-    if let Ok(b) = v.cast::<pyo3::types::PyBool>() {
-        out.push_str(if b.is_true() { "true" } else { "false" });
-        return Ok(());
-    }
-    if let Ok(d) = v.cast::<PyDict>() {
-        out.push('{');
-        for (n, (k, item)) in d.iter().enumerate() {
-            let (k, path) = key_of(&k, at, &named)?;
-            if n > 0 {
-                out.push_str(", ");
-            }
-            toml_key(&k, out);
-            out.push_str(" = ");
-            to_toml(&item, &path, depth + 1, out)?;
-        }
-        out.push('}');
-        return Ok(());
-    }
-    if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
-        out.push('[');
-        for (i, item) in v.try_iter()?.enumerate() {
-            if i > 0 {
-                out.push_str(", ");
-            }
-            to_toml(&item?, &format!("{at}[{i}]"), depth + 1, out)?;
-        }
-        out.push(']');
-        return Ok(());
-    }
-    if let Ok(s) = v.extract::<String>() {
-        quoted(&s, out);
-        return Ok(());
-    }
-    // A numpy array or scalar: its plain Python form.
-    if v.hasattr("tolist")? && !v.is_instance_of::<pyo3::types::PyFloat>() {
-        return to_toml(&v.call_method0("tolist")?, at, depth + 1, out);
-    }
-    if let Ok(i) = v.extract::<i64>() {
-        out.push_str(&i.to_string());
-        return Ok(());
-    }
-    if let Ok(f) = v.extract::<f64>() {
-        out.push_str(&toml::Value::Float(f).to_string());
-        return Ok(());
-    }
-    Err(named(&format!("a {}", v.get_type().name()?)))
-}
-
-/// A dict's key as a string, and its key path under `at`.
-fn key_of(
-    k: &Bound<'_, PyAny>,
-    at: &str,
-    named: &dyn Fn(&str) -> PyErr,
-) -> PyResult<(String, String)> {
-    let k: String = k.extract().map_err(|_| {
-        named(&format!(
-            "the key {}",
-            k.repr().map_or_else(|_| "?".into(), |r| r.to_string())
-        ))
-    })?;
-    let path = if at.is_empty() {
-        k.clone()
-    } else {
-        format!("{at}.{k}")
-    };
-    Ok((k, path))
-}
-
-/// The scene's dict as a TOML file reads: a table's plain values first,
-/// then a `[table]` for each dict in it and a `[[table]]` for each list of
-/// dicts (the primitives and lights), their entries a line each, nested
-/// dicts as sections of their own. glint's parser reads a file of this
-/// shape in about the text's size; one with inline tables took 10 times
-/// that (issue 57: 200,000 spheres took 430 MB with one `m = {...}`).
-fn top_level(d: &Bound<'_, PyDict>, out: &mut String) -> PyResult<()> {
-    section(d, &[], "", 0, out)
-}
-
-/// Whether `v` is a non-empty list of dicts: an array of tables.
-fn is_rows(v: &Bound<'_, PyAny>) -> bool {
-    v.cast::<PyList>()
-        .is_ok_and(|l| !l.is_empty() && l.iter().all(|i| i.cast::<PyDict>().is_ok()))
-}
-
-/// The entries of table `d`, whose header is `keys` (none: the top), at
-/// key path `at`, `depth` tables down.
-fn section(
-    d: &Bound<'_, PyDict>,
-    keys: &[String],
-    at: &str,
-    depth: usize,
-    out: &mut String,
-) -> PyResult<()> {
-    let named = |what: &str| {
-        PyTypeError::new_err(format!(
-            "{}: {what} has no TOML form (numbers, strings, booleans, lists and dicts do)",
-            if at.is_empty() {
-                "the scene".to_owned()
-            } else {
-                glint::printable::text(at)
-            }
-        ))
-    };
-    if depth > MAX_NESTING {
-        return Err(PyValueError::new_err(format!(
-            "{}: nested more than {MAX_NESTING} deep (a dict or list that holds itself?)",
-            glint::printable::text(at)
-        )));
-    }
-    let mut later = Vec::new();
-    for (k, item) in d.iter() {
-        let (name, path) = key_of(&k, at, &named)?;
-        if item.cast::<PyDict>().is_ok() || is_rows(&item) {
-            later.push((name, path, item));
-        } else {
-            toml_key(&name, out);
-            out.push_str(" = ");
-            to_toml(&item, &path, depth + 1, out)?;
-            out.push('\n');
-        }
-    }
-    let header = |out: &mut String, keys: &[String], rows: bool| {
-        out.push_str(if rows { "\n[[" } else { "\n[" });
-        for (n, k) in keys.iter().enumerate() {
-            if n > 0 {
-                out.push('.');
-            }
-            toml_key(k, out);
-        }
-        out.push_str(if rows { "]]\n" } else { "]\n" });
-    };
-    for (name, path, item) in later {
-        let mut keys = keys.to_vec();
-        keys.push(name);
-        if let Ok(table) = item.cast::<PyDict>() {
-            // A table of tables alone takes no header of its own: its
-            // sections define it, and glint's parser reads a table named
-            // both ways (`[materials]`, then `[materials.m]`) 10 times
-            // slower.
-            let plain = table
-                .iter()
-                .any(|(_, v)| v.cast::<PyDict>().is_err() && !is_rows(&v));
-            if plain || table.is_empty() {
-                header(out, &keys, false);
-            }
-            section(table, &keys, &path, depth + 1, out)?;
-        } else {
-            for (i, row) in item.try_iter()?.enumerate() {
-                let row = row?;
-                header(out, &keys, true);
-                let row = row.cast::<PyDict>().map_err(|_| named("a row"))?;
-                // A row's own dicts go inline: a section under a row of an
-                // array would need its header after every row.
-                for (k, v) in row.iter() {
-                    let (k, p) = key_of(&k, &format!("{path}[{i}]"), &named)?;
-                    toml_key(&k, out);
-                    out.push_str(" = ");
-                    to_toml(&v, &p, depth + 2, out)?;
-                    out.push('\n');
-                }
-            }
-        }
-    }
-    Ok(())
-}
-
-/// `k` as a TOML key: bare where TOML allows one (a quoted key costs the
-/// parser more: each keeps its own text), else quoted.
-fn toml_key(k: &str, out: &mut String) {
-    if !k.is_empty()
-        && k.chars()
-            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-    {
-        out.push_str(k);
-    } else {
-        quoted(k, out);
-    }
-}
-
-/// `s` as a TOML basic string on one line (inside an inline table a
-/// multi-line string may not stand).
-fn quoted(s: &str, out: &mut String) {
-    out.push('"');
-    for c in s.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            c if c.is_control() => out.push_str(&format!("\\u{:04X}", u32::from(c))),
-            c => out.push(c),
-        }
-    }
-    out.push('"');
 }
 
 fn is_obj(path: &Path) -> bool {
@@ -368,7 +208,7 @@ fn is_obj(path: &Path) -> bool {
 /// an `mtllib` (else one grey), seen from the front of its bounds by a
 /// 40° look-at camera, lit by a light at the eye and one from above
 /// (docs/python.md, Loading an OBJ file).
-fn obj_scene(path: &Path, o: &Overrides) -> Result<lib::Scene, LibSceneError> {
+fn obj_scene(path: &Path, o: &Overrides) -> Result<(lib::Scene, FileText), LibSceneError> {
     let text = glint::input::read_text(path, glint::input::Kind::Mesh).map_err(|cause| {
         LibSceneError::Read {
             path: path.to_owned(),
@@ -424,7 +264,8 @@ fn obj_scene(path: &Path, o: &Overrides) -> Result<lib::Scene, LibSceneError> {
     // Far enough that the bounding sphere fills 40° vertically.
     let distance = radius / (20f64.to_radians()).sin();
     let eye = center + glam::DVec3::new(0.35, 0.25, 1.0).normalize() * distance;
-    lib::parse(&scene_toml(eye.to_array(), center.to_array()), path, o)
+    let text = scene_toml(eye.to_array(), center.to_array());
+    Ok((lib::parse(&text, path, o)?, FileText::Toml(text)))
 }
 
 impl Scene {
@@ -441,24 +282,28 @@ impl Scene {
 #[pymethods]
 impl Scene {
     /// A scene from a dict shaped like the TOML file (as `tomllib.load`
-    /// returns it), so that a test can build and perturb scenes in code.
-    /// An error names the key (`spheres[0].radius`); its `.line` and
-    /// `.column` are None, as a dict has none.
+    /// returns it, or `Scene.to_dict`), so that a test can build and
+    /// perturb scenes in code. Relative file names (meshes, textures) are
+    /// of `base` (default: the working directory). An error names the key
+    /// (`spheres[0].radius`); its `.line` and `.column` are None, as a
+    /// dict has none.
     #[staticmethod]
-    #[pyo3(signature = (d, width=None, height=None, samples=None, max_depth=None))]
+    #[pyo3(signature = (d, base=None, width=None, height=None, samples=None, max_depth=None))]
     fn from_dict(
         d: &Bound<'_, PyDict>,
+        base: Option<PathBuf>,
         width: Option<u32>,
         height: Option<u32>,
         samples: Option<u32>,
         max_depth: Option<u32>,
     ) -> PyResult<Scene> {
-        // The dict is written out as TOML and read as a file is.
+        // The dict is written out as TOML and read as a file in `base` is.
         let o = overrides(width, height, samples, max_depth);
+        let base = base.unwrap_or_else(|| PathBuf::from("."));
         guard(|| {
             let mut text = String::new();
             top_level(d, &mut text)?;
-            let scene = lib::parse(&text, Path::new("<dict>"), &o).map_err(|e| match e {
+            let scene = lib::parse(&text, &base.join("<dict>"), &o).map_err(|e| match e {
                 // The line and column are of the TOML the dict was written
                 // as, which the caller never sees: the key says where.
                 LibSceneError::Invalid { key, message, .. } => errors::scene_at(
@@ -476,8 +321,49 @@ impl Scene {
             Ok(Scene {
                 inner: scene,
                 source: "<dict>".to_owned(),
+                file: FileText::Toml(text),
+                base,
+                overrides: o,
             })
         })
+    }
+
+    /// The scene as a dict shaped like its TOML file, with the keywords it
+    /// was read with written in: `Scene.from_dict(s.to_dict(),
+    /// base=s.base)` renders the same bits. An NFF scene comes as `glint
+    /// convert` writes it, an OBJ with the view glint made around it.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        guard(|| {
+            let text = self.file.toml().map_err(errors::scene)?;
+            let mut table: toml::Table = toml::from_str(&text).map_err(errors::other)?;
+            let o = &self.overrides;
+            let mut set = |section: &str, key: &str, v: Option<u32>| {
+                if let Some(v) = v {
+                    let t = table
+                        .entry(section)
+                        .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+                    if let toml::Value::Table(t) = t {
+                        t.insert(key.to_owned(), toml::Value::Integer(v.into()));
+                    }
+                }
+            };
+            set("image", "width", o.width);
+            set("image", "height", o.height);
+            set("image", "samples", o.samples);
+            set("render", "max_depth", o.max_depth);
+            let d = PyDict::new(py);
+            for (k, v) in &table {
+                d.set_item(k, to_python(py, v)?)?;
+            }
+            Ok(d)
+        })
+    }
+
+    /// The folder the scene's relative file names are of: its file's, or
+    /// the working directory (`loads`), or `from_dict`'s `base`.
+    #[getter]
+    fn base(&self) -> String {
+        self.base.display().to_string()
     }
 
     /// Width of the image in pixels.

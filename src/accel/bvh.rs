@@ -68,6 +68,31 @@ impl Bvh {
     pub fn stack_size(&self) -> usize {
         (WIDTH - 1) * self.depth as usize
     }
+
+    /// The stack the shader declares: for the depth a tree of this many
+    /// primitives has (`expected_depth`), or the tree's own where it is
+    /// deeper. So moving a primitive, which changes the depth by a level
+    /// or two, keeps the variant and its compiled shader (issue 60: every
+    /// position of a sphere in a mesh scene compiled anew), at the cost of
+    /// a few entries more than the tree needs (a larger private array is
+    /// slower on Mesa 22.3: 192 entries cost 16 %; docs/performance.md).
+    /// `count` is the primitives the tree was built over.
+    pub fn shader_stack(&self, count: usize) -> usize {
+        (WIDTH - 1) * self.depth.max(expected_depth(count)) as usize
+    }
+}
+
+/// The depth of a 4-wide SAH tree over `count` primitives, with room: the
+/// ceiling of log4(count), and four levels more (the scenes here are 0 to
+/// 3.5 levels deeper than log4 of their count).
+pub fn expected_depth(count: usize) -> u32 {
+    let mut levels = 0;
+    let mut reach = 1usize;
+    while reach < count {
+        reach = reach.saturating_mul(4);
+        levels += 1;
+    }
+    levels + 4
 }
 
 /// A node of the binary tree the SAH builds, before it is collapsed.

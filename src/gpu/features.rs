@@ -60,7 +60,7 @@ pub struct Features {
     /// Whether the shader carries the loop-budget canary
     /// (`DeviceInfo::loop_budget`).
     pub canary: bool,
-    /// BVH nodes; 0 without a BVH.
+    /// BVH nodes, where they are a uniform block; else 0.
     pub nodes: usize,
 }
 
@@ -229,7 +229,14 @@ impl Features {
             },
             samples: scene.samples,
             uniform_slots: fits.then(|| uploads.array_lengths()),
-            nodes: uploads.nodes.as_ref().map_or(0, |n| n.len),
+            // The nodes' count is in the shader only as a uniform block's
+            // length: elsewhere it would make a moved sphere a new variant
+            // (issue 60).
+            nodes: if fits {
+                uploads.nodes.as_ref().map_or(0, |n| n.len)
+            } else {
+                0
+            },
         }
     }
 

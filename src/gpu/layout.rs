@@ -181,7 +181,8 @@ pub struct Uploads<'a> {
     pub uvs: Array<'a>,
     /// The BVH's nodes, where the scene is traced through one.
     pub nodes: Option<Array<'a>>,
-    /// The entries its walk's stack needs (`Bvh::stack_size`); 0 without one.
+    /// The entries its walk's stack is declared with (`Bvh::shader_stack`);
+    /// 0 without one.
     pub bvh_stack: usize,
     /// Seconds spent building the BVH.
     pub bvh_s: f64,
@@ -221,6 +222,7 @@ impl<'a> Uploads<'a> {
                 (!order.is_empty()).then_some(order)
             })
             .collect();
+        let bounded = scene.prims.bounded_count();
         let globals = globals(scene, origin, tables.as_ref());
         let globals = match precision {
             Precision::F32 => bytemuck::bytes_of(&globals.f32()).to_vec(),
@@ -277,12 +279,12 @@ impl<'a> Uploads<'a> {
             textures: interface::array(textures, precision),
             texels,
             uvs,
-            bvh_stack: bvh.as_ref().map_or(0, |b| b.stack_size()),
+            bvh_stack: bvh.as_ref().map_or(0, |b| b.shader_stack(bounded)),
             ray_cost: bvh.as_ref().map(|b| b.ray_cost()),
             // Written from the BVH's own nodes, which the array keeps.
             nodes: bvh.map(|b| {
+                let len = node_slots(&b, bounded);
                 let packed = b.packed;
-                let len = packed.len();
                 interface::written(
                     len,
                     move |f| packed.iter().for_each(|&n| f(n)),
@@ -359,6 +361,25 @@ impl<'a> Uploads<'a> {
             }
         }
         Ok(())
+    }
+}
+
+/// The largest uniform block glint sizes the nodes' array for: Vulkan's
+/// least `maxUniformBufferRange` is 16 KiB, lavapipe's is 64 KiB.
+const UNIFORM_NODES_BYTES: usize = 1 << 16;
+
+/// The nodes' array's length: the tree's nodes, padded with empty ones to
+/// the most a tree of its primitives can have (one fewer than them: each
+/// node has two children or more) where that fits a uniform block. A
+/// uniform block's length is in the shader, so that a tree's count,
+/// which moving a primitive changes, would otherwise make a new variant
+/// (issue 60).
+fn node_slots(tree: &crate::accel::bvh::Bvh, count: usize) -> usize {
+    let most = count.saturating_sub(1).max(1).max(tree.packed.len());
+    if most * 64 <= UNIFORM_NODES_BYTES {
+        most
+    } else {
+        tree.packed.len()
     }
 }
 

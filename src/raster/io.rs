@@ -209,8 +209,28 @@ fn write_exr(out: &mut dyn Write, img: &Image, path: &Path) -> Result<(), ImageI
     out.write_all(seekable.get_ref()).map_err(io_err(path))
 }
 
-/// Reads a PNG (as value/255, no curve undone), PFM or EXR file.
+/// Reads a PNG, PFM or EXR file as linear values: a PNG is sRGB-encoded
+/// (docs/scene-format.md, Colour), so its levels are decoded; PFM and EXR
+/// hold linear values as they are.
 pub fn read(path: &Path) -> Result<Image, ImageIoError> {
+    read_as(path, true)
+}
+
+/// Reads a PNG, PFM or EXR file; a PNG's levels are decoded from sRGB
+/// where `srgb`, else read as level/255 (a tile written with `srgb =
+/// false`, a texture that decodes itself).
+pub fn read_as(path: &Path, srgb: bool) -> Result<Image, ImageIoError> {
+    let mut image = read_levels(path)?;
+    if srgb && Format::of(path)? == Format::Png {
+        for p in &mut image.pixels {
+            *p = p.map(|c| super::srgb_decode(f64::from(c)) as f32);
+        }
+    }
+    Ok(image)
+}
+
+/// Reads a PNG (as level/255, no curve undone), PFM or EXR file.
+fn read_levels(path: &Path) -> Result<Image, ImageIoError> {
     let format = Format::of(path)?;
     match format {
         Format::Pfm => {

@@ -124,6 +124,16 @@ mod tests {
         assert!((srgb_decode(0.5) - 0.214).abs() < 1e-3);
     }
 
+    /// A PNG read as linear and written again keeps its levels: what
+    /// `glint assemble` and `glint.read` then `glint.write` rely on.
+    #[test]
+    fn every_level_survives_decoding_and_quantizing_again() {
+        for q in 0..=255u8 {
+            let linear = srgb_decode(f64::from(q) / 255.0) as f32;
+            assert_eq!(quantize(linear, true), q, "level {q}");
+        }
+    }
+
     #[test]
     fn quantize_clamps_rounds_and_maps_nan_to_zero() {
         assert_eq!(quantize(-1.0, false), 0);

@@ -98,7 +98,9 @@ pub struct ImageFile {
     pub height: i64,
     #[serde(default = "one")]
     pub samples: i64,
-    #[serde(default)]
+    /// A PNG's levels are sRGB-encoded unless `srgb = false`
+    /// (docs/scene-format.md, Colour).
+    #[serde(default = "yes")]
     pub srgb: bool,
     #[serde(default)]
     pub sampling: Sampling,

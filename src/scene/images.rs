@@ -50,7 +50,9 @@ impl Images {
                 self.texels.len()
             ));
         }
-        let image = io::read(path).map_err(unreadable)?;
+        // Levels, decoded here in f64 (`io::read` decodes in f64 too, and
+        // rounds to f32 once, the same bits).
+        let image = io::read_as(path, false).map_err(unreadable)?;
         let srgb = format == Format::Png;
         let first = self.texels.len() as u32;
         let mut peak = DVec3::ZERO;

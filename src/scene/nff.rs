@@ -429,7 +429,7 @@ impl<'a> Reader<'a> {
                 width: view.width,
                 height: view.height,
                 samples: 1,
-                srgb: false,
+                srgb: true,
                 sampling: Sampling::Corners,
                 threshold: None,
                 max_level: None,

@@ -181,7 +181,9 @@ pub fn read_tile(path: &Path) -> Result<Tile, TileError> {
             ),
         ));
     }
-    let image = io::read(path).map_err(|e| TileError::Image(path.to_owned(), e.to_string()))?;
+    // A PNG tile holds its levels as the sidecar says it wrote them.
+    let image = io::read_as(path, sidecar.srgb)
+        .map_err(|e| TileError::Image(path.to_owned(), e.to_string()))?;
     let r = sidecar.region;
     if (image.width, image.height) != (r.width, r.height) {
         return Err(TileError::Partial {

@@ -46,6 +46,8 @@ __all__ = [
     "read",
     "write",
     "devices",
+    "show",
+    "Shown",
     "Scene",
     "Renderer",
     "PreparedScene",
@@ -371,16 +373,25 @@ def _pixel(pixel: Any) -> Tuple[int, int]:
     return (x, y)
 
 
+def _srgb_decode(levels: npt.NDArray[Any], top: int) -> Image:
+    # IEC 61966-2-1, in float64 and rounded once, as glint.read decodes a PNG.
+    c = np.asarray(levels, dtype=np.float64) / top
+    linear = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+    return cast(Image, linear.astype(np.float32))
+
+
 def _image(a: Any, what: str) -> Image:
-    # An 8- or 16-bit array holds display levels: 255 (65535) is 1.0, as a
-    # PNG reads back (issue 57: a uint8 image of 128s was written white).
-    # Other integers and bools say nothing of a scale: refused.
+    # An 8- or 16-bit array holds sRGB display levels, as a PNG does: 255
+    # (65535) is 1.0 and 128 is 0.216 linear, so that writing it as a PNG
+    # gives those levels back (issue 57: a uint8 image of 128s was written
+    # white; issue 60: one convention for PNG levels). Other integers and
+    # bools say nothing of a scale: refused.
     kind = np.asarray(a).dtype
     if kind == np.uint8 or kind == np.uint16:
-        a = np.asarray(a, dtype=np.float32) / np.float32(np.iinfo(kind).max)
+        a = _srgb_decode(np.asarray(a), int(np.iinfo(kind).max))
     elif kind == np.bool_ or np.issubdtype(kind, np.integer):
         raise ValueError(
-            f"{what}: a {kind} array; an image is floats (linear, 1.0 white), or uint8 or uint16 levels"
+            f"{what}: a {kind} array; an image is floats (linear, 1.0 white), or uint8 or uint16 sRGB levels"
         )
     image: Image = np.ascontiguousarray(a, dtype=np.float32)
     if image.ndim != 3 or image.shape[2] != 3:
@@ -424,6 +435,13 @@ class Comparison:
         """The pixels that count against the image: over 1/255 and, where
         the check left the ill-conditioned out, well-conditioned."""
         return self.over if self.ill is None else self.over & ~self.ill
+
+    def _repr_png_(self) -> bytes:
+        """The image, the reference and the failing pixels (red on black)
+        side by side, as Jupyter shows a comparison."""
+        mask = np.zeros_like(self.reference)
+        mask[self.failing] = (1.0, 0.0, 0.0)
+        return show(self.image, self.reference, mask)._repr_png_()
 
 
 def compare(
@@ -477,19 +495,63 @@ def explain(
     return (renderer or _default_renderer()).explain(scene, pixel, sample)
 
 
-def read(path: PathLike) -> Image:
-    """A PNG (values/255, no curve undone), PFM or EXR file as an image."""
-    return _glint.read(os.fspath(path))
+def read(path: PathLike, srgb: bool = True) -> Image:
+    """A PNG, PFM or EXR file as a linear image. A PNG is sRGB-encoded, and
+    its levels are decoded (``srgb=False``: read as level/255); PFM and EXR
+    are linear as stored (docs/scene-format.md, Colour)."""
+    return _glint.read(os.fspath(path), srgb)
 
 
-def write(image: Any, path: PathLike, srgb: bool = False) -> None:
-    """Writes an image as PNG, PFM or EXR, by the extension, at once (a
-    temporary file renamed into place): a failed write leaves no file.
-    ``srgb`` applies the sRGB curve before a PNG's quantization."""
+def write(image: Any, path: PathLike, srgb: bool = True) -> None:
+    """Writes a linear image as PNG, PFM or EXR, by the extension, at once
+    (a temporary file renamed into place): a failed write leaves no file.
+    A PNG is sRGB-encoded before its 8-bit quantization (``srgb=False``:
+    linear levels), so it looks as the image should and :func:`read`
+    gives it back; PFM and EXR hold the values as they are."""
     _glint.write(_image(image, "image"), os.fspath(path), srgb)
+
+
+class Shown:
+    """Images as a notebook shows them (:func:`show`): ``_repr_png_`` is
+    their PNG, side by side with a gap between, clamped to [0, 1] and
+    sRGB-encoded as :func:`write` writes a PNG."""
+
+    def __init__(self, images: Sequence[Image]) -> None:
+        self.images = list(images)
+
+    def _repr_png_(self) -> bytes:
+        height = max(i.shape[0] for i in self.images)
+        gap = np.ones((height, 4, 3), dtype=np.float32)
+        row: List[Image] = []
+        for i, image in enumerate(self.images):
+            if i:
+                row.append(gap)
+            pad = np.zeros((height, image.shape[1], 3), dtype=np.float32)
+            pad[: image.shape[0]] = np.nan_to_num(image, nan=0.0, posinf=1.0, neginf=0.0)
+            row.append(pad)
+        import tempfile
+
+        with tempfile.TemporaryDirectory(prefix="glint-show-") as d:
+            path = os.path.join(d, "shown.png")
+            write(np.concatenate(row, axis=1), path)
+            with open(path, "rb") as f:
+                return f.read()
+
+    def __repr__(self) -> str:
+        sizes = ", ".join(f"{i.shape[1]}x{i.shape[0]}" for i in self.images)
+        return f"<glint.Shown {sizes}>"
+
+
+def show(*images: Any) -> Shown:
+    """One or more images to show inline in Jupyter (``_repr_png_``):
+    ``glint.show(glint.render(scene))``, or several side by side."""
+    if not images:
+        raise ValueError("show: give at least one image")
+    return Shown([_image(a, f"image {i}") for i, a in enumerate(images)])
 
 
 def devices() -> List[Dict[str, Any]]:
     """The Vulkan devices, best (the default) first: name, type, driver and
-    what glint reads of them (``glint info --json``)."""
+    what glint reads of them (``glint info --json``); ``[]`` where there is
+    no Vulkan driver or loader (render with ``backend="cpu"`` then)."""
     return cast(List[Dict[str, Any]], json.loads(_glint.devices_json()))

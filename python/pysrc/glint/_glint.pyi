@@ -1,8 +1,9 @@
 # Types of the Rust extension glint._glint (python/src/). The public API is
-# glint/__init__.py, which wraps these; this file lets a type checker follow
+# pysrc/glint/__init__.py, which wraps these; this file lets a type checker follow
 # it through.
 
-from typing import Dict, List, Mapping, Optional, Sequence, Tuple, Union, final
+import os
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -63,9 +64,13 @@ class Scene:
     def lights(self) -> List[str]: ...
     @property
     def source(self) -> str: ...
+    @property
+    def base(self) -> str: ...
+    def to_dict(self) -> Dict[str, Any]: ...
     @staticmethod
     def from_dict(
         d: Mapping[str, object],
+        base: Optional[Union[str, "os.PathLike[str]"]] = None,
         width: Optional[int] = None,
         height: Optional[int] = None,
         samples: Optional[int] = None,
@@ -127,8 +132,8 @@ def render_cpu(
     stats: bool = False,
 ) -> Tuple[_Image, Optional[str]]: ...
 def devices_json() -> str: ...
-def read(path: str) -> _Image: ...
-def write(image: _Image, path: str, srgb: bool = False) -> None: ...
+def read(path: str, srgb: bool = True) -> _Image: ...
+def write(image: _Image, path: str, srgb: bool = True) -> None: ...
 def diff_json(a: _Image, b: _Image) -> str: ...
 def compare_raw(
     scene: Scene,

@@ -1,0 +1,224 @@
+"""A notebook session's steps (issue 60): a scene read back as a dict and
+from a dict in another folder, one colour convention for PNG, images shown
+inline, setup times that say what a render spent, devices() without a
+driver, and the package imported from inside python/."""
+
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import glint
+from conftest import ROOT, gpu, small
+
+# Half a PNG level through the steepest part of the sRGB decoding (slope
+# 2.4 / 1.055 at 1.0): the most a linear value moves through a PNG.
+PNG_ROUNDING = 0.5 / 255 * 2.4 / 1.055
+
+
+def test_to_dict_and_from_dict_give_the_same_bits():
+    scene = small("seed-fig5.toml")
+    again = glint.Scene.from_dict(scene.to_dict(), base=scene.base)
+    assert again.width == 80 and again.height == 60
+    a = glint.render(scene, backend="cpu")
+    b = glint.render(again, backend="cpu")
+    assert a.tobytes() == b.tobytes()
+    # A check that can fail: a changed radius is another image.
+    d = scene.to_dict()
+    d["spheres"][0]["radius"] *= 1.1
+    moved = glint.render(glint.Scene.from_dict(d, base=scene.base), backend="cpu")
+    assert moved.tobytes() != a.tobytes()
+
+
+def test_from_dict_reads_relative_files_from_its_base(tmp_path, monkeypatch):
+    scene = small("textures.toml")
+    d = scene.to_dict()
+    assert d["textures"]["map"]["image"] == "meshes/globe.png"
+    monkeypatch.chdir(tmp_path)
+    # Of the working directory, the texture is not there: the error names it.
+    with pytest.raises(glint.SceneError, match="globe.png"):
+        glint.Scene.from_dict(d)
+    again = glint.Scene.from_dict(d, base=ROOT / "scenes")
+    assert glint.render(again, backend="cpu").tobytes() == glint.render(scene, backend="cpu").tobytes()
+
+
+def test_an_nff_scene_comes_back_as_its_conversion():
+    scene = glint.load(ROOT / "scenes/spd/tetra.nff", width=48, height=48)
+    d = scene.to_dict()
+    assert d["image"]["width"] == 48 and "triangles" in d
+    again = glint.Scene.from_dict(d)
+    assert glint.render(again, backend="cpu").tobytes() == glint.render(scene, backend="cpu").tobytes()
+
+
+def test_a_half_goes_through_png_and_exr_as_a_half(tmp_path):
+    half = np.full((4, 6, 3), 0.5, dtype=np.float32)
+    glint.write(half, tmp_path / "h.exr")
+    assert np.all(glint.read(tmp_path / "h.exr") == 0.5)
+    glint.write(half, tmp_path / "h.png")
+    back = glint.read(tmp_path / "h.png")
+    assert np.abs(back - 0.5).max() <= PNG_ROUNDING
+    assert np.abs(back - 0.5).max() > 0, "a PNG holds 8-bit levels"
+    # The level is the sRGB one: 188, where a linear PNG would hold 128.
+    levels = np.round(glint.read(tmp_path / "h.png", srgb=False) * 255)
+    assert np.all(levels == 188)
+    # A PNG read and written again keeps its levels.
+    glint.write(back, tmp_path / "again.png")
+    assert (tmp_path / "again.png").read_bytes() == (tmp_path / "h.png").read_bytes()
+
+
+def test_linear_png_levels_are_there_when_asked_for(tmp_path):
+    half = np.full((2, 2, 3), 0.5, dtype=np.float32)
+    glint.write(half, tmp_path / "linear.png", srgb=False)
+    assert np.all(np.round(glint.read(tmp_path / "linear.png", srgb=False) * 255) == 128)
+
+
+def texture_scene(image: str) -> str:
+    return f"""
+[image]
+width = 9
+height = 9
+[camera]
+eye = [0, 0, 5]
+look_at = [0, 0, 0]
+vfov = 20
+[textures.t]
+image = "{image}"
+[materials.m]
+texture = "t"
+[[spheres]]
+center = [0, 0, 0]
+radius = 1
+material = "m"
+[[lights]]
+type = "directional"
+direction = [0, 0, -1]
+diffuse = [1, 1, 1]
+"""
+
+
+def test_a_half_written_to_png_renders_as_a_half_as_a_texture(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    half = np.full((4, 4, 3), 0.5, dtype=np.float32)
+    glint.write(half, "half.png")
+    glint.write(half, "half.pfm")
+    png = glint.render(glint.loads(texture_scene("half.png")), backend="cpu")[4, 4]
+    pfm = glint.render(glint.loads(texture_scene("half.pfm")), backend="cpu")[4, 4]
+    assert pfm[0] > 0.4, "the centre is lit head-on"
+    assert np.abs(png / pfm * 0.5 - 0.5).max() <= PNG_ROUNDING
+
+
+def test_uint8_levels_are_srgb_and_are_written_as_they_are(tmp_path):
+    levels = np.full((2, 3, 3), 128, dtype=np.uint8)
+    glint.write(levels, tmp_path / "x.png")
+    assert np.all(np.round(glint.read(tmp_path / "x.png", srgb=False) * 255) == 128)
+    glint.write(levels, tmp_path / "x.pfm")
+    assert np.allclose(glint.read(tmp_path / "x.pfm"), 0.2158605, atol=1e-6)
+
+
+def decode_png(data: bytes, tmp_path) -> np.ndarray:
+    path = tmp_path / "shown.png"
+    path.write_bytes(data)
+    return glint.read(path)
+
+
+def test_show_gives_the_png_of_the_image(tmp_path):
+    image = glint.render(small("seed-fig4.toml", 40, 30), backend="cpu")
+    data = glint.show(image)._repr_png_()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    shown = decode_png(data, tmp_path)
+    assert shown.shape == image.shape
+    assert np.abs(shown - np.clip(image, 0, 1)).max() <= PNG_ROUNDING
+    # Two side by side, with a white gap of 4 columns.
+    both = decode_png(glint.show(image, image * 0.5)._repr_png_(), tmp_path)
+    assert both.shape == (30, 84, 3)
+    assert np.all(both[:, 40:44] == 1.0)
+    with pytest.raises(ValueError, match="at least one"):
+        glint.show()
+
+
+def test_a_comparison_shows_image_reference_and_failing_pixels(tmp_path):
+    scene = small("seed-fig4.toml", 40, 30)
+    reference = glint.render(scene, backend="cpu", precision="f64")
+    darker = reference * 0.5
+    result = glint.compare(scene, darker, backend="cpu")
+    assert not result.passed
+    shown = decode_png(result._repr_png_(), tmp_path)
+    assert shown.shape == (30, 3 * 40 + 8, 3)
+    mask = shown[:, 88:]
+    assert np.all((mask[..., 0] == 1.0) == result.failing)
+
+
+@gpu
+def test_a_prepared_scenes_second_render_spent_no_setup(renderer):
+    r = glint.Renderer()
+    prepared = r.prepare(small("seed-fig4.toml", 32, 24), stats=True)
+    _, first = prepared.render(stats=True)
+    _, second = prepared.render(stats=True)
+    assert first["seconds"]["setup"] > 0
+    # Issue 60: the device's opening was counted again at every render.
+    assert second["seconds"]["setup"] == 0.0, second["seconds"]
+    # Another scene on the same renderer: its compile, not the device again.
+    _, other = r.render(small("seed-fig5.toml", 32, 24), stats=True)
+    t = other["times"]
+    spent = t["setup"]["compile_s"] + t["setup"]["pipeline_s"] + t["setup"]["driver_compile_s"] + t["bvh_s"]
+    assert t["setup"]["device_s"] > 0
+    assert other["seconds"]["setup"] == pytest.approx(spent, abs=1e-12)
+
+
+def python(code: str, cwd, **env) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=cwd,
+        env=dict(os.environ, **env),
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+
+
+@gpu
+def test_devices_without_a_vulkan_driver_is_an_empty_list(tmp_path):
+    run = python(
+        "import glint, json; print(json.dumps(glint.devices()))",
+        tmp_path,
+        VK_DRIVER_FILES=str(tmp_path / "no-such-icd.json"),
+        VK_ICD_FILENAMES=str(tmp_path / "no-such-icd.json"),
+    )
+    assert run.returncode == 0, run.stderr
+    assert json.loads(run.stdout) == []
+
+
+def test_the_package_imports_from_inside_the_python_folder():
+    # python/glint/ once shadowed the installed package there, without its
+    # compiled module: a circular-import ImportError.
+    run = python("import glint; print(glint.GPU_BUILT)", ROOT / "python")
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == str(glint.GPU_BUILT)
+
+
+@gpu
+def test_a_sphere_swept_through_a_mesh_scene_compiles_once():
+    # Issue 60: every position compiled a new variant (the BVH's node
+    # count and depth were in its key).
+    d = {
+        "image": {"width": 48, "height": 36},
+        "camera": {"eye": [0, 0.5, 4], "look_at": [0, 0, 0], "vfov": 45},
+        "materials": {"m": {"ambient": [0.1, 0.1, 0.1], "diffuse": [0.6, 0.6, 0.6]}},
+        "meshes": [{"file": "meshes/icosphere-smooth.obj", "material": "m"}],
+        "spheres": [{"center": [0, 0, 0], "radius": 0.3, "material": "m"}],
+        "lights": [{"type": "point", "position": [2, 3, 4], "diffuse": [1, 1, 1]}],
+    }
+    r = glint.Renderer()
+    compiled = []
+    for i in range(6):
+        d["spheres"][0]["center"] = [-1.5 + 0.6 * i, 0.2 * i, 0.5]
+        scene = glint.Scene.from_dict(d, base=ROOT / "scenes")
+        image, stats = r.render(scene, stats=True)
+        compiled.append(stats["compiled"])
+    assert sum(compiled) <= 1, compiled
+    # The last frame is a fresh renderer's, compiled afresh, bit for bit.
+    fresh = glint.Renderer(cache=False).render(scene)
+    assert image.tobytes() == fresh.tobytes()
