@@ -6,6 +6,8 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 
+use crate::arrays::{ArrayFiles, MESH_ARRAYS};
+
 /// A TOML value as Python's: a table a dict, an array a list.
 pub fn to_python<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {
     Ok(match v {
@@ -137,8 +139,8 @@ fn key_of(
 /// dicts as sections of their own. glint's parser reads a file of this
 /// shape in about the text's size; one with inline tables took 10 times
 /// that (issue 57: 200,000 spheres took 430 MB with one `m = {...}`).
-pub fn top_level(d: &Bound<'_, PyDict>, out: &mut String) -> PyResult<()> {
-    section(d, &[], "", 0, out)
+pub fn top_level(d: &Bound<'_, PyDict>, out: &mut String, files: &mut ArrayFiles) -> PyResult<()> {
+    section(d, &[], "", 0, out, files)
 }
 
 /// Whether `v` is a non-empty list of dicts: an array of tables.
@@ -155,6 +157,7 @@ fn section(
     at: &str,
     depth: usize,
     out: &mut String,
+    files: &mut ArrayFiles,
 ) -> PyResult<()> {
     let named = |what: &str| {
         PyTypeError::new_err(format!(
@@ -177,6 +180,12 @@ fn section(
         let (name, path) = key_of(&k, at, &named)?;
         if item.cast::<PyDict>().is_ok() || is_rows(&item) {
             later.push((name, path, item));
+        } else if name == "image" && item.hasattr("shape")? {
+            // A texture's image as an array: a file of its own.
+            let file = files.image(&item, &path)?;
+            out.push_str("image = ");
+            quoted(&file, out);
+            out.push('\n');
         } else {
             toml_key(&name, out);
             out.push_str(" = ");
@@ -208,15 +217,32 @@ fn section(
             if plain || table.is_empty() {
                 header(out, &keys, false);
             }
-            section(table, &keys, &path, depth + 1, out)?;
+            section(table, &keys, &path, depth + 1, out, files)?;
         } else {
             for (i, row) in item.try_iter()?.enumerate() {
                 let row = row?;
                 header(out, &keys, true);
                 let row = row.cast::<PyDict>().map_err(|_| named("a row"))?;
+                // A mesh given as arrays: an OBJ file of its own, named in
+                // place of the arrays.
+                let arrays = keys.len() == 1
+                    && keys[0] == "meshes"
+                    && (row.contains("vertices")? || row.contains("faces")?);
+                if arrays {
+                    let file = files.mesh(row, &format!("{path}[{i}]"))?;
+                    out.push_str("file = ");
+                    quoted(&file, out);
+                    out.push('\n');
+                }
                 // A row's own dicts go inline: a section under a row of an
                 // array would need its header after every row.
                 for (k, v) in row.iter() {
+                    if arrays
+                        && k.extract::<String>()
+                            .is_ok_and(|k| MESH_ARRAYS.contains(&k.as_str()))
+                    {
+                        continue;
+                    }
                     let (k, p) = key_of(&k, &format!("{path}[{i}]"), &named)?;
                     toml_key(&k, out);
                     out.push_str(" = ");

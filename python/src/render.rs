@@ -3,7 +3,7 @@
 //! while either runs.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::RecvTimeoutError;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -43,6 +43,40 @@ pub fn interruptible<T: Send>(
     stop: &AtomicBool,
     job: impl FnOnce() -> PyResult<T> + Send,
 ) -> PyResult<T> {
+    interruptible_with(py, stop, None, job)
+}
+
+/// A render's `progress=`: the Python callable, called as
+/// `progress(pixels_done, pixels)` on the waiting thread (with the GIL)
+/// every [`POLL`] while the count moves, and once at the end; the count
+/// the job adds to as tiles (GPU) or rows (CPU) finish.
+pub struct Progress<'a, 'py> {
+    pub call: &'a Bound<'py, PyAny>,
+    pub done: &'a AtomicU64,
+    pub total: u64,
+}
+
+/// As [`interruptible`], calling `progress` as the job's count moves. An
+/// exception the callable raises stops the render and is raised.
+pub fn interruptible_with<T: Send>(
+    py: Python<'_>,
+    stop: &AtomicBool,
+    progress: Option<Progress<'_, '_>>,
+    job: impl FnOnce() -> PyResult<T> + Send,
+) -> PyResult<T> {
+    let mut shown = u64::MAX;
+    let mut show = |interrupted: &mut Option<PyErr>| {
+        if let Some(p) = &progress {
+            let done = p.done.load(Ordering::Relaxed);
+            if done != shown && interrupted.is_none() {
+                shown = done;
+                if let Err(e) = p.call.call1((done, p.total)) {
+                    stop.store(true, Ordering::Relaxed);
+                    *interrupted = Some(e);
+                }
+            }
+        }
+    };
     stop.store(false, Ordering::Relaxed);
     let (finished, mut done_rx) = std::sync::mpsc::channel::<()>();
     std::thread::scope(|s| {
@@ -67,8 +101,12 @@ pub fn interruptible<T: Send>(
                     interrupted = Some(e);
                 }
             }
+            show(&mut interrupted);
         }
         let done = handle.join().expect("the job catches its own panics");
+        if done.as_ref().is_ok_and(|r| r.is_ok()) {
+            show(&mut interrupted);
+        }
         if let Some(e) = interrupted {
             return Err(e);
         }
@@ -122,13 +160,14 @@ fn merge(mut a: serde_json::Value, b: serde_json::Value) -> String {
 
 /// The CPU reference: `glint.render(scene, backend="cpu")`.
 #[pyfunction]
-#[pyo3(signature = (scene, precision="f32", region=None, stats=false))]
+#[pyo3(signature = (scene, precision="f32", region=None, stats=false, progress=None))]
 pub fn render_cpu<'py>(
     py: Python<'py>,
     scene: &Scene,
     precision: &str,
     region: RegionArg,
     stats: bool,
+    progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Rendered<'py>> {
     let precision = self::precision(precision)?;
     let name = precision.name();
@@ -142,12 +181,20 @@ pub fn render_cpu<'py>(
             r.within(scene.width, scene.height).map_err(errors::value)?;
         }
         let stop = Arc::new(AtomicBool::new(false));
-        let (image, stats) = interruptible(py, &stop, || {
+        // Rows as they finish, counted in pixels as the GPU's tiles are.
+        let done = AtomicU64::new(0);
+        let shown = progress.as_ref().map(|call| Progress {
+            call,
+            done: &done,
+            total: u64::from(w) * u64::from(h),
+        });
+        let (image, stats) = interruptible_with(py, &stop, shown, || {
             fn go<R: cpu::Real>(
                 scene: &glint::scene::Scene,
                 region: Option<Region>,
                 counted: bool,
                 stop: &Arc<AtomicBool>,
+                rows: &(dyn Fn(u64) + Sync),
             ) -> (Image, Option<Counts>, f64, f64, f64) {
                 let t0 = Instant::now();
                 let mut prepared = cpu::Prepared::<R>::new(scene, Accel::Auto);
@@ -156,15 +203,15 @@ pub fn render_cpu<'py>(
                 let t1 = Instant::now();
                 let (image, counts) = match region {
                     Some(r) if counted => {
-                        let (image, counts) = prepared.render_region_counted(r, &|_| {});
+                        let (image, counts) = prepared.render_region_counted(r, rows);
                         (image, Some(counts))
                     }
-                    Some(r) => (prepared.render_region(r, &|_| {}), None),
+                    Some(r) => (prepared.render_region(r, rows), None),
                     None if counted => {
-                        let (image, counts) = prepared.render_counted(&|_| {});
+                        let (image, counts) = prepared.render_counted(rows);
                         (image, Some(counts))
                     }
-                    None => (prepared.render(&|_| {}), None),
+                    None => (prepared.render(rows), None),
                 };
                 (
                     image,
@@ -174,9 +221,12 @@ pub fn render_cpu<'py>(
                     t1.elapsed().as_secs_f64(),
                 )
             }
+            let rows = |n: u64| {
+                done.fetch_add(n * u64::from(w), Ordering::Relaxed);
+            };
             let (image, counts, setup, tables, trace) = match precision {
-                Precision::F64 => go::<f64>(scene, region, stats, &stop),
-                Precision::F32 => go::<f32>(scene, region, stats, &stop),
+                Precision::F64 => go::<f64>(scene, region, stats, &stop, &rows),
+                Precision::F32 => go::<f32>(scene, region, stats, &stop, &rows),
             };
             let stats = stats.then(|| {
                 merge(
@@ -347,7 +397,7 @@ mod gpu_side {
             })
         }
 
-        #[pyo3(signature = (scene, precision="f32", region=None, stats=false))]
+        #[pyo3(signature = (scene, precision="f32", region=None, stats=false, progress=None))]
         fn render<'py>(
             &self,
             py: Python<'py>,
@@ -355,9 +405,10 @@ mod gpu_side {
             precision: &str,
             region: RegionArg,
             stats: bool,
+            progress: Option<Bound<'py, PyAny>>,
         ) -> PyResult<Rendered<'py>> {
             let prepared = self.prepare(py, scene, precision, stats)?;
-            prepared.render(py, region, stats)
+            prepared.render(py, region, stats, progress)
         }
 
         /// `glint explain`'s record of pixel (x, y) of `scene` (`sample`:
@@ -433,12 +484,13 @@ mod gpu_side {
 
     #[pymethods]
     impl PreparedScene {
-        #[pyo3(signature = (region=None, stats=false))]
+        #[pyo3(signature = (region=None, stats=false, progress=None))]
         pub fn render<'py>(
             &self,
             py: Python<'py>,
             region: RegionArg,
             stats: bool,
+            progress: Option<Bound<'py, PyAny>>,
         ) -> PyResult<Rendered<'py>> {
             let region = super::region(region);
             if let Some(r) = region {
@@ -449,10 +501,19 @@ mod gpu_side {
             let (w, h) = region.map_or(self.scene, |r| (r.width, r.height));
             glint::raster::memory::check_render(w, h).map_err(super::errors::memory)?;
             guard(|| {
-                let (rendered, call_s) = interruptible(py, &self.stop, || {
+                let done = AtomicU64::new(0);
+                let shown = progress.as_ref().map(|call| Progress {
+                    call,
+                    done: &done,
+                    total: u64::from(w) * u64::from(h),
+                });
+                let (rendered, call_s) = interruptible_with(py, &self.stop, shown, || {
                     let mut prepared = lock(&self.inner);
                     let t0 = Instant::now();
-                    let rendered = prepared.render(region, &|_| {}).map_err(errors::gpu)?;
+                    let tiles = |pixels: u64| {
+                        done.fetch_add(pixels, Ordering::Relaxed);
+                    };
+                    let rendered = prepared.render(region, &tiles).map_err(errors::gpu)?;
                     Ok((rendered, t0.elapsed().as_secs_f64()))
                 })?;
                 let gpu::Rendered {

@@ -9,6 +9,7 @@ use pyo3::types::PyDict;
 
 use glint::scene::{self as lib, Overrides, SceneError as LibSceneError};
 
+use crate::arrays::ArrayFiles;
 use crate::dict::{to_python, top_level};
 use crate::errors::{self, guard};
 
@@ -25,6 +26,9 @@ pub struct Scene {
     pub base: PathBuf,
     /// The keywords it was read with, which `to_dict` writes in.
     pub overrides: Overrides,
+    /// The files a dict's arrays were written as (meshes, images), which
+    /// its `to_dict` names: kept as long as the scene.
+    pub _arrays: Option<tempfile::TempDir>,
 }
 
 /// A scene file's text as it was given: TOML, or NFF (converted to TOML
@@ -117,6 +121,7 @@ pub fn load(
             file,
             base: folder_of(&path),
             overrides: o,
+            _arrays: None,
         })
     })
 }
@@ -195,6 +200,7 @@ pub fn loads(
             file,
             base: PathBuf::from("."),
             overrides: o,
+            _arrays: None,
         })
     })
 }
@@ -302,7 +308,8 @@ impl Scene {
         let base = base.unwrap_or_else(|| PathBuf::from("."));
         guard(|| {
             let mut text = String::new();
-            top_level(d, &mut text)?;
+            let mut files = ArrayFiles::default();
+            top_level(d, &mut text, &mut files)?;
             let scene = lib::parse(&text, &base.join("<dict>"), &o).map_err(|e| match e {
                 // The line and column are of the TOML the dict was written
                 // as, which the caller never sees: the key says where.
@@ -324,6 +331,7 @@ impl Scene {
                 file: FileText::Toml(text),
                 base,
                 overrides: o,
+                _arrays: files.into_dir(),
             })
         })
     }

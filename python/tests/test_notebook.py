@@ -222,3 +222,106 @@ def test_a_sphere_swept_through_a_mesh_scene_compiles_once():
     # The last frame is a fresh renderer's, compiled afresh, bit for bit.
     fresh = glint.Renderer(cache=False).render(scene)
     assert image.tobytes() == fresh.tobytes()
+
+
+def test_the_build_refuses_in_one_line_without_cargo(tmp_path):
+    # Where cargo is missing, maturin would download a Rust toolchain of
+    # about 1 GB into ~/.cache and say nothing (issue 60); glint's backend
+    # stops first, naming ci/setup.
+    run = subprocess.run(
+        [sys.executable, "-c", "import glint_build"],
+        cwd=tmp_path,
+        env=dict(os.environ, PATH="/usr/bin:/bin", PYTHONPATH=str(ROOT / "python/backend")),
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert run.returncode != 0
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and "cargo" in lines[0] and "ci/setup" in lines[0], run.stderr
+
+
+def read_obj(path):
+    vertices, normals, faces = [], [], []
+    for line in open(path):
+        w = line.split()
+        if not w:
+            continue
+        if w[0] == "v":
+            vertices.append([float(x) for x in w[1:4]])
+        elif w[0] == "vn":
+            normals.append([float(x) for x in w[1:4]])
+        elif w[0] == "f":
+            faces.append([int(c.split("/")[0]) - 1 for c in w[1:4]])
+    return np.array(vertices), np.array(normals), np.array(faces, dtype=np.int32)
+
+
+def mesh_scene(mesh):
+    return {
+        "image": {"width": 40, "height": 30},
+        "camera": {"eye": [0.4, 0.6, 3], "look_at": [0, 0, 0], "vfov": 45},
+        "materials": {"m": {"ambient": [0.1, 0.1, 0.1], "diffuse": [0.7, 0.6, 0.5], "specular": [0.3, 0.3, 0.3], "shininess": 20}},
+        "meshes": [dict(mesh, material="m")],
+        "lights": [{"type": "point", "position": [2, 3, 4], "diffuse": [1, 1, 1], "specular": [1, 1, 1]}],
+    }
+
+
+def test_a_mesh_from_numpy_renders_as_its_obj_file():
+    obj = ROOT / "scenes/meshes/icosphere-smooth.obj"
+    vertices, normals, faces = read_obj(obj)
+    from_file = glint.Scene.from_dict(mesh_scene({"file": str(obj)}))
+    from_arrays = glint.Scene.from_dict(mesh_scene({"vertices": vertices, "faces": faces, "normals": normals}))
+    assert from_arrays.counts["triangles"] == len(faces) == 320
+    a = glint.render(from_file, backend="cpu")
+    b = glint.render(from_arrays, backend="cpu")
+    assert a.tobytes() == b.tobytes()
+    # Flat, without the normals: another image.
+    flat = glint.Scene.from_dict(mesh_scene({"vertices": vertices, "faces": faces}))
+    assert glint.render(flat, backend="cpu").tobytes() != a.tobytes()
+
+
+def test_a_mesh_from_numpy_with_a_bad_index_is_refused_by_its_key():
+    vertices = np.zeros((3, 3))
+    with pytest.raises(ValueError, match=r"meshes\[0\]\.faces: vertex index 3 is outside the 3 vertices"):
+        glint.Scene.from_dict(mesh_scene({"vertices": vertices, "faces": [[0, 1, 3]]}))
+    with pytest.raises(ValueError, match=r"meshes\[0\]\.vertices: has shape \(3, 2\)"):
+        glint.Scene.from_dict(mesh_scene({"vertices": np.zeros((3, 2)), "faces": [[0, 1, 2]]}))
+
+
+def test_a_texture_from_numpy_renders_as_its_file(tmp_path):
+    rng = np.random.default_rng(60)
+    texels = rng.random((8, 16, 3), dtype=np.float32)
+    glint.write(texels, tmp_path / "t.pfm")
+    levels = (rng.random((8, 16, 3)) * 255).astype(np.uint8)
+    glint.write(levels, tmp_path / "t.png")
+    for array, name in [(texels, "t.pfm"), (levels, "t.png")]:
+        d = glint.loads(texture_scene(str(tmp_path / name))).to_dict()
+        from_file = glint.render(glint.Scene.from_dict(d), backend="cpu")
+        d["textures"]["t"]["image"] = array
+        from_array = glint.render(glint.Scene.from_dict(d), backend="cpu")
+        assert from_array.tobytes() == from_file.tobytes(), name
+
+
+@pytest.mark.parametrize("backend", ["cpu", pytest.param("gpu", marks=gpu)])
+def test_progress_counts_up_to_every_pixel(backend):
+    scene = small("seed-fig5.toml", 96, 72)
+    calls = []
+    image = glint.render(scene, backend=backend, progress=lambda done, total: calls.append((done, total)))
+    assert calls, "called at least at the end"
+    assert calls[-1] == (96 * 72, 96 * 72)
+    assert all(a[0] < b[0] for a, b in zip(calls, calls[1:])), "each call a step further"
+    assert image.tobytes() == glint.render(scene, backend=backend).tobytes()
+    # A region counts its own pixels.
+    region_calls = []
+    glint.render(scene, backend=backend, region=(8, 4, 16, 10), progress=lambda d, t: region_calls.append((d, t)))
+    assert region_calls[-1] == (160, 160)
+
+
+def test_a_progress_callback_that_raises_stops_the_render():
+    scene = small("seed-fig5.toml", 96, 72)
+
+    def fail(done, total):
+        raise RuntimeError(f"stop at {done}")
+
+    with pytest.raises(RuntimeError, match="stop at"):
+        glint.render(scene, backend="cpu", progress=fail)

@@ -60,7 +60,8 @@ pub struct Features {
     /// Whether the shader carries the loop-budget canary
     /// (`DeviceInfo::loop_budget`).
     pub canary: bool,
-    /// BVH nodes, where they are a uniform block; else 0.
+    /// The nodes' uniform block's length (the most nodes a tree of the
+    /// scene's primitives has), where they are one; else 0.
     pub nodes: usize,
 }
 
@@ -180,9 +181,19 @@ impl Features {
                 && spheres > 0
                 && !(spheres_only && lights > 0 && !positioned))
             && !experiment.storage;
+        // As a uniform block, the nodes' array is declared with the most
+        // nodes a tree of the scene's primitives can have (one fewer than
+        // them: a node has two children or more), and padded to it: its
+        // length is in the shader, and the tree's own count, which moving
+        // a primitive changes, would make each position a new variant
+        // (issue 60).
+        let node_slots = uploads.nodes.as_ref().map(|n| {
+            let most = scene.prims.bounded_count().saturating_sub(1).max(1);
+            (most.max(n.len), n.byte_len() / n.len.max(1))
+        });
         let fits = uniforms
             && uploads.array_bytes().iter().all(|b| *b <= range)
-            && uploads.nodes.as_ref().is_none_or(|n| n.byte_len() <= range);
+            && node_slots.is_none_or(|(slots, bytes)| slots * bytes <= range);
         // Where the arrays do not all fit, the small tables still do: each
         // read in uniform blocks, and the lights' loop unrolled, so that a
         // light is read at a constant offset (docs/performance.md, Reading
@@ -230,12 +241,11 @@ impl Features {
             samples: scene.samples,
             uniform_slots: fits.then(|| uploads.array_lengths()),
             // The nodes' count is in the shader only as a uniform block's
-            // length: elsewhere it would make a moved sphere a new variant
-            // (issue 60).
-            nodes: if fits {
-                uploads.nodes.as_ref().map_or(0, |n| n.len)
-            } else {
-                0
+            // length (above); elsewhere it would make a moved sphere a new
+            // variant.
+            nodes: match node_slots {
+                Some((slots, _)) if fits => slots,
+                _ => 0,
             },
         }
     }

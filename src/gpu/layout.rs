@@ -283,8 +283,8 @@ impl<'a> Uploads<'a> {
             ray_cost: bvh.as_ref().map(|b| b.ray_cost()),
             // Written from the BVH's own nodes, which the array keeps.
             nodes: bvh.map(|b| {
-                let len = node_slots(&b, bounded);
                 let packed = b.packed;
+                let len = packed.len();
                 interface::written(
                     len,
                     move |f| packed.iter().for_each(|&n| f(n)),
@@ -361,25 +361,6 @@ impl<'a> Uploads<'a> {
             }
         }
         Ok(())
-    }
-}
-
-/// The largest uniform block glint sizes the nodes' array for: Vulkan's
-/// least `maxUniformBufferRange` is 16 KiB, lavapipe's is 64 KiB.
-const UNIFORM_NODES_BYTES: usize = 1 << 16;
-
-/// The nodes' array's length: the tree's nodes, padded with empty ones to
-/// the most a tree of its primitives can have (one fewer than them: each
-/// node has two children or more) where that fits a uniform block. A
-/// uniform block's length is in the shader, so that a tree's count,
-/// which moving a primitive changes, would otherwise make a new variant
-/// (issue 60).
-fn node_slots(tree: &crate::accel::bvh::Bvh, count: usize) -> usize {
-    let most = count.saturating_sub(1).max(1).max(tree.packed.len());
-    if most * 64 <= UNIFORM_NODES_BYTES {
-        most
-    } else {
-        tree.packed.len()
     }
 }
 

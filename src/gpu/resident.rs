@@ -81,13 +81,23 @@ pub(crate) fn scene_blocks(
             Block::Tables => Some(up.tables.as_ref().expect("a tables variant has tables")),
             _ => continue,
         };
-        // The arrays are written straight into the (staging) buffer.
-        let size = array.map_or(up.globals.len(), |a| a.byte_len());
+        let form = access::ArrayDecl::of(block).map(|_| variant.form(block));
+        // The arrays are written straight into the (staging) buffer; a
+        // uniform block declared longer than its array (the nodes':
+        // `Features::nodes`) is padded with zeros to the length declared.
+        let size = match (array, form) {
+            (None, _) => up.globals.len(),
+            (Some(a), Some(Form::Uniform(n))) if n > a.len => a.byte_len() / a.len.max(1) * n,
+            (Some(a), _) => a.byte_len(),
+        };
         let write = |dst: &mut [u8]| match array {
-            Some(a) => a.write(dst),
+            Some(a) => {
+                let (items, padding) = dst.split_at_mut(a.byte_len());
+                a.write(items);
+                padding.fill(0);
+            }
             None => dst.copy_from_slice(&up.globals),
         };
-        let form = access::ArrayDecl::of(block).map(|_| variant.form(block));
         let usage = usage(form, ty);
         let what = if block == Block::Globals {
             "the uniform block"

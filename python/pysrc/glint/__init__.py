@@ -21,7 +21,7 @@ import json
 import math
 import os
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union, cast, overload
+from typing import Any, Callable, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union, cast, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -73,6 +73,9 @@ Include = Union[PathLike, Sequence[PathLike], Mapping[str, str]]
 Image = npt.NDArray[np.float32]
 #: A render's ray counts and times (``stats=True``).
 Stats = Dict[str, Any]
+#: A render's ``progress=``: called as ``progress(pixels_done, pixels)``
+#: on the calling thread while the render runs, and once at its end.
+Progress = Callable[[int, int], object]
 
 
 def load(
@@ -129,20 +132,30 @@ class PreparedScene:
         self._native = native
 
     @overload
-    def render(self, region: Optional[Region] = None, stats: Literal[False] = False) -> Image: ...
+    def render(
+        self, region: Optional[Region] = None, stats: Literal[False] = False,
+        progress: Optional[Progress] = None,
+    ) -> Image: ...
     @overload
-    def render(self, region: Optional[Region] = None, *, stats: Literal[True]) -> Tuple[Image, Stats]: ...
+    def render(
+        self, region: Optional[Region] = None, *, stats: Literal[True],
+        progress: Optional[Progress] = None,
+    ) -> Tuple[Image, Stats]: ...
     @overload
-    def render(self, region: Optional[Region], stats: Literal[True]) -> Tuple[Image, Stats]: ...
+    def render(
+        self, region: Optional[Region], stats: Literal[True], progress: Optional[Progress] = None,
+    ) -> Tuple[Image, Stats]: ...
 
     def render(
-        self, region: Optional[Region] = None, stats: bool = False
+        self, region: Optional[Region] = None, stats: bool = False,
+        progress: Optional[Progress] = None,
     ) -> Union[Image, Tuple[Image, Stats]]:
         """The image, or the region ``(x, y, width, height)`` of it (its
         pixels are bit for bit those of the whole image). With
         ``stats=True``, ``(image, stats)``: the times, and the ray counts
-        where the scene was prepared with ``stats=True``."""
-        image, raw = self._native.render(_region(region), stats)
+        where the scene was prepared with ``stats=True``. ``progress`` is
+        called as ``progress(pixels_done, pixels)`` as tiles finish."""
+        image, raw = self._native.render(_region(region), stats, progress)
         return _result(image, raw, stats)
 
     @property
@@ -204,12 +217,12 @@ class Renderer:
     @overload
     def render(
         self, scene: Scene, precision: str = "f32", region: Optional[Region] = None,
-        stats: Literal[False] = False,
+        stats: Literal[False] = False, progress: Optional[Progress] = None,
     ) -> Image: ...
     @overload
     def render(
         self, scene: Scene, precision: str = "f32", region: Optional[Region] = None,
-        *, stats: Literal[True],
+        *, stats: Literal[True], progress: Optional[Progress] = None,
     ) -> Tuple[Image, Stats]: ...
 
     def render(
@@ -218,9 +231,10 @@ class Renderer:
         precision: str = "f32",
         region: Optional[Region] = None,
         stats: bool = False,
+        progress: Optional[Progress] = None,
     ) -> Union[Image, Tuple[Image, Stats]]:
         """``prepare`` then one render: the image, or ``(image, stats)``."""
-        image, raw = self._native.render(scene, precision, _region(region), stats)
+        image, raw = self._native.render(scene, precision, _region(region), stats, progress)
         return _result(image, raw, stats)
 
     def explain(
@@ -293,11 +307,13 @@ def _default_renderer() -> Renderer:
 def render(
     scene: Scene, backend: str = "gpu", precision: str = "f32", region: Optional[Region] = None,
     stats: Literal[False] = False, renderer: Optional[Renderer] = None,
+    progress: Optional[Progress] = None,
 ) -> Image: ...
 @overload
 def render(
     scene: Scene, backend: str = "gpu", precision: str = "f32", region: Optional[Region] = None,
     *, stats: Literal[True], renderer: Optional[Renderer] = None,
+    progress: Optional[Progress] = None,
 ) -> Tuple[Image, Stats]: ...
 
 
@@ -308,18 +324,21 @@ def render(
     region: Optional[Region] = None,
     stats: bool = False,
     renderer: Optional[Renderer] = None,
+    progress: Optional[Progress] = None,
 ) -> Union[Image, Tuple[Image, Stats]]:
     """Renders ``scene``: on the GPU through ``renderer`` (a default one,
     opened at the first call, where None), or with the CPU reference
     (``backend="cpu"``), in ``"f32"`` or ``"f64"``. Returns the image, or
     ``(image, stats)`` with ``stats=True`` (ray counts and times, as
-    ``glint render --stats`` writes them)."""
+    ``glint render --stats`` writes them). ``progress`` is called as
+    ``progress(pixels_done, pixels)`` while the render runs (GPU tiles or
+    CPU rows), and once at its end: a tqdm bar's ``update``, say."""
     if backend == "gpu":
         r = renderer if renderer is not None else _default_renderer()
-        image, raw = r._native.render(scene, precision, _region(region), stats)
+        image, raw = r._native.render(scene, precision, _region(region), stats, progress)
         return _result(image, raw, stats)
     if backend == "cpu":
-        image, raw = _glint.render_cpu(scene, precision, _region(region), stats)
+        image, raw = _glint.render_cpu(scene, precision, _region(region), stats, progress)
         return _result(image, raw, stats)
     raise ValueError(f'backend {backend!r}: glint renders with "gpu" or "cpu"')
 
@@ -374,8 +393,9 @@ def _pixel(pixel: Any) -> Tuple[int, int]:
 
 
 def _srgb_decode(levels: npt.NDArray[Any], top: int) -> Image:
-    # IEC 61966-2-1, in float64 and rounded once, as glint.read decodes a PNG.
-    c = np.asarray(levels, dtype=np.float64) / top
+    # IEC 61966-2-1 as glint.read decodes a PNG: level / top in float32,
+    # the curve in float64, rounded once to float32.
+    c = (np.asarray(levels, dtype=np.float32) / np.float32(top)).astype(np.float64)
     linear = np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
     return cast(Image, linear.astype(np.float32))
 

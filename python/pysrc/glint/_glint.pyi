@@ -3,7 +3,7 @@
 # it through.
 
 import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, final
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -47,6 +47,7 @@ class ImageError(Error): ...
 _Image = npt.NDArray[np.float32]
 _Mask = npt.NDArray[np.bool_]
 _Region = Tuple[int, int, int, int]
+_Progress = Callable[[int, int], object]
 
 @final
 class Scene:
@@ -80,7 +81,10 @@ class Scene:
 @final
 class PreparedScene:
     def render(
-        self, region: Optional[_Region] = None, stats: bool = False
+        self,
+        region: Optional[_Region] = None,
+        stats: bool = False,
+        progress: Optional[_Progress] = None,
     ) -> Tuple[_Image, Optional[str]]: ...
     @property
     def size(self) -> Tuple[int, int]: ...
@@ -107,6 +111,7 @@ class Renderer:
         precision: str = "f32",
         region: Optional[_Region] = None,
         stats: bool = False,
+        progress: Optional[_Progress] = None,
     ) -> Tuple[_Image, Optional[str]]: ...
     def explain(self, scene: Scene, pixel: Tuple[int, int], sample: Optional[int] = None) -> str: ...
 
@@ -130,6 +135,7 @@ def render_cpu(
     precision: str = "f32",
     region: Optional[_Region] = None,
     stats: bool = False,
+    progress: Optional[_Progress] = None,
 ) -> Tuple[_Image, Optional[str]]: ...
 def devices_json() -> str: ...
 def read(path: str, srgb: bool = True) -> _Image: ...
