@@ -134,14 +134,17 @@ def sweep(runs):
         "spheres": [{"center": [0, 0, 0], "radius": 0.3, "material": "ball"}],
         "lights": [{"type": "point", "position": [2, 3, 4], "diffuse": [1, 1, 1]}],
     }
+    # Every render here counts its rays (stats=True: the frames need
+    # stats["compiled"]), the repeat too, so that the ratios compare one
+    # variant with itself.
     r = glint.Renderer()
     scene = glint.Scene.from_dict(d)
-    prepared = r.prepare(scene)
-    prepared.render()
+    prepared = r.prepare(scene, stats=True)
+    prepared.render(stats=True)
     repeat = []
-    for _ in range(runs):
+    for _ in range(max(runs, 10)):
         t0 = time.perf_counter()
-        prepared.render()
+        prepared.render(stats=True)
         repeat.append(time.perf_counter() - t0)
 
     def frames(edit):
@@ -182,13 +185,13 @@ def sweep(runs):
         fresh = []
         for _ in range(runs):
             t0 = time.perf_counter()
-            glint.render(glint.load(path))
+            glint.render(glint.load(path), stats=True, renderer=r)
             fresh.append(time.perf_counter() - t0)
 
     base = statistics.median(repeat)
     print(f"sweep          {len(faces)} triangles from numpy and a sphere, 320x240, one renderer, medians")
     print(f"  repeat render of the prepared scene  {base:.4f} s")
-    print(f"  fresh glint.load and render          {statistics.median(fresh):.4f} s")
+    print(f"  fresh glint.load and render          {statistics.median(fresh):.4f} s   (files, the same renderer)")
     ok = True
     for name, edit in [("colour changed", colour), ("sphere moved", move), ("camera moved", camera)]:
         t, compiled = frames(edit)
