@@ -15,6 +15,11 @@
 #ifndef ON_NODE
 #define ON_NODE()
 #endif
+// A hook called after a visit's pushes, with the stack's depth;
+// shaders/experiments/stack shows the deepest stack each pixel needs.
+#ifndef ON_PUSH
+#define ON_PUSH(depth)
+#endif
 
 // The stack's entries: three for each node on the deepest path (the host
 // defines it from the tree; Bvh::stack_size in src/accel/bvh.rs).
@@ -39,6 +44,36 @@ const real BOX_SLACK = 1.000002;
 uint bvh_stack_word[BVH_STACK];
 real bvh_stack_t[BVH_STACK];
 uint bvh_sp;
+
+#ifdef REGISTER_STACK
+// An experiment (issue 58; docs/performance.md, The walk's control): the
+// stack's top eight entries in registers, moved by constant-index shifts,
+// entry 0 the top; older ones spill to the arrays above. No gain measured.
+uint rw0, rw1, rw2, rw3, rw4, rw5, rw6, rw7;
+real rt0, rt1, rt2, rt3, rt4, rt5, rt6, rt7;
+uint rs_n;
+
+void bvh_push(uint w, real t) {
+    if (rs_n == 8u) {
+        bvh_stack_word[bvh_sp] = rw7;
+        bvh_stack_t[bvh_sp] = rt7;
+        bvh_sp++;
+    }
+    rw7 = rw6; rt7 = rt6; rw6 = rw5; rt6 = rt5; rw5 = rw4; rt5 = rt4; rw4 = rw3; rt4 = rt3;
+    rw3 = rw2; rt3 = rt2; rw2 = rw1; rt2 = rt1; rw1 = rw0; rt1 = rt0; rw0 = w; rt0 = t;
+    rs_n = min(rs_n + 1u, 8u);
+}
+#define BVH_DEPTH (bvh_sp + rs_n)
+#define BVH_CLEAR() bvh_sp = 0u; rs_n = 0u
+#else
+void bvh_push(uint w, real t) {
+    bvh_stack_word[bvh_sp] = w;
+    bvh_stack_t[bvh_sp] = t;
+    bvh_sp++;
+}
+#define BVH_DEPTH bvh_sp
+#define BVH_CLEAR() bvh_sp = 0u
+#endif
 
 // 1/d, with +-1e30 for a zero component so that (lo - o) * inv is never 0 * inf.
 vec3r inverse_dir(vec3r d) {
@@ -131,20 +166,15 @@ uint bvh_descend(Ray r, vec3r inv, uint index, real t_max) {
     order(t1, w1, k1, t3, w3, k3);
     order(t1, w1, k1, t2, w2, k2);
     if (t3 < INF) {
-        bvh_stack_word[bvh_sp] = w3;
-        bvh_stack_t[bvh_sp] = t3;
-        bvh_sp++;
+        bvh_push(w3, t3);
     }
     if (t2 < INF) {
-        bvh_stack_word[bvh_sp] = w2;
-        bvh_stack_t[bvh_sp] = t2;
-        bvh_sp++;
+        bvh_push(w2, t2);
     }
     if (t1 < INF) {
-        bvh_stack_word[bvh_sp] = w1;
-        bvh_stack_t[bvh_sp] = t1;
-        bvh_sp++;
+        bvh_push(w1, t1);
     }
+    ON_PUSH(BVH_DEPTH);
     return t0 < INF ? w0 : BVH_EMPTY;
 }
 
@@ -163,9 +193,7 @@ uint bvh_descend_any(Ray r, vec3r inv, uint index, real t_max) {
             if (first == BVH_EMPTY) {
                 first = n.child[k];
             } else {
-                bvh_stack_word[bvh_sp] = n.child[k];
-                bvh_stack_t[bvh_sp] = t[k];
-                bvh_sp++;
+                bvh_push(n.child[k], t[k]);
             }
         }
     }
@@ -180,10 +208,28 @@ uint bvh_descend_any(Ray r, vec3r inv, uint index, real t_max) {
 // beyond a hit found since it was pushed is dropped); BVH_EMPTY when none is.
 uint bvh_pop(real t_max) {
     uint next = BVH_EMPTY;
+#ifdef REGISTER_STACK
+    [[dont_unroll]] while ((rs_n > 0u || bvh_sp > 0u) && next == BVH_EMPTY) {
+        uint w;
+        real t;
+        if (rs_n > 0u) {
+            w = rw0; t = rt0;
+            rw0 = rw1; rt0 = rt1; rw1 = rw2; rt1 = rt2; rw2 = rw3; rt2 = rt3; rw3 = rw4; rt3 = rt4;
+            rw4 = rw5; rt4 = rt5; rw5 = rw6; rt5 = rt6; rw6 = rw7; rt6 = rt7;
+            rs_n--;
+        } else {
+            bvh_sp--;
+            w = bvh_stack_word[bvh_sp];
+            t = bvh_stack_t[bvh_sp];
+        }
+        next = t <= t_max * BOX_SLACK ? w : BVH_EMPTY;
+    }
+#else
     [[dont_unroll]] while (bvh_sp > 0u && next == BVH_EMPTY) {
         bvh_sp--;
         next = bvh_stack_t[bvh_sp] <= t_max * BOX_SLACK ? bvh_stack_word[bvh_sp] : BVH_EMPTY;
     }
+#endif
     return next;
 }
 
@@ -199,7 +245,7 @@ void bvh_nearest(Ray r, uint from, inout Hit hit) {
 #endif
     vec3r inv = inverse_dir(r.dir);
     uint key = NONE;
-    bvh_sp = 0u;
+    BVH_CLEAR();
     // The root is inner node 0.
     uint current = 0u;
 #ifdef USE_TABLES
@@ -255,7 +301,7 @@ bool bvh_occluded(Ray r, uint from, real dist, uvec2 list, real bound) {
 bool bvh_occluded(Ray r, uint from, real dist) {
 #endif
     vec3r inv = inverse_dir(r.dir);
-    bvh_sp = 0u;
+    BVH_CLEAR();
     bool blocked = false;
     uint current = 0u;
 #ifdef USE_TABLES

@@ -81,6 +81,11 @@ fn shadow_rays_in_slot_order_find_what_sorted_ones_find() {
     same_bits_with("SHADOW_ANY_ORDER", TREES);
 }
 
+#[test]
+fn a_stack_in_registers_finds_what_the_array_finds() {
+    same_bits_with("REGISTER_STACK", TREES);
+}
+
 /// MATERIAL_SELECT picks among the materials' uniform slots: a driver that
 /// gets no uniform buffers (llvmpipe before Mesa 25.0, which corrupted its
 /// heap on them; issue 56) has none to pick among.

@@ -244,6 +244,37 @@ fn each_experiment_renders() {
     }
 }
 
+/// shaders/experiments/stack counts each pixel's deepest walk stack: whole
+/// numbers, some above 3 (a visit pushes up to three), none past the stack
+/// the variant declares. (A scene sampled at its pixels' centres: the
+/// SPD's corners average four counts.)
+#[test]
+fn the_stack_experiment_counts_within_the_declared_stack() {
+    let scene = glint::scene::Scene::load(
+        Path::new(&repo("scenes/glass.toml")),
+        &glint::scene::Overrides {
+            width: Some(48),
+            height: Some(48),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let options = glint::gpu::GpuOptions {
+        validate: true,
+        include_dirs: vec![common::repo().join("shaders/experiments/stack")],
+        ..Default::default()
+    };
+    let mut r = glint::gpu::Renderer::new(&options).unwrap();
+    let declared = common::variant(&r, &scene).0.bvh_stack as f32;
+    let image = r.render(&scene, &|_| {}).unwrap().0;
+    let depths: Vec<f32> = image.pixels.iter().map(|p| p[0]).collect();
+    assert!(depths
+        .iter()
+        .all(|d| d.fract() == 0.0 && *d >= 0.0 && *d <= declared));
+    let deepest = depths.iter().copied().fold(0.0, f32::max);
+    assert!(deepest > 3.0, "deepest {deepest} of {declared}");
+}
+
 /// Waits until `f` holds, for at most `limit`.
 fn wait_for(limit: Duration, mut f: impl FnMut() -> bool) -> bool {
     let start = Instant::now();

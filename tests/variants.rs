@@ -267,10 +267,12 @@ fn moving_a_sphere_keeps_the_variant() {
                 .find(|w| w[0] != w[1])
                 .map(|w| (&w[0].0, &w[1].0))
         );
+        // llvmpipe before Mesa 25.0 reads no scene from uniform buffers
+        // (`DeviceInfo::reads_uniform_arrays`).
         let uniform = forms.iter().all(|f| f.starts_with("Uniform"));
         assert_eq!(
             uniform,
-            n == 40,
+            n == 40 && r.device_info().reads_uniform_arrays,
             "{n} spheres: the nodes are read as {forms:?}"
         );
     }
