@@ -68,7 +68,8 @@ fn number(out: &mut String, x: f64) {
 }
 
 impl ArrayFiles {
-    /// Whether any array was written (the scene keeps the folder then).
+    /// The folder the arrays were written into, where any was: the scene
+    /// keeps it as long as it lives.
     pub fn into_dir(self) -> Option<tempfile::TempDir> {
         self.dir
     }
@@ -200,11 +201,8 @@ impl ArrayFiles {
             .map(|p| {
                 p.iter()
                     .map(|&x| match top {
-                        // As a PNG's levels are read: level / top in f32,
-                        // then decoded in f64 (`raster::io`).
-                        Some(top) => {
-                            glint::raster::srgb_decode(f64::from(x as f32 / top as f32)) as f32
-                        }
+                        // As a PNG's levels are read: level / top in f32.
+                        Some(top) => glint::raster::srgb_decode_level(x as f32 / top as f32),
                         None => x as f32,
                     })
                     .collect::<Vec<f32>>()

@@ -39,20 +39,13 @@ pub enum FileText {
 }
 
 impl FileText {
-    fn toml(&self) -> Result<std::borrow::Cow<'_, str>, LibSceneError> {
+    /// The text as TOML: an NFF's as `glint convert` writes it.
+    fn toml(&self) -> PyResult<std::borrow::Cow<'_, str>> {
         match self {
             FileText::Toml(t) => Ok(t.into()),
             FileText::Nff(t) => {
-                let path = Path::new("<nff>");
-                let read = lib::nff::read(t, path)?;
-                let toml = read.scene.to_toml().map_err(|e| LibSceneError::Invalid {
-                    file: path.to_owned(),
-                    line: 1,
-                    column: 1,
-                    key: String::new(),
-                    message: format!("cannot write the scene as TOML: {e}"),
-                })?;
-                Ok(toml.into())
+                let read = lib::nff::read(t, Path::new("<nff>")).map_err(errors::scene)?;
+                Ok(read.scene.to_toml().map_err(errors::other)?.into())
             }
         }
     }
@@ -96,18 +89,13 @@ pub fn load(
             if is_obj(&path) {
                 obj_scene(&path, &o)
             } else {
-                let text =
-                    glint::input::read_text(&path, glint::input::Kind::Scene).map_err(|cause| {
-                        LibSceneError::Read {
-                            path: path.clone(),
-                            cause,
-                        }
-                    })?;
-                if lib::is_nff(&path) {
-                    Ok((lib::parse_nff(&text, &path, &o)?, FileText::Nff(text)))
+                let (scene, text) = lib::Scene::load_with_text(&path, &o)?;
+                let file = if lib::is_nff(&path) {
+                    FileText::Nff(text)
                 } else {
-                    Ok((lib::parse(&text, &path, &o)?, FileText::Toml(text)))
-                }
+                    FileText::Toml(text)
+                };
+                Ok((scene, file))
             }
         });
         let (scene, file) = if is_obj(&path) {
@@ -342,7 +330,7 @@ impl Scene {
     /// convert` writes it, an OBJ with the view glint made around it.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         guard(|| {
-            let text = self.file.toml().map_err(errors::scene)?;
+            let text = self.file.toml()?;
             let mut table: toml::Table = toml::from_str(&text).map_err(errors::other)?;
             let o = &self.overrides;
             let mut set = |section: &str, key: &str, v: Option<u32>| {

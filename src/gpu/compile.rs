@@ -169,13 +169,15 @@ impl Sources {
         // stock main.comp read the same files, and a one-sphere scene with
         // no light is the ceiling's own variant, so without it the two
         // shared a cache entry and such a scene rendered the ceiling's
-        // output (issue 57, defect 1).
+        // output (issue 57, defect 1). A user's main file is hashed, path
+        // and text, with the files below.
         h.write(b"main");
-        match (&self.main, &self.main_builtin) {
-            (Some(path), _) => h.write(path.display().to_string().as_bytes()),
-            (None, Some(name)) => h.write(name.as_bytes()),
-            (None, None) => h.write(b"main.comp"),
-        }
+        h.write(
+            self.main_builtin
+                .as_deref()
+                .unwrap_or("main.comp")
+                .as_bytes(),
+        );
         for (name, text) in builtin() {
             h.write(name.as_bytes());
             h.write(text.as_bytes());

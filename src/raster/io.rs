@@ -223,7 +223,7 @@ pub fn read_as(path: &Path, srgb: bool) -> Result<Image, ImageIoError> {
     let mut image = read_levels(path)?;
     if srgb && Format::of(path)? == Format::Png {
         for p in &mut image.pixels {
-            *p = p.map(|c| super::srgb_decode(f64::from(c)) as f32);
+            *p = p.map(super::srgb_decode_level);
         }
     }
     Ok(image)

@@ -99,6 +99,14 @@ pub fn srgb_decode(c: f64) -> f64 {
     }
 }
 
+/// A PNG's level (as level / 255 or / 65535 in f32) as a linear value:
+/// decoded in f64 and rounded once, as every PNG glint reads is (the
+/// texture loader, `io::read`, a numpy array of levels in the Python
+/// module).
+pub fn srgb_decode_level(c: f32) -> f32 {
+    srgb_decode(f64::from(c)) as f32
+}
+
 /// docs/scene-format.md, Outputs: round(255 * clamp(c, 0, 1)), after the sRGB curve if asked.
 /// NaN maps to 0, as `clamp` would leave it undefined.
 pub fn quantize(c: f32, srgb: bool) -> u8 {
@@ -129,7 +137,7 @@ mod tests {
     #[test]
     fn every_level_survives_decoding_and_quantizing_again() {
         for q in 0..=255u8 {
-            let linear = srgb_decode(f64::from(q) / 255.0) as f32;
+            let linear = srgb_decode_level(f32::from(q) / 255.0);
             assert_eq!(quantize(linear, true), q, "level {q}");
         }
     }

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 
 use super::texture::Texels;
-use crate::raster::io::{self, Format};
+use crate::raster::io;
 
 /// The most texels of all a scene's images: 96 MiB as the renderers hold
 /// them (three f32 each), inside lavapipe's 128 MiB storage buffer.
@@ -29,7 +29,7 @@ pub struct Images {
 impl Images {
     /// The texels of the image at `path`, read and appended where it was
     /// not yet. A PNG's 8- or 16-bit values are sRGB-encoded and decoded to
-    /// linear (`raster::srgb_decode`); an EXR's or PFM's are linear as
+    /// linear (`raster::srgb_decode_level`, in `io::read`); an EXR's or PFM's are linear as
     /// stored. The message of an error names the file.
     pub fn texels(&mut self, path: &Path) -> Result<Texels, String> {
         let key = path.canonicalize().unwrap_or_else(|_| path.to_owned());
@@ -38,7 +38,6 @@ impl Images {
         }
         let shown = crate::printable::path(path);
         let unreadable = |e: io::ImageIoError| format!("cannot read the image: {e}");
-        let format = Format::of(path).map_err(unreadable)?;
         // The size first, from the header: an oversized image is refused
         // before it is decoded.
         let (w, h) = io::dimensions(path).map_err(unreadable)?;
@@ -50,10 +49,8 @@ impl Images {
                 self.texels.len()
             ));
         }
-        // Levels, decoded here in f64 (`io::read` decodes in f64 too, and
-        // rounds to f32 once, the same bits).
-        let image = io::read_as(path, false).map_err(unreadable)?;
-        let srgb = format == Format::Png;
+        // Linear: a PNG's levels decoded from sRGB by `io::read`.
+        let image = io::read(path).map_err(unreadable)?;
         let first = self.texels.len() as u32;
         let mut peak = DVec3::ZERO;
         self.texels.reserve_exact(image.pixels.len());
@@ -65,15 +62,8 @@ impl Images {
                     "{shown}: texel ({x}, {y}) has the value {c}: texels must be finite and >= 0"
                 ));
             }
-            let linear = p.map(|c| {
-                if srgb {
-                    crate::raster::srgb_decode(f64::from(c)) as f32
-                } else {
-                    c
-                }
-            });
-            peak = peak.max(DVec3::from_array(linear.map(f64::from)));
-            self.texels.push(linear);
+            peak = peak.max(DVec3::from_array(p.map(f64::from)));
+            self.texels.push(*p);
         }
         let t = Texels {
             first,
