@@ -96,18 +96,19 @@ impl ArrayFiles {
         let vertices = rows(&vertices, 3, &format!("{at}.vertices"))?;
         let n = vertices.len() / 3;
         let faces_at = format!("{at}.faces");
-        let faces =
-            as_array(&faces, "int64").map_err(|_| bad(&faces_at, "is not an array of integers"))?;
-        let faces: PyReadonlyArray2<'_, i64> = faces
-            .extract()
-            .map_err(|_| bad(&faces_at, "must be an array of shape (m, 3)"))?;
-        if faces.shape()[1] != 3 {
+        // Read as numbers and held to whole ones: numpy's cast to integers
+        // would quietly take 0.5 as vertex 0.
+        let faces = rows(&faces, 3, &faces_at)?;
+        if let Some(x) = faces.iter().find(|x| x.fract() != 0.0) {
             return Err(bad(
                 &faces_at,
-                format!("has shape {}; it must be (m, 3)", shape(faces.shape())),
+                format!("holds {x}: a vertex index is a whole number"),
             ));
         }
-        let faces = faces.as_slice()?;
+        if faces.is_empty() {
+            return Err(bad(&faces_at, "is empty: a mesh has at least one face"));
+        }
+        let faces: Vec<i64> = faces.iter().map(|&x| x as i64).collect();
         if let Some(i) = faces.iter().find(|&&i| i < 0 || i as u64 >= n as u64) {
             return Err(bad(
                 &faces_at,
@@ -196,6 +197,13 @@ impl ArrayFiles {
         let side = |s: usize| u32::try_from(s).map_err(|_| bad(at, "is too large"));
         let (w32, h32) = (side(w)?, side(h)?);
         let values = a.as_slice()?;
+        // Said of the array: the file it is written as is not the user's.
+        if let Some(x) = values.iter().find(|x| !x.is_finite() || **x < 0.0) {
+            return Err(bad(
+                at,
+                format!("holds {x}: every value must be finite and >= 0"),
+            ));
+        }
         let pixels = values
             .chunks_exact(3)
             .map(|p| {

@@ -286,6 +286,13 @@ def test_a_mesh_from_numpy_with_a_bad_index_is_refused_by_its_key():
         glint.Scene.from_dict(mesh_scene({"vertices": vertices, "faces": [[0, 1, 3]]}))
     with pytest.raises(ValueError, match=r"meshes\[0\]\.vertices: has shape \(3, 2\)"):
         glint.Scene.from_dict(mesh_scene({"vertices": np.zeros((3, 2)), "faces": [[0, 1, 2]]}))
+    # Not truncated to vertex 0, as numpy's cast to integers would.
+    with pytest.raises(ValueError, match=r"meshes\[0\]\.faces: holds 0\.5: a vertex index is a whole number"):
+        glint.Scene.from_dict(mesh_scene({"vertices": vertices, "faces": [[0.5, 1, 2]]}))
+    with pytest.raises(ValueError, match=r"meshes\[0\]\.faces: is empty"):
+        glint.Scene.from_dict(mesh_scene({"vertices": vertices, "faces": np.zeros((0, 3), dtype=int)}))
+    with pytest.raises(ValueError, match=r"meshes\[0\]\.vertices: holds NaN"):
+        glint.Scene.from_dict(mesh_scene({"vertices": np.full((3, 3), np.nan), "faces": [[0, 1, 2]]}))
 
 
 def test_a_texture_from_numpy_renders_as_its_file(tmp_path):
@@ -300,6 +307,12 @@ def test_a_texture_from_numpy_renders_as_its_file(tmp_path):
         d["textures"]["t"]["image"] = array
         from_array = glint.render(glint.Scene.from_dict(d), backend="cpu")
         assert from_array.tobytes() == from_file.tobytes(), name
+    # A bad texel is named by its key, not by the file it would be written as.
+    d = glint.loads(texture_scene(str(tmp_path / "t.pfm"))).to_dict()
+    for bad, shown in [(np.nan, "NaN"), (-1.0, "-1")]:
+        d["textures"]["t"]["image"] = np.full((2, 2, 3), bad, dtype=np.float32)
+        with pytest.raises(ValueError, match=rf"textures\.t\.image: holds {shown}"):
+            glint.Scene.from_dict(d)
 
 
 @pytest.mark.parametrize("backend", ["cpu", pytest.param("gpu", marks=gpu)])
