@@ -214,3 +214,49 @@ fn bad_triangles_and_meshes_are_named() {
     )
     .unwrap();
 }
+
+/// A scene read again with a mesh cache (the Python module's
+/// `Scene.params`) takes an unchanged OBJ file from the cache and reads a
+/// changed one again: the same triangles as a plain parse each time.
+#[test]
+fn a_mesh_cache_rereads_only_a_changed_file() {
+    use glint::scene::{parse_cached, MeshCache};
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("m.obj");
+    let quad = |z: &str| format!("v 0 0 {z}\nv 1 0 {z}\nv 1 1 {z}\nv 0 1 {z}\nf 1 2 3 4\n");
+    std::fs::write(&obj, quad("0")).unwrap();
+    let text = "[image]\nwidth = 4\nheight = 4\n[camera]\neye = [0.5, 0.5, 5]\n\
+                look_at = [0.5, 0.5, 0]\nvfov = 40\n[materials.m]\ndiffuse = [1, 1, 1]\n\
+                [[meshes]]\nfile = \"m.obj\"\nmaterial = \"m\"\n";
+    let file = dir.path().join("scene.toml");
+    let o = Overrides::default();
+    let cache = MeshCache::default();
+    let read = |cache| {
+        parse_cached(text, &file, &o, cache)
+            .unwrap()
+            .prims
+            .triangles
+    };
+    let plain = read(None);
+    assert_eq!(plain.len(), 2);
+    assert_eq!(read(Some(&cache)), plain);
+    assert_eq!(read(Some(&cache)), plain, "from the cache");
+    // Changed (another length): read again.
+    std::fs::write(&obj, quad("-1")).unwrap();
+    let moved = read(None);
+    assert_ne!(moved, plain);
+    assert_eq!(read(Some(&cache)), moved);
+    // Changed with its length and time of change kept: the stamp is all
+    // the cache looks at, so it is not read again (which shows the cache
+    // was used; `glint.Scene.params` documents the stamp).
+    let when = std::fs::metadata(&obj).unwrap().modified().unwrap();
+    std::fs::write(&obj, quad("-2")).unwrap();
+    std::fs::File::options()
+        .write(true)
+        .open(&obj)
+        .unwrap()
+        .set_modified(when)
+        .unwrap();
+    assert_ne!(read(None), moved);
+    assert_eq!(read(Some(&cache)), moved);
+}

@@ -68,7 +68,8 @@ pub fn compare_raw<'py>(
     }
     let image: Image = crate::image::from_numpy(&image, "image")?;
     guard(|| {
-        let scene = &scene.inner;
+        let scene = scene.scene();
+        let scene = &*scene;
         if (image.width, image.height) != (scene.width, scene.height) {
             return Err(PyValueError::new_err(format!(
                 "image is {}x{}, the scene {}x{}",

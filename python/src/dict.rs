@@ -113,6 +113,16 @@ fn to_toml(v: &Bound<'_, PyAny>, at: &str, depth: usize, out: &mut String) -> Py
     Err(named(&format!("a {}", v.get_type().name()?)))
 }
 
+/// A Python value as a TOML value (`Scene.params`' values): as `to_toml`
+/// writes it, read back. `at` is its key, for the error.
+pub fn value(v: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
+    let mut text = String::from("v = ");
+    to_toml(v, at, 0, &mut text)?;
+    let mut table: toml::Table = toml::from_str(&text)
+        .map_err(|e| PyValueError::new_err(format!("{at}: {}", e.message())))?;
+    Ok(table.remove("v").expect("the value was written as v"))
+}
+
 /// A dict's key as a string, and its key path under `at`.
 fn key_of(
     k: &Bound<'_, PyAny>,

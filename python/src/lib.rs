@@ -12,7 +12,10 @@ mod compare;
 mod dict;
 mod errors;
 mod image;
+mod params;
 mod render;
+#[cfg(feature = "gpu")]
+mod renderer;
 mod scene;
 
 use pyo3::prelude::*;

@@ -28,7 +28,7 @@ use crate::scene::Scene;
 pub type Rendered<'py> = (Bound<'py, PyArray3<f32>>, Option<String>);
 
 /// A region as Python gives it: `(x, y, width, height)`.
-type RegionArg = Option<(u32, u32, u32, u32)>;
+pub(crate) type RegionArg = Option<(u32, u32, u32, u32)>;
 
 /// How often a waiting call looks for Ctrl-C: a render stops before its
 /// next tile (GPU) or row (CPU) once the flag is set.
@@ -121,7 +121,7 @@ pub fn interruptible_with<T: Send>(
 }
 
 /// The precision a keyword names, by the names the command line takes.
-fn precision(p: &str) -> PyResult<Precision> {
+pub(crate) fn precision(p: &str) -> PyResult<Precision> {
     Precision::named(p).ok_or_else(|| {
         let names: Vec<String> = Precision::ALL
             .iter()
@@ -134,7 +134,7 @@ fn precision(p: &str) -> PyResult<Precision> {
     })
 }
 
-fn region(r: RegionArg) -> Option<Region> {
+pub(crate) fn region(r: RegionArg) -> Option<Region> {
     r.map(|(x, y, width, height)| Region {
         x,
         y,
@@ -144,14 +144,14 @@ fn region(r: RegionArg) -> Option<Region> {
 }
 
 /// Ray counts as `glint render --stats` writes them.
-fn counts_json(counts: Option<&Counts>) -> serde_json::Value {
+pub(crate) fn counts_json(counts: Option<&Counts>) -> serde_json::Value {
     match counts {
         Some(c) => json!({ "rays": c.rays(), "tests": c.tests(), "by_ray": c.by_ray() }),
         None => json!({ "rays": null, "tests": null, "by_ray": null }),
     }
 }
 
-fn merge(mut a: serde_json::Value, b: serde_json::Value) -> String {
+pub(crate) fn merge(mut a: serde_json::Value, b: serde_json::Value) -> String {
     if let (Some(a), serde_json::Value::Object(b)) = (a.as_object_mut(), b) {
         a.extend(b);
     }
@@ -173,7 +173,8 @@ pub fn render_cpu<'py>(
     let name = precision.name();
     let region = self::region(region);
     guard(|| {
-        let scene = &scene.inner;
+        let scene = scene.scene();
+        let scene = &*scene;
         cpu::bound::check(scene).map_err(errors::other)?;
         let (w, h) = region.map_or((scene.width, scene.height), |r| (r.width, r.height));
         glint::raster::memory::check_render(w, h).map_err(errors::memory)?;
@@ -246,349 +247,7 @@ pub fn render_cpu<'py>(
 }
 
 #[cfg(feature = "gpu")]
-mod gpu_side {
-    use super::*;
-    use std::path::PathBuf;
-    use std::sync::Mutex;
-
-    use glint::gpu::{self, GpuOptions, RenderSettings};
-
-    /// What `include=` may be: folders, or file names and their text.
-    #[derive(FromPyObject)]
-    pub enum Include {
-        Texts(std::collections::BTreeMap<String, String>),
-        Dir(PathBuf),
-        Dirs(Vec<PathBuf>),
-    }
-
-    /// A Vulkan device, opened once, and the pipelines compiled on it.
-    #[pyclass(module = "glint", name = "Renderer", frozen)]
-    pub struct Renderer {
-        inner: Mutex<gpu::Renderer>,
-        /// A dict's shader files, written out for the compiler; removed
-        /// with the renderer.
-        _texts: Option<tempfile::TempDir>,
-        device: String,
-        /// Whether a render's stats have counted the device's opening:
-        /// the first render through this renderer counts it, later ones
-        /// spent nothing on it (issue 60: every render of a prepared scene
-        /// counted it again).
-        device_counted: Arc<AtomicBool>,
-    }
-
-    fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
-        // A render that panicked left nothing half-done that a later
-        // one reads: the device's work is waited on within each call.
-        m.lock().unwrap_or_else(|p| p.into_inner())
-    }
-
-    #[pymethods]
-    impl Renderer {
-        #[new]
-        #[pyo3(signature = (device=None, include=None, defines=None, validate=None, timeout=None, cache=true))]
-        fn new(
-            py: Python<'_>,
-            device: Option<String>,
-            include: Option<Include>,
-            defines: Option<std::collections::BTreeMap<String, Option<String>>>,
-            validate: Option<bool>,
-            timeout: Option<f64>,
-            cache: bool,
-        ) -> PyResult<Self> {
-            guard(|| {
-                let mut opts = GpuOptions::from_env(device);
-                if let Some(v) = validate {
-                    opts.validate = v;
-                }
-                // The binary's own caches of SPIR-V and pipelines, unless
-                // cache=False (its --no-cache).
-                if cache {
-                    opts.cache_dir = GpuOptions::default_cache_dir();
-                }
-                if let Some(t) = timeout {
-                    if !(t.is_finite() && t > 0.0 && t <= 1e6) {
-                        return Err(PyValueError::new_err(format!(
-                            "timeout {t}: must be in (0, 1e6] seconds"
-                        )));
-                    }
-                    opts.timeout = Some(Duration::from_secs_f64(t));
-                }
-                opts.defines = defines.unwrap_or_default().into_iter().collect();
-                // As the binary refuses -D and -I (issue 57, defect 4).
-                for (name, value) in &opts.defines {
-                    gpu::check_define(name, value.as_deref())
-                        .map_err(|e| PyValueError::new_err(format!("defines: {name:?}: {e}")))?;
-                }
-                let mut texts = None;
-                match include {
-                    None => {}
-                    Some(Include::Dir(d)) => opts.include_dirs = vec![d],
-                    Some(Include::Dirs(ds)) => opts.include_dirs = ds,
-                    Some(Include::Texts(files)) => {
-                        let dir = tempfile::Builder::new()
-                            .prefix("glint-shaders-")
-                            .tempdir()
-                            .map_err(errors::other)?;
-                        for (name, text) in &files {
-                            let ok = !name.is_empty()
-                                && !name.contains('/')
-                                && name != "."
-                                && name != "..";
-                            if !ok {
-                                return Err(PyValueError::new_err(format!(
-                                    "include: {name:?} is not a shader file's name (no folders)"
-                                )));
-                            }
-                            std::fs::write(dir.path().join(name), text).map_err(errors::other)?;
-                        }
-                        opts.include_dirs = vec![dir.path().to_owned()];
-                        texts = Some(dir);
-                    }
-                }
-                for dir in &opts.include_dirs {
-                    gpu::check_include_dir(dir)
-                        .map_err(|e| PyValueError::new_err(format!("include: {e}")))?;
-                }
-                let inner = py
-                    .detach(|| gpu::Renderer::new(&opts))
-                    .map_err(errors::gpu)?;
-                let device = inner.device_info().name.clone();
-                Ok(Self {
-                    inner: Mutex::new(inner),
-                    _texts: texts,
-                    device,
-                    device_counted: Arc::new(AtomicBool::new(false)),
-                })
-            })
-        }
-
-        /// The device's name.
-        #[getter]
-        fn device(&self) -> &str {
-            &self.device
-        }
-
-        #[pyo3(signature = (scene, precision="f32", stats=false))]
-        fn prepare(
-            &self,
-            py: Python<'_>,
-            scene: &Scene,
-            precision: &str,
-            stats: bool,
-        ) -> PyResult<PreparedScene> {
-            let settings = self.settings(precision, stats)?;
-            guard(|| {
-                let stop = Arc::new(AtomicBool::new(false));
-                let mut prepared = interruptible(py, &stop, || {
-                    lock(&self.inner)
-                        .prepare(&scene.inner, &settings)
-                        .map_err(errors::gpu)
-                })?;
-                prepared.stop_when(stop.clone());
-                Ok(PreparedScene {
-                    inner: Mutex::new(prepared),
-                    stop,
-                    device: self.device.clone(),
-                    device_counted: self.device_counted.clone(),
-                    scene: (scene.inner.width, scene.inner.height),
-                    counted: stats,
-                    precision: settings.precision.name(),
-                })
-            })
-        }
-
-        #[pyo3(signature = (scene, precision="f32", region=None, stats=false, progress=None))]
-        fn render<'py>(
-            &self,
-            py: Python<'py>,
-            scene: &Scene,
-            precision: &str,
-            region: RegionArg,
-            stats: bool,
-            progress: Option<Bound<'py, PyAny>>,
-        ) -> PyResult<Rendered<'py>> {
-            let prepared = self.prepare(py, scene, precision, stats)?;
-            prepared.render(py, region, stats, progress)
-        }
-
-        /// `glint explain`'s record of pixel (x, y) of `scene` (`sample`:
-        /// that one alone, else each in turn): a JSON list, one entry a
-        /// sample, with its table and verdict as the binary prints them.
-        #[pyo3(signature = (scene, pixel, sample=None))]
-        fn explain(
-            &self,
-            py: Python<'_>,
-            scene: &Scene,
-            pixel: (u32, u32),
-            sample: Option<u32>,
-        ) -> PyResult<String> {
-            use glint::explain::{check_renders, explain_on_gpu, samples, ExplainError};
-            let refused = |e: ExplainError| match e {
-                ExplainError::Outside { .. } | ExplainError::Sample { .. } => errors::value(e),
-                ExplainError::Gpu(e) => errors::gpu(e),
-                _ => errors::other(e),
-            };
-            guard(|| {
-                let chosen = samples(&scene.inner, pixel, sample).map_err(refused)?;
-                let stop = Arc::new(AtomicBool::new(false));
-                interruptible(py, &stop, || {
-                    let mut renderer = lock(&self.inner);
-                    let settings = renderer.settings();
-                    let mut explained = Vec::new();
-                    for s in &chosen {
-                        explained.push(
-                            explain_on_gpu(&mut renderer, &scene.inner, &settings, *s, Vec::new())
-                                .map_err(refused)?,
-                        );
-                    }
-                    check_renders(&mut renderer, &scene.inner, &settings, &mut explained)
-                        .map_err(refused)?;
-                    let mut out = Vec::new();
-                    for e in explained {
-                        out.push(json!({
-                            "explanation": e,
-                            "table": e.table,
-                            "verdict": e.verdict(),
-                        }));
-                    }
-                    serde_json::to_string(&out).map_err(errors::other)
-                })
-            })
-        }
-
-        fn __repr__(&self) -> String {
-            format!("<glint.Renderer on {:?}>", self.device)
-        }
-    }
-
-    impl Renderer {
-        fn settings(&self, precision: &str, count: bool) -> PyResult<RenderSettings> {
-            let mut settings = lock(&self.inner).settings();
-            settings.precision = super::precision(precision)?;
-            settings.count = count;
-            Ok(settings)
-        }
-    }
-
-    /// A scene on the device: renders again without compiling or uploading.
-    #[pyclass(module = "glint", name = "PreparedScene", frozen)]
-    pub struct PreparedScene {
-        inner: Mutex<gpu::Prepared>,
-        stop: Arc<AtomicBool>,
-        device: String,
-        device_counted: Arc<AtomicBool>,
-        scene: (u32, u32),
-        counted: bool,
-        precision: &'static str,
-    }
-
-    #[pymethods]
-    impl PreparedScene {
-        #[pyo3(signature = (region=None, stats=false, progress=None))]
-        pub fn render<'py>(
-            &self,
-            py: Python<'py>,
-            region: RegionArg,
-            stats: bool,
-            progress: Option<Bound<'py, PyAny>>,
-        ) -> PyResult<Rendered<'py>> {
-            let region = super::region(region);
-            if let Some(r) = region {
-                // As the CPU's: ValueError, not glint.Error (issue 57).
-                r.within(self.scene.0, self.scene.1)
-                    .map_err(errors::value)?;
-            }
-            let (w, h) = region.map_or(self.scene, |r| (r.width, r.height));
-            glint::raster::memory::check_render(w, h).map_err(super::errors::memory)?;
-            guard(|| {
-                let done = AtomicU64::new(0);
-                let shown = progress.as_ref().map(|call| Progress {
-                    call,
-                    done: &done,
-                    total: u64::from(w) * u64::from(h),
-                });
-                let (rendered, call_s) = interruptible_with(py, &self.stop, shown, || {
-                    let mut prepared = lock(&self.inner);
-                    let t0 = Instant::now();
-                    let tiles = |pixels: u64| {
-                        done.fetch_add(pixels, Ordering::Relaxed);
-                    };
-                    let rendered = prepared.render(region, &tiles).map_err(errors::gpu)?;
-                    Ok((rendered, t0.elapsed().as_secs_f64()))
-                })?;
-                let gpu::Rendered {
-                    image,
-                    times,
-                    counts,
-                    ..
-                } = rendered;
-                let device_s = if self.device_counted.swap(true, Ordering::Relaxed) {
-                    0.0
-                } else {
-                    times.setup.device_s
-                };
-                let stats = stats.then(|| {
-                    let variant = lock(&self.inner).variant().name();
-                    merge(
-                        json!({
-                            "backend": "gpu",
-                            "device": self.device,
-                            "precision": self.precision,
-                            "variant": variant,
-                            "times": times,
-                            "seconds": {
-                                "setup": device_s + times.setup.compile_s
-                                    + times.setup.pipeline_s + times.setup.driver_compile_s
-                                    + times.bvh_s,
-                                "tables": times.tables_s,
-                                "trace": times.total_s(),
-                                "call": call_s,
-                            },
-                            "compiled": times.setup.compile_s > 0.0 || times.setup.pipeline_s > 0.0,
-                        }),
-                        counts_json(counts.as_ref()),
-                    )
-                });
-                Ok((to_numpy(py, image)?, stats))
-            })
-        }
-
-        /// Width and height of the image it renders.
-        #[getter]
-        fn size(&self) -> (u32, u32) {
-            self.scene
-        }
-
-        /// Whether its renders count rays (it was prepared with stats=True).
-        #[getter]
-        fn counted(&self) -> bool {
-            self.counted
-        }
-
-        fn __repr__(&self) -> String {
-            format!(
-                "<glint.PreparedScene {}x{} {} on {:?}>",
-                self.scene.0, self.scene.1, self.precision, self.device
-            )
-        }
-    }
-
-    #[pyfunction]
-    pub fn devices_json(py: Python<'_>) -> PyResult<String> {
-        guard(|| {
-            // No driver, or no loader: no devices, as a listing says it
-            // (issue 60); a driver that fails otherwise still raises.
-            let devices = match py.detach(gpu::list_devices) {
-                Err(gpu::GpuError::NoDevice | gpu::GpuError::NoLoader(_)) => Vec::new(),
-                listed => listed.map_err(errors::gpu)?,
-            };
-            serde_json::to_string(&devices).map_err(errors::other)
-        })
-    }
-}
-
-#[cfg(feature = "gpu")]
-pub use gpu_side::{devices_json, PreparedScene, Renderer};
+pub use crate::renderer::{devices_json, PreparedScene, Renderer};
 
 #[cfg(not(feature = "gpu"))]
 mod cpu_only {

@@ -2,33 +2,128 @@
 //! return.
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, RwLock};
 
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyKeyError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use glint::scene::{self as lib, Overrides, SceneError as LibSceneError};
 
 use crate::arrays::ArrayFiles;
-use crate::dict::{to_python, top_level};
+use crate::dict::{self, to_python, top_level};
 use crate::errors::{self, guard};
+use crate::params;
 
-/// A scene read and checked: what `glint.render` and `Renderer.prepare` take.
+/// A scene read and checked: what `glint.render` and `Renderer.prepare`
+/// take. Its values change through `params` (`set_params`), each change a
+/// new generation of the scene, which a prepared scene takes in place.
 #[pyclass(module = "glint", name = "Scene", frozen)]
 pub struct Scene {
-    pub inner: lib::Scene,
+    now: RwLock<Now>,
     /// Where it was read from, for its repr: a path, `<string>` or `<dict>`.
     pub source: String,
-    /// The scene file's text (an OBJ's: the scene glint made around it),
-    /// which `to_dict` gives back as a dict.
-    pub file: FileText,
+    /// The path its text is read as (whose folder its relative file names
+    /// are of), when `params` reads it again.
+    read_as: PathBuf,
     /// The folder its relative file names (meshes, textures) are of.
     pub base: PathBuf,
-    /// The keywords it was read with, which `to_dict` writes in.
-    pub overrides: Overrides,
     /// The files a dict's arrays were written as (meshes, images), which
     /// its `to_dict` names: kept as long as the scene.
     pub _arrays: Option<tempfile::TempDir>,
+    /// Its meshes' OBJ files, kept once `params` has read it again: a
+    /// change of a value reads the scene file, not the meshes.
+    meshes: lib::MeshCache,
+    /// Held while a change is made.
+    setting: std::sync::Mutex<()>,
+    /// Which scene this is, among all made in the process (never reused):
+    /// what a renderer keeps its last prepared scene by.
+    pub id: u64,
+}
+
+/// A scene as its values are now.
+struct Now {
+    scene: Arc<lib::Scene>,
+    /// The scene file's text (an OBJ's: the scene glint made around it),
+    /// which `to_dict` gives back as a dict.
+    file: FileText,
+    /// How many times its values were changed.
+    generation: u64,
+    /// The keywords it was read with, which `to_dict` writes in: none
+    /// once `params` has changed it (they are in its text then).
+    overrides: Overrides,
+}
+
+/// The next scene's `id`.
+static NEXT_ID: AtomicU64 = AtomicU64::new(0);
+
+impl Scene {
+    fn new(
+        scene: lib::Scene,
+        file: FileText,
+        source: String,
+        read_as: PathBuf,
+        base: PathBuf,
+        overrides: Overrides,
+        arrays: Option<tempfile::TempDir>,
+    ) -> Self {
+        Scene {
+            now: RwLock::new(Now {
+                scene: Arc::new(scene),
+                file,
+                generation: 0,
+                overrides,
+            }),
+            source,
+            read_as,
+            base,
+            _arrays: arrays,
+            meshes: lib::MeshCache::default(),
+            setting: std::sync::Mutex::new(()),
+            id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
+        }
+    }
+
+    fn now(&self) -> std::sync::RwLockReadGuard<'_, Now> {
+        // A change is made whole before it is stored: nothing half-done.
+        self.now.read().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// The scene as it is now, and its generation.
+    pub fn current(&self) -> (Arc<lib::Scene>, u64) {
+        let now = self.now();
+        (now.scene.clone(), now.generation)
+    }
+
+    /// The scene as it is now.
+    pub fn scene(&self) -> Arc<lib::Scene> {
+        self.now().scene.clone()
+    }
+
+    /// The scene file's tables, with the keywords it was read with
+    /// written in: what `to_dict` gives and `params` reads.
+    fn table(&self) -> PyResult<toml::Table> {
+        let now = self.now();
+        let text = now.file.toml()?;
+        let mut table: toml::Table = toml::from_str(&text).map_err(errors::other)?;
+        let o = &now.overrides;
+        let mut set = |section: &str, key: &str, v: Option<u32>| {
+            if let Some(v) = v {
+                let t = table
+                    .entry(section)
+                    .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+                if let toml::Value::Table(t) = t {
+                    t.insert(key.to_owned(), toml::Value::Integer(v.into()));
+                }
+            }
+        };
+        set("image", "width", o.width);
+        set("image", "height", o.height);
+        set("image", "samples", o.samples);
+        set("render", "max_depth", o.max_depth);
+        Ok(table)
+    }
 }
 
 /// A scene file's text as it was given: TOML, or NFF (converted to TOML
@@ -103,14 +198,15 @@ pub fn load(
         } else {
             scene.map_err(errors::scene)?
         };
-        Ok(Scene {
-            inner: scene,
-            source: path.display().to_string(),
+        Ok(Scene::new(
+            scene,
             file,
-            base: folder_of(&path),
-            overrides: o,
-            _arrays: None,
-        })
+            path.display().to_string(),
+            path.clone(),
+            folder_of(&path),
+            o,
+            None,
+        ))
     })
 }
 
@@ -182,14 +278,15 @@ pub fn loads(
                 )))
             }
         };
-        Ok(Scene {
-            inner: scene.map_err(errors::scene)?,
-            source: "<string>".to_owned(),
+        Ok(Scene::new(
+            scene.map_err(errors::scene)?,
             file,
-            base: PathBuf::from("."),
-            overrides: o,
-            _arrays: None,
-        })
+            "<string>".to_owned(),
+            PathBuf::from("<string>"),
+            PathBuf::from("."),
+            o,
+            None,
+        ))
     })
 }
 
@@ -262,13 +359,32 @@ fn obj_scene(path: &Path, o: &Overrides) -> Result<(lib::Scene, FileText), LibSc
     Ok((lib::parse(&text, path, o)?, FileText::Toml(text)))
 }
 
+/// An error of a scene's TOML that the caller never saw (a dict's, or a
+/// scene read again with its values changed): said by its key, without
+/// the line and column of that text.
+fn by_key(e: LibSceneError, source: &str) -> PyErr {
+    match e {
+        LibSceneError::Invalid { key, message, .. } => errors::scene_at(
+            format!(
+                "{source}: {}: {}",
+                glint::printable::text(&key),
+                glint::printable::one_line(&message)
+            ),
+            Some(source.into()),
+            None,
+            None,
+        ),
+        e => errors::scene(e),
+    }
+}
+
 impl Scene {
     /// The primitives by kind, in the kinds' table's order.
     fn kind_counts(&self) -> Vec<(&'static str, usize)> {
         lib::object_arrays()
             .iter()
             .copied()
-            .zip(self.inner.prims.counts())
+            .zip(self.scene().prims.counts())
             .collect()
     }
 }
@@ -298,29 +414,17 @@ impl Scene {
             let mut text = String::new();
             let mut files = ArrayFiles::default();
             top_level(d, &mut text, &mut files)?;
-            let scene = lib::parse(&text, &base.join("<dict>"), &o).map_err(|e| match e {
-                // The line and column are of the TOML the dict was written
-                // as, which the caller never sees: the key says where.
-                LibSceneError::Invalid { key, message, .. } => errors::scene_at(
-                    format!(
-                        "<dict>: {}: {}",
-                        glint::printable::text(&key),
-                        glint::printable::one_line(&message)
-                    ),
-                    Some("<dict>".into()),
-                    None,
-                    None,
-                ),
-                e => errors::scene(e),
-            })?;
-            Ok(Scene {
-                inner: scene,
-                source: "<dict>".to_owned(),
-                file: FileText::Toml(text),
+            let read_as = base.join("<dict>");
+            let scene = lib::parse(&text, &read_as, &o).map_err(|e| by_key(e, "<dict>"))?;
+            Ok(Scene::new(
+                scene,
+                FileText::Toml(text),
+                "<dict>".to_owned(),
+                read_as,
                 base,
-                overrides: o,
-                _arrays: files.into_dir(),
-            })
+                o,
+                files.into_dir(),
+            ))
         })
     }
 
@@ -330,29 +434,95 @@ impl Scene {
     /// convert` writes it, an OBJ with the view glint made around it.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         guard(|| {
-            let text = self.file.toml()?;
-            let mut table: toml::Table = toml::from_str(&text).map_err(errors::other)?;
-            let o = &self.overrides;
-            let mut set = |section: &str, key: &str, v: Option<u32>| {
-                if let Some(v) = v {
-                    let t = table
-                        .entry(section)
-                        .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-                    if let toml::Value::Table(t) = t {
-                        t.insert(key.to_owned(), toml::Value::Integer(v.into()));
-                    }
-                }
-            };
-            set("image", "width", o.width);
-            set("image", "height", o.height);
-            set("image", "samples", o.samples);
-            set("render", "max_depth", o.max_depth);
+            let table = self.table()?;
             let d = PyDict::new(py);
             for (k, v) in &table {
                 d.set_item(k, to_python(py, v)?)?;
             }
             Ok(d)
         })
+    }
+
+    /// `params`' keys and their values, as a dict: every number and list
+    /// of numbers of the scene file but the image's settings and the ray
+    /// tree's depth (`params::listed`).
+    fn _params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        guard(|| {
+            let d = PyDict::new(py);
+            for (k, v) in params::listed(&self.table()?) {
+                d.set_item(k, to_python(py, &v)?)?;
+            }
+            Ok(d)
+        })
+    }
+
+    /// The value at `key`, listed by `params` or not; KeyError where the
+    /// scene file has none.
+    fn _param<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Bound<'py, PyAny>> {
+        guard(|| {
+            let table = self.table()?;
+            match params::get(&table, key)? {
+                Some(v) => to_python(py, v),
+                None => Err(PyKeyError::new_err(key.to_owned())),
+            }
+        })
+    }
+
+    /// Sets each key of `items` to its value (None: removes the key) and
+    /// reads the scene again, whole, with every check a file gets (its
+    /// meshes from the scene's cache of them). On an error (KeyError,
+    /// TypeError, SceneError naming the key) nothing has changed.
+    fn _set_params(&self, py: Python<'_>, items: &Bound<'_, PyDict>) -> PyResult<()> {
+        guard(|| {
+            // One change at a time: each starts from the last one's tables.
+            let _one = self.setting.lock().unwrap_or_else(|p| p.into_inner());
+            let mut table = self.table()?;
+            for (k, v) in items.iter() {
+                let key: String = k.extract().map_err(|_| {
+                    PyTypeError::new_err(format!(
+                        "params: a key is a string, got {}",
+                        k.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+                    ))
+                })?;
+                let value = if v.is_none() {
+                    None
+                } else {
+                    Some(dict::value(&v, &key)?)
+                };
+                params::set(&mut table, &key, value)?;
+            }
+            let text = toml::to_string(&table).map_err(errors::other)?;
+            let scene = py
+                .detach(|| {
+                    lib::parse_cached(
+                        &text,
+                        &self.read_as,
+                        &Overrides::default(),
+                        Some(&self.meshes),
+                    )
+                })
+                .map_err(|e| by_key(e, &self.source))?;
+            let mut now = self.now.write().unwrap_or_else(|p| p.into_inner());
+            now.scene = Arc::new(scene);
+            now.file = FileText::Toml(text);
+            now.generation += 1;
+            now.overrides = Overrides::default();
+            Ok(())
+        })
+    }
+
+    /// The scene's values by their keys in the scene file
+    /// (`"spheres[0].center"`): a `glint.Params`, a mutable mapping.
+    /// Set one and render again; the scene is read again at each change.
+    #[getter]
+    fn params<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        slf.py().import("glint")?.getattr("Params")?.call1((slf,))
+    }
+
+    /// How many times its values were changed through `params`.
+    #[getter]
+    fn generation(&self) -> u64 {
+        self.now().generation
     }
 
     /// The folder the scene's relative file names are of: its file's, or
@@ -365,22 +535,22 @@ impl Scene {
     /// Width of the image in pixels.
     #[getter]
     fn width(&self) -> u32 {
-        self.inner.width
+        self.scene().width
     }
     /// Height of the image in pixels.
     #[getter]
     fn height(&self) -> u32 {
-        self.inner.height
+        self.scene().height
     }
     /// Samples a side of each pixel.
     #[getter]
     fn samples(&self) -> u32 {
-        self.inner.samples
+        self.scene().samples
     }
     /// The ray tree's depth.
     #[getter]
     fn max_depth(&self) -> u32 {
-        self.inner.max_depth
+        self.scene().max_depth
     }
     /// The primitives by kind: `{"spheres": 3, "planes": 1, ...}`.
     #[getter]
@@ -394,7 +564,7 @@ impl Scene {
     /// The lights' types, in the file's order.
     #[getter]
     fn lights(&self) -> Vec<&'static str> {
-        self.inner
+        self.scene()
             .lights
             .iter()
             .map(|l| l.kind.info().name)
@@ -413,13 +583,14 @@ impl Scene {
             .filter(|(_, n)| *n > 0)
             .map(|(k, n)| format!("{k}={n}"))
             .collect();
+        let scene = self.scene();
         format!(
             "<glint.Scene {:?} {}x{}, {}, max_depth {}, {}, lights [{}]>",
             self.source,
-            self.inner.width,
-            self.inner.height,
-            self.inner.sampling_summary(),
-            self.inner.max_depth,
+            scene.width,
+            scene.height,
+            scene.sampling_summary(),
+            scene.max_depth,
             if counts.is_empty() {
                 "no primitives".to_owned()
             } else {

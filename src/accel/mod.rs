@@ -9,6 +9,7 @@ pub(crate) mod bvh;
 mod cost;
 pub(crate) mod node;
 pub(crate) mod quantize;
+pub mod refit;
 mod spans;
 pub(crate) mod tables;
 
@@ -83,6 +84,24 @@ pub(crate) fn prim_boxes(prims: &Prims, origin: glam::DVec3) -> Vec<Vec<([f32; 3
 /// hold each kind's indices in the scene.
 pub fn scene_bvh(prims: &Prims) -> bvh::Bvh {
     relative_bvh(prims, glam::DVec3::ZERO)
+}
+
+/// The BVH of `prims` translated by `-origin`, refitted from `shape` (a
+/// tree built over the same primitives where they were before): None
+/// where they are not the same ones (`refit::refit`); with its shape for
+/// the next refit.
+pub fn relative_refit(
+    shape: &refit::Shape,
+    prims: &Prims,
+    origin: glam::DVec3,
+) -> Option<(bvh::Bvh, refit::Shape)> {
+    let (bounds, ids) = prims.relative_bounds(origin);
+    let mut boxes: Vec<Vec<Option<crate::base::aabb::Aabb>>> =
+        prims.counts().into_iter().map(|n| vec![None; n]).collect();
+    for (b, id) in bounds.into_iter().zip(ids) {
+        boxes[id.kind as usize][id.index as usize] = Some(b);
+    }
+    refit::refit(shape, &boxes)
 }
 
 /// The BVH of `prims` translated by `-origin` (that of the scene's

@@ -99,8 +99,18 @@ pub fn pack(node: &Node) -> (Packed, Node) {
         // The smallest step whose 253 steps span the axis, leaving two
         // for the rounding of the sums; at least 2^-126 (no subnormals).
         let span = f64::from(top) - f64::from(o);
-        let mut bits = 1u32;
-        while bits < 254 && f64::from(step_of(bits)) * 253.0 < span {
+        let short = |bits: u32| f64::from(step_of(bits)) * 253.0 < span;
+        // From an estimate of the exponent, not from 1: the climb took
+        // 100 steps an axis, most of a refit's time (issue 60).
+        let mut bits = if span > 0.0 {
+            ((span / 253.0).log2().floor() + 127.0).clamp(1.0, 254.0) as u32
+        } else {
+            1
+        };
+        while bits > 1 && !short(bits - 1) {
+            bits -= 1;
+        }
+        while bits < 254 && short(bits) {
             bits += 1;
         }
         exps[a] = bits;

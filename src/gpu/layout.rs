@@ -6,6 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::UVec4;
 
 use super::Intersect;
+use crate::accel::refit::Shape;
 use crate::accel::tables::Tables;
 use crate::accel::{self, Accel};
 use crate::base::interface::{self, Array, GpuStruct};
@@ -184,8 +185,11 @@ pub struct Uploads<'a> {
     /// The entries its walk's stack is declared with (`Bvh::shader_stack`);
     /// 0 without one.
     pub bvh_stack: usize,
-    /// Seconds spent building the BVH.
+    /// Seconds spent building (or refitting) the BVH.
     pub bvh_s: f64,
+    /// The BVH's shape, which a later layout of the scene with its
+    /// primitives moved refits (`Uploads::fitted`).
+    pub shape: Option<Shape>,
     /// What a ray costs through the BVH (`Bvh::ray_cost`), where the scene
     /// has one: the watchdog's measure of the tree that was built.
     pub ray_cost: Option<f64>,
@@ -202,14 +206,34 @@ impl<'a> Uploads<'a> {
     /// Everything is moved item by item as it is laid out: no translated
     /// copy of the scene is held (a million triangles are 192 MB).
     pub fn new(scene: &'a Scene, intersect: Intersect, precision: Precision, accel: Accel) -> Self {
+        Self::fitted(scene, intersect, precision, accel, None)
+    }
+
+    /// As `new`, the BVH refitted from `shape` (the tree a scene of the
+    /// same primitives was built with: `Uploads::shape`) where the
+    /// primitives are those it holds, else built.
+    pub fn fitted(
+        scene: &'a Scene,
+        intersect: Intersect,
+        precision: Precision,
+        accel: Accel,
+        shape: Option<&Shape>,
+    ) -> Self {
         // A plane's rebase moves its point, so the naive forms take the
         // primitives as written; elsewhere subtracting zero keeps every bit.
         let relative = matches!(intersect, Intersect::Robust).then_some(scene.camera.eye);
         let origin = relative.unwrap_or_default();
         let t0 = std::time::Instant::now();
-        let mut bvh = accel
-            .uses_bvh(&scene.prims)
-            .then(|| accel::relative_bvh(&scene.prims, origin));
+        let fitted = accel.uses_bvh(&scene.prims).then(|| {
+            shape
+                .and_then(|s| accel::relative_refit(s, &scene.prims, origin))
+                .unwrap_or_else(|| {
+                    let tree = accel::relative_bvh(&scene.prims, origin);
+                    let shape = Shape::of(&tree);
+                    (tree, shape)
+                })
+        });
+        let (mut bvh, shape) = fitted.unzip();
         let bvh_s = t0.elapsed().as_secs_f64();
         let tables = bvh
             .as_ref()
@@ -292,6 +316,7 @@ impl<'a> Uploads<'a> {
                 )
             }),
             bvh_s,
+            shape,
             tables_s: tables.as_ref().map_or(0.0, |t| t.build_s),
             tables: tables
                 .as_ref()

@@ -44,7 +44,7 @@ pub use crate::settings::Intersect;
 pub use error::{GpuError, VkCode};
 pub use features::EXPERIMENTS;
 pub use options::{check_define, check_include_dir, GpuOptions, RenderSettings};
-pub use prepared::{Prepared, Rendered};
+pub use prepared::{Prepared, Rendered, Update};
 pub use renderer::Renderer;
 pub use schedule::Schedule;
 pub use times::{RenderTimes, SetupTimes};

@@ -14,7 +14,7 @@ use super::layout::Uploads;
 use super::options::RenderSettings;
 use super::passes::{Executor, Pass, Target};
 use super::refine;
-use super::resident::{scene_blocks, stage_blocks, Blocks, Own};
+use super::resident::{rewrite_scene_blocks, scene_blocks, stage_blocks, Blocks, Own};
 use super::shared::{Pipeline, Shared};
 use super::times::{RenderTimes, SetupTimes};
 use super::variant::{self, Variant};
@@ -25,6 +25,7 @@ use super::work::{Work, COMPILE_TIMEOUT, RAYS_PER_DISPATCH};
 #[cfg(doc)]
 use super::Renderer;
 use super::{GpuError, Precision};
+use crate::accel::refit::Shape;
 use crate::base::real::{Real, Vec3};
 use crate::base::record;
 use crate::raster::region::Region;
@@ -61,10 +62,29 @@ pub struct Prepared {
     stop: Option<Arc<AtomicBool>>,
     /// The last render's record, where the main stage records a tree.
     record: Option<Vec<u32>>,
+    /// What it was prepared under, which an update lays the scene out by.
+    settings: RenderSettings,
+    /// Its BVH's shape, which an update refits.
+    shape: Option<Shape>,
+    /// The texels uploaded (shared with the scene, not copied), which an
+    /// update writes again only where the scene's differ.
+    texels: Arc<Vec<[f32; 3]>>,
+}
+
+/// What [`Prepared::update`] did.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Update {
+    /// The scene's arrays were written in place, its BVH refitted: the
+    /// next render shows the scene as it is now, compiling nothing.
+    InPlace,
+    /// The scene needs what it was not prepared with, named here: another
+    /// shader variant, more primitives, another size or sampling. Nothing
+    /// was changed; prepare it again ([`Renderer::prepare`]).
+    Prepare(String),
 }
 
 /// How a pixel's colour comes from what the shader traces.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, PartialEq)]
 enum Sampling {
     /// The traced pixels are the image's.
     Pixels,
@@ -72,6 +92,18 @@ enum Sampling {
     Corners,
     /// Corners, and pixels whose corners differ split (`Variant::refine`).
     Adaptive(Adaptive),
+}
+
+impl Sampling {
+    /// How `scene`'s pixels come from what is traced (`corners`: it traces
+    /// its corner grid).
+    fn of(scene: &Scene, corners: bool) -> Self {
+        match (corners, scene.adaptive_sampling()) {
+            (false, _) => Sampling::Pixels,
+            (true, None) => Sampling::Corners,
+            (true, Some(a)) => Sampling::Adaptive(a),
+        }
+    }
 }
 
 /// A render of a prepared scene.
@@ -110,11 +142,7 @@ impl Prepared {
         shared.check_can_render(settings)?;
         let grid = scene.corner_grid();
         let traced = grid.as_ref().unwrap_or(scene);
-        let sampling = match (grid.is_some(), scene.adaptive_sampling()) {
-            (false, _) => Sampling::Pixels,
-            (true, None) => Sampling::Corners,
-            (true, Some(a)) => Sampling::Adaptive(a),
-        };
+        let sampling = Sampling::of(scene, grid.is_some());
         let t0 = Instant::now();
         let up = Uploads::new(
             traced,
@@ -170,6 +198,9 @@ impl Prepared {
             pending: None,
             stop: None,
             record: None,
+            settings: *settings,
+            shape: up.shape.clone(),
+            texels: traced.texels.clone(),
         };
         let driver_compile_s = prepared.compile_on_driver(false)?;
         prepared.pending = Some(RenderTimes {
@@ -183,6 +214,76 @@ impl Prepared {
             ..RenderTimes::default()
         });
         Ok(prepared)
+    }
+
+    /// Takes `scene`'s values in place of those the scene was prepared
+    /// with: `scene` is that scene with values changed (colours,
+    /// positions, radii, lights, the camera). Its arrays are laid out
+    /// again and written over the ones on the device, its BVH refitted
+    /// rather than built (`accel::refit`); nothing is compiled. Where it
+    /// needs another variant or more room, says what and changes nothing.
+    /// The next render's times report the update's work.
+    pub fn update(&mut self, scene: &Scene) -> Result<Update, GpuError> {
+        if self.shared.device.hung() {
+            return Err(GpuError::Lost);
+        }
+        if (scene.width, scene.height) != self.size {
+            return Ok(Update::Prepare(format!(
+                "the image is {}x{}, where it was {}x{}",
+                scene.width, scene.height, self.size.0, self.size.1
+            )));
+        }
+        let grid = scene.corner_grid();
+        let traced = grid.as_ref().unwrap_or(scene);
+        if Sampling::of(scene, grid.is_some()) != self.sampling {
+            return Ok(Update::Prepare("the image's sampling changed".to_owned()));
+        }
+        let t0 = Instant::now();
+        let s = self.settings;
+        let up = Uploads::fitted(
+            traced,
+            s.intersect,
+            s.precision,
+            s.accel,
+            self.shape.as_ref(),
+        );
+        let (variant, _) = self.shared.variant(traced, &s, &up, s.count);
+        if variant != self.main.variant {
+            return Ok(Update::Prepare(format!(
+                "it needs the shader variant {}, where it has {}",
+                variant.name(),
+                self.main.variant.name()
+            )));
+        }
+        let same_texels =
+            Arc::ptr_eq(&self.texels, &traced.texels) || *self.texels == *traced.texels;
+        let unchanged: &[Block] = if same_texels { &[Block::Texels] } else { &[] };
+        let device = self.shared.device.clone();
+        let written = rewrite_scene_blocks(
+            &device,
+            &mut self.executor.commands,
+            &self.scene,
+            &variant,
+            &up,
+            unchanged,
+        )?;
+        if let Err(why) = written {
+            return Ok(Update::Prepare(why));
+        }
+        self.work = Work::of(traced).through(up.ray_cost);
+        self.texels = traced.texels.clone();
+        self.pending = Some(RenderTimes {
+            setup: SetupTimes {
+                device_s: self.shared.device_s(),
+                ..SetupTimes::default()
+            },
+            bvh_s: up.bvh_s,
+            tables_s: up.tables_s,
+            upload_s: t0.elapsed().as_secs_f64() - up.bvh_s - up.tables_s,
+            ..RenderTimes::default()
+        });
+        self.shape = up.shape;
+        Ok(Update::InPlace)
     }
 
     /// Renders stop with [`GpuError::Interrupted`] before the next tile

@@ -58,6 +58,49 @@ impl Blocks {
     }
 }
 
+/// What fills a scene block's buffer: the bytes, in place.
+type Write<'u> = Box<dyn FnOnce(&mut [u8]) + 'u>;
+
+/// A scene block of `variant`'s bindings and what it holds of `up`: the
+/// form its array is read in, its size in bytes and what writes them;
+/// None for a block that is not the scene's.
+fn scene_block<'u>(
+    block: Block,
+    variant: &Variant,
+    up: &'u Uploads,
+) -> Option<(Option<Form>, usize, Write<'u>)> {
+    let array = match block {
+        Block::Globals => None,
+        Block::Kind(k) => Some(&up.kinds[k]),
+        Block::Materials => Some(&up.materials),
+        Block::Lights => Some(&up.lights),
+        Block::Textures => Some(&up.textures),
+        Block::Texels => Some(&up.texels),
+        Block::Uvs => Some(&up.uvs),
+        Block::Nodes => Some(up.nodes.as_ref().expect("a BVH variant has nodes")),
+        Block::Tables => Some(up.tables.as_ref().expect("a tables variant has tables")),
+        _ => return None,
+    };
+    let form = access::ArrayDecl::of(block).map(|_| variant.form(block));
+    // The arrays are written straight into the (staging) buffer; a
+    // uniform block declared longer than its array (the nodes':
+    // `Features::nodes`) is padded with zeros to the length declared.
+    let size = match (array, form) {
+        (None, _) => up.globals.len(),
+        (Some(a), Some(Form::Uniform(n))) if n > a.len => a.byte_len() / a.len.max(1) * n,
+        (Some(a), _) => a.byte_len(),
+    };
+    let write = move |dst: &mut [u8]| match array {
+        Some(a) => {
+            let (items, padding) = dst.split_at_mut(a.byte_len());
+            a.write(items);
+            padding.fill(0);
+        }
+        None => dst.copy_from_slice(&up.globals),
+    };
+    Some((form, size, Box::new(write)))
+}
+
 /// The scene's read-only arrays of `variant`'s bindings, holding `up`:
 /// device-local through staging where `staged`, else mapped.
 pub(crate) fn scene_blocks(
@@ -69,36 +112,11 @@ pub(crate) fn scene_blocks(
 ) -> Result<Blocks, GpuError> {
     let mut blocks = Vec::new();
     for (block, _, ty) in variant.bindings() {
-        let array = match block {
-            Block::Globals => None,
-            Block::Kind(k) => Some(&up.kinds[k]),
-            Block::Materials => Some(&up.materials),
-            Block::Lights => Some(&up.lights),
-            Block::Textures => Some(&up.textures),
-            Block::Texels => Some(&up.texels),
-            Block::Uvs => Some(&up.uvs),
-            Block::Nodes => Some(up.nodes.as_ref().expect("a BVH variant has nodes")),
-            Block::Tables => Some(up.tables.as_ref().expect("a tables variant has tables")),
-            _ => continue,
+        let Some((form, size, write)) = scene_block(block, variant, up) else {
+            continue;
         };
-        let form = access::ArrayDecl::of(block).map(|_| variant.form(block));
-        // The arrays are written straight into the (staging) buffer; a
-        // uniform block declared longer than its array (the nodes':
-        // `Features::nodes`) is padded with zeros to the length declared.
-        let size = match (array, form) {
-            (None, _) => up.globals.len(),
-            (Some(a), Some(Form::Uniform(n))) if n > a.len => a.byte_len() / a.len.max(1) * n,
-            (Some(a), _) => a.byte_len(),
-        };
-        let write = |dst: &mut [u8]| match array {
-            Some(a) => {
-                let (items, padding) = dst.split_at_mut(a.byte_len());
-                a.write(items);
-                padding.fill(0);
-            }
-            None => dst.copy_from_slice(&up.globals),
-        };
-        let usage = usage(form, ty);
+        // Written again on the device where the scene is updated.
+        let usage = usage(form, ty) | raw::BufferUsageFlags::TRANSFER_DST;
         let what = if block == Block::Globals {
             "the uniform block"
         } else {
@@ -112,6 +130,40 @@ pub(crate) fn scene_blocks(
         blocks.push((block, bind_as(device, form, buffer)?));
     }
     Ok(Blocks(blocks))
+}
+
+/// Writes `up` into `blocks`, the scene blocks `scene_blocks` made for
+/// `variant`, in place, leaving out those `unchanged` names; Err names
+/// the first block whose array no longer fits its buffer (nothing is
+/// written then).
+pub(crate) fn rewrite_scene_blocks(
+    device: &Arc<Device>,
+    commands: &mut OneShot,
+    blocks: &Blocks,
+    variant: &Variant,
+    up: &Uploads,
+    unchanged: &[Block],
+) -> Result<Result<(), String>, GpuError> {
+    let mut writes = Vec::new();
+    for (block, bound) in &blocks.0 {
+        let Some((_, size, write)) = scene_block(*block, variant, up) else {
+            continue;
+        };
+        let buffer = bound.buffer();
+        if size.max(16) as u64 != buffer.size {
+            return Ok(Err(format!(
+                "{}: {} bytes, where {} were uploaded",
+                block.name(),
+                size,
+                buffer.size
+            )));
+        }
+        if !unchanged.contains(block) {
+            writes.push((buffer, size, write));
+        }
+    }
+    Buffer::overwrite(device, commands, writes)?;
+    Ok(Ok(()))
 }
 
 /// What a stage's own buffers are made from, beside its variant.

@@ -5,6 +5,7 @@
 use std::cell::RefCell;
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -73,12 +74,17 @@ pub struct Loaded {
 /// Faces without area are left out, as a mesh's slivers often are. Without
 /// a `material`, each object takes its own from the MTL file, numbered from
 /// `first_material` in the scene's list.
+///
+/// With a `cache`, a file read before and unchanged since (its length and
+/// time of change, and its MTL files') is not read again: a notebook that
+/// moves a sphere beside a mesh re-reads its scene, not its OBJ (issue 60).
 pub fn load(
     f: &MeshFile,
     dir: &Path,
     at: &At,
     first_material: u32,
     out: &mut Vec<Triangle>,
+    cache: Option<&Cache>,
 ) -> Result<Loaded, SceneError> {
     let material = f
         .material
@@ -92,118 +98,17 @@ pub fn load(
     };
     let path = dir.join(&f.file);
     let shown = crate::printable::path(&path);
-    let file = crate::input::open(&path, crate::input::Kind::Mesh)
-        .or_else(|e| at.invalid("file", format!("cannot read {shown}: {e}")))?;
-    // The faces' triangles are counted before tobj makes them.
-    {
-        use crate::input::triangles;
-        let bytes = std::fs::metadata(&path).map_or(0, |m| m.len());
-        let counted = crate::input::open(&path, crate::input::Kind::Mesh)
-            .and_then(|f| triangles::obj_past(BufReader::new(f), triangles::allowed(bytes)))
-            .or_else(|e| at.invalid("file", format!("cannot read {shown}: {e}")))?;
-        if let Some(past) = counted {
-            let why = triangles::message(past, bytes);
-            return at.invalid("file", format!("{shown}:{}: {why}", past.line));
-        }
-    }
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        ignore_points: true,
-        ignore_lines: true,
-        ..Default::default()
+    let parsed = match cache {
+        Some(c) => c.get_or_read(&path, material.is_some(), || {
+            read(&path, material.is_some(), at)
+        })?,
+        None => Arc::new(read(&path, material.is_some(), at)?),
     };
-    // With a material of the scene's the OBJ's own (mtllib) are not read.
-    // Else each MTL file is read once, as every input is (crate::input),
-    // and its first problem kept for the message; `reads` lists each file
-    // read with the number of materials it gave, in tobj's order.
-    let obj_dir = path.parent().unwrap_or(Path::new(".")).to_owned();
-    // Only the materials the OBJ uses are kept (every one is checked).
-    let used = match material {
-        Some(_) => Default::default(),
-        None => super::mtl::used_names(BufReader::new(
-            crate::input::open(&path, crate::input::Kind::Mesh)
-                .or_else(|e| at.invalid("file", format!("cannot read {shown}: {e}")))?,
-        )),
-    };
-    let mtl_problem: RefCell<Option<String>> = RefCell::new(None);
-    let bad_material: RefCell<Option<SceneError>> = RefCell::new(None);
-    let reads: RefCell<Vec<(PathBuf, usize)>> = RefCell::new(Vec::new());
-    let seen = RefCell::new(std::collections::HashSet::new());
-    let read_mtl = |p: &Path| {
-        if material.is_some() {
-            return Ok(Default::default());
-        }
-        let mtl = obj_dir.join(p);
-        // A file named again adds nothing: its materials are known by name.
-        if !seen
-            .borrow_mut()
-            .insert(std::fs::canonicalize(&mtl).unwrap_or_else(|_| mtl.clone()))
-        {
-            return Ok(Default::default());
-        }
-        let name = crate::printable::path(&mtl);
-        let fail = |problem: String| {
-            mtl_problem.borrow_mut().get_or_insert(problem);
-            tobj::LoadError::OpenFileFailed
-        };
-        let text = crate::input::read(&mtl, crate::input::Kind::Mesh)
-            .map_err(|e| fail(format!("cannot read {name}: {e}")))?;
-        short_colour_line(&text).map_or(Ok(()), |(line, key, n)| {
-            Err(fail(format!(
-                "{name}:{line}: {key} needs three numbers (r g b), got {n}"
-            )))
-        })?;
-        // One material at a time: each parsed and checked, the used ones
-        // kept, so that the file's unused materials cost no memory.
-        let mtl_dir = mtl.parent().unwrap_or(&obj_dir);
-        let mut kept = Vec::new();
-        for block in super::mtl::blocks(&text) {
-            let (parsed, _) = tobj::load_mtl_buf(&mut &block.text[..])
-                .map_err(|e| fail(format!("{name}: not a valid MTL file: {e}")))?;
-            for m in &parsed {
-                if let Err(e) = mtl_material(m, &name, mtl_dir, at) {
-                    bad_material.borrow_mut().get_or_insert(e);
-                    return Err(tobj::LoadError::OpenFileFailed);
-                }
-            }
-            if block.name.as_ref().is_some_and(|n| used.contains(n)) {
-                kept.extend_from_slice(block.text);
-            }
-        }
-        drop(text);
-        let loaded = tobj::load_mtl_buf(&mut kept.as_slice())
-            .map_err(|e| fail(format!("{name}: not a valid MTL file: {e}")))?;
-        reads.borrow_mut().push((mtl, loaded.0.len()));
-        Ok(loaded)
-    };
-    let loaded = tobj::load_obj_buf(&mut BufReader::new(file), &options, read_mtl);
-    if let Some(e) = bad_material.into_inner() {
-        return Err(e);
-    }
-    if let Some(problem) = mtl_problem.into_inner() {
-        return at.invalid("file", format!("{shown}: {problem}"));
-    }
-    let (models, mtl) =
-        loaded.or_else(|e| at.invalid("file", format!("{shown}: not a valid OBJ file: {e}")))?;
-    let mtl = match (material, mtl) {
-        (Some(_), _) => Vec::new(),
-        (None, Ok(m)) => m,
-        (None, Err(e)) => return at.invalid("file", format!("{shown}: its materials: {e}")),
-    };
-    // Each material is named after, and its maps found beside, its own file.
-    let reads = reads.into_inner();
-    let owners = reads
-        .iter()
-        .flat_map(|(file, n)| std::iter::repeat_n(file, *n));
-    let materials = mtl
-        .iter()
-        .zip(owners)
-        .map(|(m, file)| {
-            let dir = file.parent().unwrap_or(&obj_dir);
-            mtl_material(m, &crate::printable::path(file), dir, at)
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let files = reads.into_iter().map(|(file, _)| file).collect();
+    let Parsed {
+        models,
+        materials,
+        files,
+    } = &*parsed;
 
     // Exactly as many as there are faces (at most): a Vec grown by doubling
     // would hold up to twice the triangles' 208 bytes each.
@@ -215,7 +120,7 @@ pub fn load(
             format!("{shown}: has no faces (not an OBJ model, or an empty one)"),
         );
     }
-    for model in &models {
+    for model in models {
         let m = &model.mesh;
         let material = match (material, m.material_id) {
             (Some(index), _) => index,
@@ -301,7 +206,222 @@ pub fn load(
             out.extend(Triangle::new(vertices, normals, material).map(|t| Triangle { uvs, ..t }));
         }
     }
-    Ok(Loaded { materials, files })
+    Ok(Loaded {
+        materials: materials.clone(),
+        files: files.clone(),
+    })
+}
+
+/// An OBJ file as tobj reads it, with its MTL materials checked (none
+/// where the scene gives the mesh its material) and the MTL files read.
+#[derive(Debug)]
+pub struct Parsed {
+    models: Vec<tobj::Model>,
+    materials: Vec<MtlMaterial>,
+    files: Vec<PathBuf>,
+}
+
+/// Reads the OBJ file at `path` (and, unless `scene_material`, the MTL
+/// files it names), checking what tobj cannot: its size in triangles, and
+/// its materials' values.
+fn read(path: &Path, scene_material: bool, at: &At) -> Result<Parsed, SceneError> {
+    let shown = crate::printable::path(path);
+    let path = path.to_owned();
+    let file = crate::input::open(&path, crate::input::Kind::Mesh)
+        .or_else(|e| at.invalid("file", format!("cannot read {shown}: {e}")))?;
+    // The faces' triangles are counted before tobj makes them.
+    {
+        use crate::input::triangles;
+        let bytes = std::fs::metadata(&path).map_or(0, |m| m.len());
+        let counted = crate::input::open(&path, crate::input::Kind::Mesh)
+            .and_then(|f| triangles::obj_past(BufReader::new(f), triangles::allowed(bytes)))
+            .or_else(|e| at.invalid("file", format!("cannot read {shown}: {e}")))?;
+        if let Some(past) = counted {
+            let why = triangles::message(past, bytes);
+            return at.invalid("file", format!("{shown}:{}: {why}", past.line));
+        }
+    }
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    };
+    // With a material of the scene's the OBJ's own (mtllib) are not read.
+    // Else each MTL file is read once, as every input is (crate::input),
+    // and its first problem kept for the message; `reads` lists each file
+    // read with the number of materials it gave, in tobj's order.
+    let obj_dir = path.parent().unwrap_or(Path::new(".")).to_owned();
+    // Only the materials the OBJ uses are kept (every one is checked).
+    let used = match scene_material {
+        true => Default::default(),
+        false => super::mtl::used_names(BufReader::new(
+            crate::input::open(&path, crate::input::Kind::Mesh)
+                .or_else(|e| at.invalid("file", format!("cannot read {shown}: {e}")))?,
+        )),
+    };
+    let mtl_problem: RefCell<Option<String>> = RefCell::new(None);
+    let bad_material: RefCell<Option<SceneError>> = RefCell::new(None);
+    let reads: RefCell<Vec<(PathBuf, usize)>> = RefCell::new(Vec::new());
+    let seen = RefCell::new(std::collections::HashSet::new());
+    let read_mtl = |p: &Path| {
+        if scene_material {
+            return Ok(Default::default());
+        }
+        let mtl = obj_dir.join(p);
+        // A file named again adds nothing: its materials are known by name.
+        if !seen
+            .borrow_mut()
+            .insert(std::fs::canonicalize(&mtl).unwrap_or_else(|_| mtl.clone()))
+        {
+            return Ok(Default::default());
+        }
+        let name = crate::printable::path(&mtl);
+        let fail = |problem: String| {
+            mtl_problem.borrow_mut().get_or_insert(problem);
+            tobj::LoadError::OpenFileFailed
+        };
+        let text = crate::input::read(&mtl, crate::input::Kind::Mesh)
+            .map_err(|e| fail(format!("cannot read {name}: {e}")))?;
+        short_colour_line(&text).map_or(Ok(()), |(line, key, n)| {
+            Err(fail(format!(
+                "{name}:{line}: {key} needs three numbers (r g b), got {n}"
+            )))
+        })?;
+        // One material at a time: each parsed and checked, the used ones
+        // kept, so that the file's unused materials cost no memory.
+        let mtl_dir = mtl.parent().unwrap_or(&obj_dir);
+        let mut kept = Vec::new();
+        for block in super::mtl::blocks(&text) {
+            let (parsed, _) = tobj::load_mtl_buf(&mut &block.text[..])
+                .map_err(|e| fail(format!("{name}: not a valid MTL file: {e}")))?;
+            for m in &parsed {
+                if let Err(e) = mtl_material(m, &name, mtl_dir, at) {
+                    bad_material.borrow_mut().get_or_insert(e);
+                    return Err(tobj::LoadError::OpenFileFailed);
+                }
+            }
+            if block.name.as_ref().is_some_and(|n| used.contains(n)) {
+                kept.extend_from_slice(block.text);
+            }
+        }
+        drop(text);
+        let loaded = tobj::load_mtl_buf(&mut kept.as_slice())
+            .map_err(|e| fail(format!("{name}: not a valid MTL file: {e}")))?;
+        reads.borrow_mut().push((mtl, loaded.0.len()));
+        Ok(loaded)
+    };
+    let loaded = tobj::load_obj_buf(&mut BufReader::new(file), &options, read_mtl);
+    if let Some(e) = bad_material.into_inner() {
+        return Err(e);
+    }
+    if let Some(problem) = mtl_problem.into_inner() {
+        return at.invalid("file", format!("{shown}: {problem}"));
+    }
+    let (models, mtl) =
+        loaded.or_else(|e| at.invalid("file", format!("{shown}: not a valid OBJ file: {e}")))?;
+    let mtl = match (scene_material, mtl) {
+        (true, _) => Vec::new(),
+        (false, Ok(m)) => m,
+        (false, Err(e)) => return at.invalid("file", format!("{shown}: its materials: {e}")),
+    };
+    // Each material is named after, and its maps found beside, its own file.
+    let reads = reads.into_inner();
+    let owners = reads
+        .iter()
+        .flat_map(|(file, n)| std::iter::repeat_n(file, *n));
+    let materials = mtl
+        .iter()
+        .zip(owners)
+        .map(|(m, file)| {
+            let dir = file.parent().unwrap_or(&obj_dir);
+            mtl_material(m, &crate::printable::path(file), dir, at)
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let files = reads.into_iter().map(|(file, _)| file).collect();
+    Ok(Parsed {
+        models,
+        materials,
+        files,
+    })
+}
+
+/// OBJ files read before, kept while unchanged (`load`'s cache): by path
+/// and whether the scene gave the mesh its material. A scene read again
+/// and again (the Python module's `Scene.params`) keeps one.
+#[derive(Debug, Default)]
+pub struct Cache {
+    entries: std::sync::Mutex<Vec<Entry>>,
+}
+
+#[derive(Debug)]
+struct Entry {
+    path: PathBuf,
+    scene_material: bool,
+    /// The OBJ's and its MTL files' stamps when read.
+    stamps: Vec<Option<Stamp>>,
+    parsed: Arc<Parsed>,
+}
+
+/// What tells a file changed: its length and time of change.
+type Stamp = (u64, std::time::SystemTime);
+
+fn stamp(path: &Path) -> Option<Stamp> {
+    let m = std::fs::metadata(path).ok()?;
+    Some((m.len(), m.modified().ok()?))
+}
+
+/// Files a cache keeps at most: a scene's meshes, with room.
+const CACHED_FILES: usize = 16;
+
+impl Cache {
+    /// The file at `path` as `read` gives it: from the cache where read
+    /// before and unchanged since, else read (and kept where it reads).
+    fn get_or_read(
+        &self,
+        path: &Path,
+        scene_material: bool,
+        read: impl FnOnce() -> Result<Parsed, SceneError>,
+    ) -> Result<Arc<Parsed>, SceneError> {
+        let stamps_of = |p: &Parsed| {
+            std::iter::once(path)
+                .chain(p.files.iter().map(PathBuf::as_path))
+                .map(stamp)
+                .collect::<Vec<_>>()
+        };
+        {
+            let entries = self.entries.lock().unwrap_or_else(|p| p.into_inner());
+            let hit = entries.iter().find(|e| {
+                e.path == path
+                    && e.scene_material == scene_material
+                    && e.stamps.iter().all(Option::is_some)
+                    && e.stamps == stamps_of(&e.parsed)
+            });
+            if let Some(e) = hit {
+                return Ok(e.parsed.clone());
+            }
+        }
+        // Stamped before it is read: a file changed while read is read
+        // again next time.
+        let before = stamp(path);
+        let parsed = Arc::new(read()?);
+        let mut stamps = stamps_of(&parsed);
+        if stamps[0] != before {
+            stamps[0] = None;
+        }
+        let mut entries = self.entries.lock().unwrap_or_else(|p| p.into_inner());
+        entries.retain(|e| !(e.path == path && e.scene_material == scene_material));
+        if entries.len() >= CACHED_FILES {
+            entries.remove(0);
+        }
+        entries.push(Entry {
+            path: path.to_owned(),
+            scene_material,
+            stamps,
+            parsed: parsed.clone(),
+        });
+        Ok(parsed)
+    }
 }
 
 /// The first line of an MTL file whose colour (Ka, Kd, Ks, Ke) has fewer

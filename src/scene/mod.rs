@@ -26,6 +26,7 @@ use glam::DVec3;
 
 pub use crate::input::error::SceneError;
 pub use crate::input::field::{Triple, MAX_COORDINATE};
+pub use crate::prim::mesh::Cache as MeshCache;
 pub use brightness::PastBound;
 pub use camera::Camera;
 pub use file::object_arrays;
@@ -33,7 +34,7 @@ pub use light::{Light, LightKind, LIGHT_TYPES};
 pub use material::{Material, MaterialR};
 pub use nff::parse_nff;
 pub use sampling::{Adaptive, Sampling};
-pub use toml::parse;
+pub use toml::{parse, parse_cached};
 pub use validate::Overrides;
 
 pub use crate::prim::cylinder::Cylinder;

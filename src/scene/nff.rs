@@ -42,7 +42,7 @@ impl Nff {
         file: &Path,
         overrides: &super::Overrides,
     ) -> Result<super::Scene, SceneError> {
-        super::validate::resolve(self.scene, file, &self.lines, overrides)
+        super::validate::resolve(self.scene, file, &self.lines, overrides, None)
     }
 }
 

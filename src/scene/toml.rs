@@ -7,13 +7,26 @@ use super::file::SceneFile;
 use super::validate::{resolve, Overrides};
 use super::{Scene, SceneError};
 use crate::input::locate::Located;
+use crate::prim::mesh::Cache as MeshCache;
 
 /// Parses and validates scene text; `file` is only used in messages.
 pub fn parse(text: &str, file: &Path, overrides: &Overrides) -> Result<Scene, SceneError> {
+    parse_cached(text, file, overrides, None)
+}
+
+/// As [`parse`], the meshes' OBJ files taken from `meshes` where read
+/// before and unchanged since (`prim::mesh::load`): a scene read again
+/// with values changed (the Python module's `Scene.params`).
+pub fn parse_cached(
+    text: &str,
+    file: &Path,
+    overrides: &Overrides,
+    meshes: Option<&MeshCache>,
+) -> Result<Scene, SceneError> {
     let located = Located::new(text);
     let raw: SceneFile =
         super::split::parse(text).map_err(|b| toml_error(&b.error, b.offset, file, &located))?;
-    resolve(raw, file, &located, overrides)
+    resolve(raw, file, &located, overrides, meshes)
 }
 
 /// `offset`: where the text that `e` came from starts in the file.

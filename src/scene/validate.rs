@@ -13,6 +13,7 @@ use super::{Sampling, Scene, SceneError, MAX_DEPTH, MAX_SAMPLES, MAX_SIZE};
 use crate::input::field::MAX_COORDINATE;
 use crate::input::field::{root, At, Check};
 use crate::input::locate::Locate;
+use crate::prim::mesh::Cache as MeshCache;
 use crate::prim::Prims;
 
 /// Command-line values that replace the scene's own.
@@ -35,9 +36,10 @@ pub(super) fn resolve(
     file: &Path,
     located: &dyn Locate,
     overrides: &Overrides,
+    meshes: Option<&MeshCache>,
 ) -> Result<Scene> {
     let check = Check { file, located };
-    let mut scene = check.scene(raw, overrides)?;
+    let mut scene = check.scene(raw, overrides, meshes)?;
     apply_overrides(&mut scene, overrides)?;
     check.brightness(&scene)?;
     check.scale(&scene)?;
@@ -154,7 +156,12 @@ impl Check<'_> {
         )
     }
 
-    fn scene(&self, mut raw: SceneFile, overrides: &Overrides) -> Result<Scene> {
+    fn scene(
+        &self,
+        mut raw: SceneFile,
+        overrides: &Overrides,
+        meshes: Option<&MeshCache>,
+    ) -> Result<Scene> {
         let image = root().key("image");
         let render = root().key("render");
         let width = self.int_in(&image.key("width"), raw.image.width, 1, MAX_SIZE)?;
@@ -209,7 +216,8 @@ impl Check<'_> {
             // Straight into the scene's list: a list of the mesh's own, then
             // copied, would hold every triangle twice.
             let first = materials.len() as u32;
-            let loaded = crate::prim::mesh::load(mesh, dir, &at, first, &mut prims.triangles)?;
+            let loaded =
+                crate::prim::mesh::load(mesh, dir, &at, first, &mut prims.triangles, meshes)?;
             for m in &loaded.materials {
                 let mut material = super::material::from_mtl(m);
                 // An MTL map's texels are multiplied by its colour (Kd, Ka).

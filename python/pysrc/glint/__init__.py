@@ -21,7 +21,7 @@ import json
 import math
 import os
 from dataclasses import dataclass, field
-from typing import Any, Callable, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union, cast, overload
+from typing import Any, Callable, Dict, Iterable, Iterator, List, Literal, Mapping, MutableMapping, Optional, Sequence, Tuple, Union, cast, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -49,6 +49,7 @@ __all__ = [
     "show",
     "Shown",
     "Scene",
+    "Params",
     "Renderer",
     "PreparedScene",
     "Figures",
@@ -107,6 +108,62 @@ def loads(
     return _glint.loads(text, format, width, height, samples, max_depth)
 
 
+class Params(MutableMapping[str, Any]):
+    """A scene's values by their keys in its file: ``scene.params``.
+
+    Keys are paths into the scene file's tables, as an error names them:
+    ``"spheres[0].center"``, ``"materials.red.diffuse"``,
+    ``"lights[1].position"``, ``"camera.eye"`` (a name with a dot or a
+    space in double quotes: ``'materials."red glass".diffuse'``).
+    Iterating lists every number and list of numbers of the file but the
+    image's settings and ``render.max_depth``; any key of the file can be
+    read and set, and a table's missing key (a material's ``specular``)
+    can be given. ``del params[key]`` takes a key back to its default.
+
+    Setting a value reads the scene again, whole, with every check a file
+    gets (its meshes' OBJ files are not read again while unchanged: their
+    length and time of change say so); a bad value raises and changes
+    nothing. ``update`` sets many at one reading. A render then shows the
+    change: a renderer's ``render`` of the same scene, and a
+    :class:`PreparedScene` of it, write the new values over the ones on
+    the device and refit the BVH, compiling nothing; where the change
+    needs another shader variant (a deeper ray tree, a new kind of
+    object or light) the scene is prepared again, its stats say
+    ``"compiled": True``, and the ``glint`` logger records why at INFO.
+    """
+
+    def __init__(self, scene: Scene) -> None:
+        self._scene = scene
+
+    def __getitem__(self, key: str) -> Any:
+        return self._scene._param(key)
+
+    def __setitem__(self, key: str, value: Any) -> None:
+        self._scene._set_params({key: value})
+
+    def __delitem__(self, key: str) -> None:
+        self._scene._set_params({key: None})
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._scene._params())
+
+    def __len__(self) -> int:
+        return len(self._scene._params())
+
+    def update(self, *others: Any, **values: Any) -> None:
+        """Sets every key given (a mapping, pairs, or keywords) at one
+        reading of the scene: all of them, or none on an error."""
+        items: Dict[str, Any] = {}
+        for other in others:
+            pairs: Iterable[Tuple[str, Any]] = other.items() if isinstance(other, Mapping) else other
+            items.update(pairs)
+        items.update(values)
+        self._scene._set_params(items)
+
+    def __repr__(self) -> str:
+        return f"<glint.Params of {self._scene.source!r}: {dict(self)!r}>"
+
+
 def _include(include: Optional[Include]) -> Any:
     if include is None or isinstance(include, Mapping):
         return None if include is None else dict(include)
@@ -126,7 +183,10 @@ def _result(
 
 class PreparedScene:
     """A scene laid out, compiled and uploaded for one device: each
-    :meth:`render` only traces. Made by :meth:`Renderer.prepare`."""
+    :meth:`render` only traces. Made by :meth:`Renderer.prepare`. It
+    follows its scene: a render after a change of ``scene.params`` shows
+    it (in place, or prepared again where the change needs another
+    shader; :class:`Params`)."""
 
     def __init__(self, native: _glint.PreparedScene) -> None:
         self._native = native
@@ -233,7 +293,11 @@ class Renderer:
         stats: bool = False,
         progress: Optional[Progress] = None,
     ) -> Union[Image, Tuple[Image, Stats]]:
-        """``prepare`` then one render: the image, or ``(image, stats)``."""
+        """The image, or ``(image, stats)``. The renderer keeps the scene
+        it rendered last prepared (its buffers on the device) while it is
+        given that scene again, with the same precision and stats: a
+        repeat render only traces, and one after a change of
+        ``scene.params`` updates it in place (:class:`Params`)."""
         image, raw = self._native.render(scene, precision, _region(region), stats, progress)
         return _result(image, raw, stats)
 

@@ -9,6 +9,10 @@ use super::command::{memory_barrier, Completed, OneShot};
 use super::device::Device;
 use crate::gpu::error::{GpuError, VkContext};
 
+/// One buffer [`Buffer::overwrite`] writes: the buffer, the bytes to
+/// write at its start, and what fills them.
+pub type Overwrite<'a> = (&'a Buffer, usize, Box<dyn FnOnce(&mut [u8]) + 'a>);
+
 /// A buffer and its own memory, which keeps its device alive.
 pub struct Buffer {
     pub raw: vk::Buffer,
@@ -216,6 +220,68 @@ impl Buffer {
                     // The copy may still be reading and writing both.
                     std::mem::forget(staging);
                     std::mem::forget(buffer);
+                }
+                Err(e)
+            }
+        }
+    }
+
+    /// Writes each of `writes` (a buffer made with `TRANSFER_DST`, the
+    /// bytes to write at its start, and what fills them) through a staging
+    /// buffer of its own, all copied in by one submission of `commands`,
+    /// which this waits on. Buffers the GPU has read are written on the
+    /// device, never through their mapping (`fill_with`): a prepared
+    /// scene's arrays, updated (issue 60).
+    pub fn overwrite(
+        device: &Arc<Device>,
+        commands: &mut OneShot,
+        writes: Vec<Overwrite<'_>>,
+    ) -> Result<(), GpuError> {
+        let mut copies = Vec::with_capacity(writes.len());
+        for (dst, size, write) in writes {
+            assert!(
+                size as vk::DeviceSize <= dst.size,
+                "write past the end of a buffer"
+            );
+            let staging = Self::written(
+                device,
+                size,
+                write,
+                vk::BufferUsageFlags::TRANSFER_SRC,
+                "a staging buffer",
+            )?;
+            copies.push((staging, dst.raw, size as vk::DeviceSize));
+        }
+        // SAFETY: every buffer is alive until `run` returns, which waits for
+        // the copies (on a timeout the staging buffers are leaked, below);
+        // each copy is within both of its buffers.
+        let copied = commands.run(std::time::Duration::from_secs(60), |d, cb| unsafe {
+            for (staging, dst, size) in copies.iter().filter(|c| c.2 > 0) {
+                d.cmd_copy_buffer(
+                    cb,
+                    staging.raw,
+                    *dst,
+                    &[vk::BufferCopy::default().size(*size)],
+                );
+            }
+            memory_barrier(
+                d,
+                cb,
+                (
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::AccessFlags::TRANSFER_WRITE,
+                ),
+                (
+                    vk::PipelineStageFlags::COMPUTE_SHADER,
+                    vk::AccessFlags::SHADER_READ | vk::AccessFlags::UNIFORM_READ,
+                ),
+            );
+        });
+        match copied {
+            Ok(_) => Ok(()),
+            Err(e) => {
+                if device.hung() {
+                    std::mem::forget(copies);
                 }
                 Err(e)
             }

@@ -1,0 +1,205 @@
+//! `Scene.params`' keys: paths into the scene file's tables
+//! (`"spheres[0].center"`, `"materials.red.diffuse"`, `"camera.eye"`), the
+//! values they name, and setting one in a table.
+
+use pyo3::exceptions::PyKeyError;
+use pyo3::prelude::*;
+
+/// One step of a key: a table's key, or an array's index.
+#[derive(Debug, Clone, PartialEq)]
+enum Step {
+    Key(String),
+    Index(usize),
+}
+
+/// The steps of `key`: names split at dots, each maybe followed by
+/// `[i]`s; a name with a dot, a bracket or a space is written in double
+/// quotes (`materials."red glass".diffuse`), as TOML writes it.
+fn steps(key: &str) -> PyResult<Vec<Step>> {
+    let bad = |why: &str| PyKeyError::new_err(format!("{key:?}: {why}"));
+    let mut out = Vec::new();
+    let mut rest = key;
+    loop {
+        let name;
+        if let Some(q) = rest.strip_prefix('"') {
+            let end = q.find('"').ok_or_else(|| bad("a quote is not closed"))?;
+            name = q[..end].to_owned();
+            rest = &q[end + 1..];
+        } else {
+            let end = rest.find(['.', '[']).unwrap_or(rest.len());
+            name = rest[..end].to_owned();
+            rest = &rest[end..];
+        }
+        if name.is_empty() {
+            return Err(bad("an empty name"));
+        }
+        out.push(Step::Key(name));
+        while let Some(r) = rest.strip_prefix('[') {
+            let end = r.find(']').ok_or_else(|| bad("a bracket is not closed"))?;
+            let i = r[..end]
+                .parse()
+                .map_err(|_| bad("an index is a whole number >= 0"))?;
+            out.push(Step::Index(i));
+            rest = &r[end + 1..];
+        }
+        match rest.strip_prefix('.') {
+            Some(r) => rest = r,
+            None if rest.is_empty() => return Ok(out),
+            None => return Err(bad("a name is followed by a dot or an index")),
+        }
+    }
+}
+
+/// A table key as a step of a key: quoted where it is not bare.
+fn name(k: &str) -> String {
+    let bare = !k.is_empty()
+        && k.chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if bare {
+        k.to_owned()
+    } else {
+        format!("\"{k}\"")
+    }
+}
+
+/// Whether a value is one `params` lists: a number, or a list of numbers.
+fn is_value(v: &toml::Value) -> bool {
+    let number = |v: &toml::Value| matches!(v, toml::Value::Integer(_) | toml::Value::Float(_));
+    match v {
+        toml::Value::Array(a) => !a.is_empty() && a.iter().all(number),
+        v => number(v),
+    }
+}
+
+/// Keys `params` does not list, though they may be set: the image's size
+/// and sampling and the ray tree's depth, which are the render's settings
+/// rather than the scene's values (a new depth compiles a new shader).
+fn is_setting(key: &str) -> bool {
+    key.starts_with("image.") || key == "render.max_depth"
+}
+
+/// The keys and values `params` lists, in the file's order.
+pub fn listed(table: &toml::Table) -> Vec<(String, toml::Value)> {
+    fn walk(v: &toml::Value, at: String, out: &mut Vec<(String, toml::Value)>) {
+        match v {
+            v if is_value(v) && !is_setting(&at) => out.push((at, v.clone())),
+            v if is_value(v) => {}
+            toml::Value::Table(t) => {
+                for (k, x) in t {
+                    let key = if at.is_empty() {
+                        name(k)
+                    } else {
+                        format!("{at}.{}", name(k))
+                    };
+                    walk(x, key, out);
+                }
+            }
+            toml::Value::Array(a) => {
+                for (i, x) in a.iter().enumerate() {
+                    walk(x, format!("{at}[{i}]"), out);
+                }
+            }
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    walk(&toml::Value::Table(table.clone()), String::new(), &mut out);
+    out
+}
+
+/// The value at `key`, None where there is none.
+pub fn get<'t>(table: &'t toml::Table, key: &str) -> PyResult<Option<&'t toml::Value>> {
+    let mut at: Option<&toml::Value> = None;
+    for (n, step) in steps(key)?.into_iter().enumerate() {
+        at = match (n, at, step) {
+            (0, _, Step::Key(k)) => table.get(&k),
+            (_, Some(toml::Value::Table(t)), Step::Key(k)) => t.get(&k),
+            (_, Some(toml::Value::Array(a)), Step::Index(i)) => a.get(i),
+            _ => None,
+        };
+        if at.is_none() {
+            return Ok(None);
+        }
+    }
+    Ok(at)
+}
+
+/// Sets `key` in `table` to `value` (None: removes it). A key gives or
+/// replaces a value of a table or of an array's entry: a missing table on
+/// its way is made (the scene's check refuses one it does not know), a
+/// missing array entry is an error.
+pub fn set(table: &mut toml::Table, key: &str, value: Option<toml::Value>) -> PyResult<()> {
+    let steps = steps(key)?;
+    let mut root = toml::Value::Table(std::mem::take(table));
+    let result = set_in(&mut root, &steps, 0, value, key);
+    if let toml::Value::Table(t) = root {
+        *table = t;
+    }
+    result
+}
+
+fn set_in(
+    v: &mut toml::Value,
+    steps: &[Step],
+    at: usize,
+    value: Option<toml::Value>,
+    key: &str,
+) -> PyResult<()> {
+    let missing = || {
+        PyKeyError::new_err(format!(
+            "{key:?}: the scene has no {} (a key gives a value to an entry that the \
+             scene has; add entries with to_dict and from_dict)",
+            shown(&steps[..=at])
+        ))
+    };
+    let step = &steps[at];
+    if at + 1 == steps.len() {
+        return match (v, step, value) {
+            (toml::Value::Table(t), Step::Key(k), Some(x)) => {
+                t.insert(k.clone(), x);
+                Ok(())
+            }
+            (toml::Value::Table(t), Step::Key(k), None) => match t.remove(k) {
+                Some(_) => Ok(()),
+                None => Err(missing()),
+            },
+            (toml::Value::Array(a), Step::Index(i), Some(x)) if *i < a.len() => {
+                a[*i] = x;
+                Ok(())
+            }
+            (toml::Value::Array(_), Step::Index(_), None) => Err(PyKeyError::new_err(format!(
+                "{key:?}: an array's entry cannot be removed (to_dict and from_dict can)"
+            ))),
+            _ => Err(missing()),
+        };
+    }
+    let next = match (v, step, &steps[at + 1]) {
+        // A table on the way is made where it is missing (`render` for
+        // "render.max_depth"); an array's entry never is.
+        (toml::Value::Table(t), Step::Key(k), Step::Key(_)) => Some(
+            t.entry(k.clone())
+                .or_insert_with(|| toml::Value::Table(toml::Table::new())),
+        ),
+        (toml::Value::Table(t), Step::Key(k), Step::Index(_)) => t.get_mut(k),
+        (toml::Value::Array(a), Step::Index(i), _) => a.get_mut(*i),
+        _ => None,
+    };
+    set_in(next.ok_or_else(missing)?, steps, at + 1, value, key)
+}
+
+/// Steps written back as a key.
+fn shown(steps: &[Step]) -> String {
+    let mut out = String::new();
+    for s in steps {
+        match s {
+            Step::Key(k) => {
+                if !out.is_empty() {
+                    out.push('.');
+                }
+                out.push_str(&name(k));
+            }
+            Step::Index(i) => out.push_str(&format!("[{i}]")),
+        }
+    }
+    out
+}

@@ -1,0 +1,138 @@
+"""`scene.params` (issue 60): a scene's values changed without a reload,
+and renders that show the change, compiling nothing where the shader it
+has can render it, and saying so where it cannot."""
+
+import logging
+
+import numpy as np
+import pytest
+
+import glint
+from conftest import ROOT, gpu, small
+
+
+def test_params_lists_the_scenes_values_by_their_keys():
+    scene = small("seed-fig5.toml")
+    keys = list(scene.params)
+    assert "camera.eye" in keys and "spheres[0].center" in keys and "lights[0].position" in keys
+    # The image's settings and the depth are the render's, not values.
+    assert not [k for k in keys if k.startswith("image.")] and "render.max_depth" not in keys
+    d = scene.to_dict()
+    assert scene.params["spheres[0].radius"] == d["spheres"][0]["radius"]
+    assert scene.params["image.width"] == 80
+    with pytest.raises(KeyError):
+        scene.params["spheres[9999].radius"]
+    assert "spheres[9999].radius" not in scene.params
+
+
+def test_a_changed_value_renders_as_the_scene_file_with_it():
+    scene = small("seed-fig5.toml")
+    before = glint.render(scene, backend="cpu")
+    d = scene.to_dict()
+    d["spheres"][0]["radius"] *= 1.25
+    d["materials"][d["spheres"][1]["material"]]["diffuse"] = [0.9, 0.1, 0.1]
+    scene.params["spheres[0].radius"] = d["spheres"][0]["radius"]
+    scene.params[f'materials.{d["spheres"][1]["material"]}.diffuse'] = np.array([0.9, 0.1, 0.1])
+    assert scene.generation == 2
+    after = glint.render(scene, backend="cpu")
+    fresh = glint.render(glint.Scene.from_dict(d, base=scene.base), backend="cpu")
+    assert after.tobytes() == fresh.tobytes()
+    assert after.tobytes() != before.tobytes()
+    # to_dict gives back the scene as it is now.
+    assert scene.to_dict()["spheres"][0]["radius"] == d["spheres"][0]["radius"]
+
+
+def test_a_bad_value_is_refused_by_its_key_and_changes_nothing():
+    scene = small("seed-fig5.toml")
+    before = glint.render(scene, backend="cpu")
+    with pytest.raises(glint.SceneError, match=r"spheres\[0\]\.radius"):
+        scene.params["spheres[0].radius"] = -1.0
+    with pytest.raises(glint.SceneError, match="camera"):
+        scene.params["camera.lens"] = 3.0
+    with pytest.raises(KeyError, match=r"spheres\[9999\]"):
+        scene.params["spheres[9999].radius"] = 1.0
+    with pytest.raises(TypeError):
+        scene.params["spheres[0].radius"] = object()
+    # Many at one reading: all or none.
+    with pytest.raises(glint.SceneError, match=r"spheres\[1\]\.radius"):
+        scene.params.update({"spheres[0].radius": 2.0, "spheres[1].radius": -2.0})
+    assert scene.generation == 0
+    assert glint.render(scene, backend="cpu").tobytes() == before.tobytes()
+    scene.params.update({"spheres[0].radius": 2.0}, **{"render.max_depth": 2})
+    assert scene.generation == 1 and scene.max_depth == 2
+
+
+def test_a_key_taken_back_to_its_default():
+    scene = glint.loads(
+        "[image]\nwidth = 16\nheight = 12\n[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\n"
+        "vfov = 40\n[materials.m]\ndiffuse = [0.5, 0.5, 0.5]\nspecular = [1, 1, 1]\n"
+        "[[spheres]]\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"m\"\n"
+        "[[lights]]\ntype = \"point\"\nposition = [3, 3, 3]\ndiffuse = [1, 1, 1]\nspecular = [1, 1, 1]\n"
+    )
+    shiny = glint.render(scene, backend="cpu")
+    del scene.params["materials.m.specular"]
+    assert "materials.m.specular" not in scene.params
+    assert glint.render(scene, backend="cpu").tobytes() != shiny.tobytes()
+
+
+def mesh_dict():
+    return {
+        "image": {"width": 48, "height": 36},
+        "camera": {"eye": [0, 0.5, 4], "look_at": [0, 0, 0], "vfov": 45},
+        "materials": {
+            "m": {"ambient": [0.1, 0.1, 0.1], "diffuse": [0.6, 0.6, 0.6]},
+            "ball": {"diffuse": [0.8, 0.2, 0.2], "reflectivity": 0.3},
+        },
+        "meshes": [{"file": "meshes/icosphere-smooth.obj", "material": "m"}],
+        "spheres": [{"center": [0, 0, 0], "radius": 0.3, "material": "ball"}],
+        "lights": [{"type": "point", "position": [2, 3, 4], "diffuse": [1, 1, 1]}],
+    }
+
+
+@gpu
+def test_a_sphere_swept_by_params_compiles_once_and_matches_fresh_loads():
+    d = mesh_dict()
+    scene = glint.Scene.from_dict(d, base=ROOT / "scenes")
+    r, fresh = glint.Renderer(), glint.Renderer()
+    image, stats = r.render(scene, stats=True)
+    compiled, updates, last = [stats["compiled"]], [], image
+    for i in range(6):
+        at = [-1.5 + 0.6 * i, 0.2 * i, 0.5]
+        scene.params["spheres[0].center"] = at
+        image, stats = r.render(scene, stats=True)
+        compiled.append(stats["compiled"])
+        updates.append(stats["update"])
+        d["spheres"][0]["center"] = at
+        want = fresh.render(glint.Scene.from_dict(d, base=ROOT / "scenes"), stats=True)[0]
+        assert image.tobytes() == want.tobytes(), at
+        assert image.tobytes() != last.tobytes(), at
+        last = image
+    assert sum(compiled) <= 1, compiled
+    assert updates == ["updated in place"] * 6
+    # A repeat render of an unchanged scene updates nothing.
+    assert r.render(scene, stats=True)[1]["update"] is None
+
+
+@gpu
+def test_a_prepared_scene_follows_its_scene_and_says_when_it_compiles(caplog):
+    scene = glint.Scene.from_dict(mesh_dict(), base=ROOT / "scenes")
+    prepared = glint.Renderer(cache=False).prepare(scene, stats=True)
+    prepared.render()
+    scene.params["camera.eye"] = [1, 1, 4]
+    scene.params["lights[0].diffuse"] = [0.5, 0.9, 0.5]
+    image, stats = prepared.render(stats=True)
+    assert stats["update"] == "updated in place" and not stats["compiled"]
+    want = glint.Renderer().render(glint.Scene.from_dict(scene.to_dict(), base=ROOT / "scenes"))
+    assert image.tobytes() == want.tobytes()
+    # A deeper ray tree needs another shader: prepared again, compiled,
+    # and a record of the glint logger says why.
+    scene.params["render.max_depth"] = 7
+    with caplog.at_level(logging.INFO, logger="glint"):
+        image, stats = prepared.render(stats=True)
+    assert stats["compiled"] and stats["update"].startswith("prepared again")
+    assert any("variant" in r.getMessage() for r in caplog.records if r.name == "glint")
+    want = glint.Renderer().render(glint.Scene.from_dict(scene.to_dict(), base=ROOT / "scenes"))
+    assert image.tobytes() == want.tobytes()
+    # A larger image: prepared again, its new size rendered.
+    scene.params["image.width"] = 64
+    assert prepared.render().shape == (36, 64, 3) and prepared.size == (64, 36)
