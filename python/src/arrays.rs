@@ -9,6 +9,8 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
+use glint::scene::MeshArrays;
+
 use numpy::{PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -24,6 +26,9 @@ pub const MESH_ARRAYS: &[&str] = &["vertices", "faces", "normals", "uvs"];
 pub struct ArrayFiles {
     dir: Option<tempfile::TempDir>,
     written: usize,
+    /// The meshes written, by file, as arrays: a scene's mesh cache takes
+    /// them, so that the files are not parsed back (`MeshCache::insert_arrays`).
+    meshes: Vec<(PathBuf, MeshArrays)>,
 }
 
 fn bad(at: &str, what: impl std::fmt::Display) -> PyErr {
@@ -72,6 +77,13 @@ impl ArrayFiles {
     /// keeps it as long as it lives.
     pub fn into_dir(self) -> Option<tempfile::TempDir> {
         self.dir
+    }
+
+    /// The meshes written, as `cache` takes them.
+    pub fn cache_meshes(&mut self, cache: &glint::scene::MeshCache) {
+        for (path, arrays) in self.meshes.drain(..) {
+            cache.insert_arrays(&path, arrays);
+        }
     }
 
     fn path(&mut self, extension: &str) -> PyResult<PathBuf> {
@@ -167,6 +179,13 @@ impl ArrayFiles {
         }
         let path = self.path("obj")?;
         std::fs::write(&path, text).map_err(errors::other)?;
+        let arrays = MeshArrays {
+            positions: vertices,
+            faces: faces.iter().map(|&i| i as u32).collect(),
+            normals,
+            uvs,
+        };
+        self.meshes.push((path.clone(), arrays));
         Ok(path.display().to_string())
     }
 

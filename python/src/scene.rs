@@ -68,6 +68,24 @@ impl Scene {
         overrides: Overrides,
         arrays: Option<tempfile::TempDir>,
     ) -> Self {
+        let meshes = lib::MeshCache::default();
+        Self::new_with(
+            scene, file, source, read_as, base, overrides, arrays, meshes,
+        )
+    }
+
+    /// As `new`, with the meshes read so far.
+    #[allow(clippy::too_many_arguments)]
+    fn new_with(
+        scene: lib::Scene,
+        file: FileText,
+        source: String,
+        read_as: PathBuf,
+        base: PathBuf,
+        overrides: Overrides,
+        arrays: Option<tempfile::TempDir>,
+        meshes: lib::MeshCache,
+    ) -> Self {
         Scene {
             now: RwLock::new(Now {
                 scene: Arc::new(scene),
@@ -79,7 +97,7 @@ impl Scene {
             read_as,
             base,
             _arrays: arrays,
-            meshes: lib::MeshCache::default(),
+            meshes,
             setting: std::sync::Mutex::new(()),
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
         }
@@ -415,8 +433,12 @@ impl Scene {
             let mut files = ArrayFiles::default();
             top_level(d, &mut text, &mut files)?;
             let read_as = base.join("<dict>");
-            let scene = lib::parse(&text, &read_as, &o).map_err(|e| by_key(e, "<dict>"))?;
-            Ok(Scene::new(
+            // Its numpy meshes are taken as arrays, not parsed back.
+            let meshes = lib::MeshCache::default();
+            files.cache_meshes(&meshes);
+            let scene = lib::parse_cached(&text, &read_as, &o, Some(&meshes))
+                .map_err(|e| by_key(e, "<dict>"))?;
+            Ok(Scene::new_with(
                 scene,
                 FileText::Toml(text),
                 "<dict>".to_owned(),
@@ -424,6 +446,7 @@ impl Scene {
                 base,
                 o,
                 files.into_dir(),
+                meshes,
             ))
         })
     }

@@ -280,6 +280,29 @@ def test_a_mesh_from_numpy_renders_as_its_obj_file():
     assert glint.render(flat, backend="cpu").tobytes() != a.tobytes()
 
 
+def test_a_numpy_mesh_taken_as_arrays_is_its_written_file_parsed():
+    # from_dict takes a numpy mesh's triangles from its arrays, not from
+    # parsing back the OBJ file it writes: the same triangles as parsing
+    # that file, with normals, uvs (a texture reads them), scale and translate.
+    obj = ROOT / "scenes/meshes/icosphere-smooth.obj"
+    vertices, normals, faces = read_obj(obj)
+    uvs = np.stack([np.arctan2(vertices[:, 0], vertices[:, 2]) / 6.3 + 0.5, vertices[:, 1] / 2 + 0.5], 1)
+    mesh = {"vertices": vertices, "faces": faces, "normals": normals, "uvs": uvs, "scale": 0.8, "translate": [0.1, -0.1, 0]}
+    d = mesh_scene(mesh)
+    texels = np.random.default_rng(61).random((8, 8, 3), dtype=np.float32)
+    d["textures"] = {"t": {"image": texels}}
+    d["materials"]["m"]["texture"] = "t"
+    from_arrays = glint.Scene.from_dict(d)
+    written = from_arrays.to_dict()["meshes"][0]
+    assert written["file"].endswith(".obj")
+    parsed = glint.Scene.from_dict(dict(d, meshes=[written]))
+    a = glint.render(from_arrays, backend="cpu")
+    assert a.tobytes() == glint.render(parsed, backend="cpu").tobytes()
+    # A check that can fail: the uvs shifted are another image.
+    shifted = glint.Scene.from_dict(dict(d, meshes=[dict(mesh, uvs=uvs + 0.05, material="m")]))
+    assert glint.render(shifted, backend="cpu").tobytes() != a.tobytes()
+
+
 def test_a_mesh_from_numpy_with_a_bad_index_is_refused_by_its_key():
     vertices = np.zeros((3, 3))
     with pytest.raises(ValueError, match=r"meshes\[0\]\.faces: vertex index 3 is outside the 3 vertices"):

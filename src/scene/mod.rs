@@ -26,7 +26,7 @@ use glam::DVec3;
 
 pub use crate::input::error::SceneError;
 pub use crate::input::field::{Triple, MAX_COORDINATE};
-pub use crate::prim::mesh::Cache as MeshCache;
+pub use crate::prim::mesh::{Arrays as MeshArrays, Cache as MeshCache};
 pub use brightness::PastBound;
 pub use camera::Camera;
 pub use file::object_arrays;
