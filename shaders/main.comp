@@ -13,6 +13,8 @@
 #include "intersect.glsl"
 #include "shade.glsl"
 #include "trace.glsl"
+// Its own include too: a user's trace.glsl (shaders/experiments) may have none.
+#include "aov.glsl"
 #include "budget.glsl"
 
 #ifdef WAVEFRONT
@@ -67,10 +69,12 @@ void main() {
     [[dont_unroll]] for (uint j = 0u; j < samples; j++) {
         [[dont_unroll]] for (uint i = 0u; i < samples; i++) {
             RECORD_BEGIN(x, y, i, j);
+            AOV_SAMPLE(i, j);
             sum += trace(primary_ray(x, y, i, j));
         }
     }
     pixels[local.y * tile.rect.z + local.x] = vec4(vec3(sum * (1.0 / real(samples * samples))), loops_completed() ? 1.0 : 0.0);
+    AOV_WRITE(local.y * tile.rect.z + local.x);
     end_counts();
 }
 #endif

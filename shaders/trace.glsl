@@ -9,6 +9,7 @@
 
 #include "texture.glsl"
 #include "record.glsl"
+#include "aov.glsl"
 
 #if HAS_TRANSMISSION
 // A refraction ray waiting to be traced.
@@ -148,6 +149,7 @@ bool path_step(inout Path s) {
         apply_textures(m, hit, p);
 #endif
         RECORD_HIT(hit, p, outward, shading);
+        AOV_HIT(depth, hit, n, m);
         s.color += shade(above, n, -ray.dir, m, hit.prim) * weight;
         real kr = m.params.y;
         // The SPD's procedure (SPD_RAYS) spawns a ray wherever the

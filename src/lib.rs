@@ -57,6 +57,8 @@ above that live in them are in the default build alone.
 
 pub mod accel;
 pub(crate) mod base;
+/// A render's AOVs, as both renderers give them.
+pub use base::aov;
 #[cfg(feature = "gpu")]
 pub mod bench;
 pub mod condition;

@@ -465,16 +465,17 @@ fn the_recording_variant_renders_the_same_bits() {
     }
 }
 
-/// `text` with the include of record.glsl and every hook's statement (to
-/// its `;`, over as many lines as it takes) cut out.
+/// `text` with the includes of record.glsl and aov.glsl and every hook's
+/// statement (to its `;`, over as many lines as it takes) cut out.
 fn without_hooks(text: &str) -> String {
     let mut out = String::new();
     let mut in_hook = false;
     for line in text.lines() {
-        if line.contains("\"record.glsl\"") {
+        if line.contains("\"record.glsl\"") || line.contains("\"aov.glsl\"") {
             continue;
         }
-        in_hook |= line.trim_start().starts_with("RECORD_");
+        let hook = line.trim_start();
+        in_hook |= hook.starts_with("RECORD_") || hook.starts_with("AOV_");
         if !in_hook {
             out.push_str(line);
             out.push('\n');
@@ -484,9 +485,9 @@ fn without_hooks(text: &str) -> String {
     out
 }
 
-/// The plain variants compile to the same SPIR-V with the record's hooks
-/// cut out of the sources: recording costs nothing where it is not asked
-/// for. The recording variant's differs (the hooks reach the shader).
+/// The plain variants compile to the same SPIR-V with the record's and
+/// the AOVs' hooks cut out of the sources: recording and AOVs cost nothing
+/// where they are not asked for. The recording variant's differs (the hooks reach the shader).
 #[test]
 fn the_plain_variants_spirv_is_unchanged_by_the_hooks() {
     let dir = tempfile::tempdir().unwrap();

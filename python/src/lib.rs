@@ -7,6 +7,7 @@
 //! their own while this one waits without the GIL and polls for Ctrl-C
 //! (`render::interruptible`).
 
+mod aovs;
 mod arrays;
 mod compare;
 mod dict;

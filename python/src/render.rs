@@ -11,9 +11,11 @@ use std::time::{Duration, Instant};
 use numpy::PyArray3;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use serde_json::json;
 
 use glint::accel::Accel;
+use glint::aov::Aov;
 use glint::cpu;
 use glint::raster::region::Region;
 use glint::raster::Image;
@@ -24,8 +26,13 @@ use crate::errors::{self, guard, panic_words};
 use crate::image::to_numpy;
 use crate::scene::Scene;
 
-/// A render's image and, where asked for, its stats as JSON.
-pub type Rendered<'py> = (Bound<'py, PyArray3<f32>>, Option<String>);
+/// A render's image and, where asked for, its stats as JSON and its AOVs
+/// by name.
+pub type Rendered<'py> = (
+    Bound<'py, PyArray3<f32>>,
+    Option<String>,
+    Option<Bound<'py, PyDict>>,
+);
 
 /// A region as Python gives it: `(x, y, width, height)`.
 pub(crate) type RegionArg = Option<(u32, u32, u32, u32)>;
@@ -160,7 +167,7 @@ pub(crate) fn merge(mut a: serde_json::Value, b: serde_json::Value) -> String {
 
 /// The CPU reference: `glint.render(scene, backend="cpu")`.
 #[pyfunction]
-#[pyo3(signature = (scene, precision="f32", region=None, stats=false, progress=None))]
+#[pyo3(signature = (scene, precision="f32", region=None, stats=false, progress=None, aovs=None))]
 pub fn render_cpu<'py>(
     py: Python<'py>,
     scene: &Scene,
@@ -168,13 +175,18 @@ pub fn render_cpu<'py>(
     region: RegionArg,
     stats: bool,
     progress: Option<Bound<'py, PyAny>>,
+    aovs: Option<Vec<String>>,
 ) -> PyResult<Rendered<'py>> {
     let precision = self::precision(precision)?;
     let name = precision.name();
     let region = self::region(region);
+    let asked = crate::aovs::asked(aovs)?;
     guard(|| {
         let scene = scene.scene();
         let scene = &*scene;
+        if asked.is_some() {
+            crate::aovs::check_sampling(scene)?;
+        }
         cpu::bound::check(scene).map_err(errors::other)?;
         let (w, h) = region.map_or((scene.width, scene.height), |r| (r.width, r.height));
         glint::raster::memory::check_render(w, h).map_err(errors::memory)?;
@@ -189,34 +201,45 @@ pub fn render_cpu<'py>(
             done: &done,
             total: u64::from(w) * u64::from(h),
         });
-        let (image, stats) = interruptible_with(py, &stop, shown, || {
+        let with_aovs = asked.is_some();
+        let (image, stats, values) = interruptible_with(py, &stop, shown, || {
+            type Done = (Image, Option<Counts>, Option<Vec<Aov>>, f64, f64, f64);
             fn go<R: cpu::Real>(
                 scene: &glint::scene::Scene,
                 region: Option<Region>,
-                counted: bool,
+                (counted, aovs): (bool, bool),
                 stop: &Arc<AtomicBool>,
                 rows: &(dyn Fn(u64) + Sync),
-            ) -> (Image, Option<Counts>, f64, f64, f64) {
+            ) -> Done {
                 let t0 = Instant::now();
                 let mut prepared = cpu::Prepared::<R>::new(scene, Accel::Auto);
                 prepared.stop_when(stop.clone());
                 let setup_s = t0.elapsed().as_secs_f64();
                 let t1 = Instant::now();
-                let (image, counts) = match region {
+                let (image, counts, values) = match region {
+                    _ if aovs && counted => {
+                        let (image, values, counts) = prepared.render_aovs_counted(region, rows);
+                        (image, Some(counts), Some(values))
+                    }
+                    _ if aovs => {
+                        let (image, values) = prepared.render_aovs(region, rows);
+                        (image, None, Some(values))
+                    }
                     Some(r) if counted => {
                         let (image, counts) = prepared.render_region_counted(r, rows);
-                        (image, Some(counts))
+                        (image, Some(counts), None)
                     }
-                    Some(r) => (prepared.render_region(r, rows), None),
+                    Some(r) => (prepared.render_region(r, rows), None, None),
                     None if counted => {
                         let (image, counts) = prepared.render_counted(rows);
-                        (image, Some(counts))
+                        (image, Some(counts), None)
                     }
-                    None => (prepared.render(rows), None),
+                    None => (prepared.render(rows), None, None),
                 };
                 (
                     image,
                     counts,
+                    values,
                     setup_s,
                     prepared.tables_s(),
                     t1.elapsed().as_secs_f64(),
@@ -225,9 +248,10 @@ pub fn render_cpu<'py>(
             let rows = |n: u64| {
                 done.fetch_add(n * u64::from(w), Ordering::Relaxed);
             };
-            let (image, counts, setup, tables, trace) = match precision {
-                Precision::F64 => go::<f64>(scene, region, stats, &stop, &rows),
-                Precision::F32 => go::<f32>(scene, region, stats, &stop, &rows),
+            let how = (stats, with_aovs);
+            let (image, counts, values, setup, tables, trace) = match precision {
+                Precision::F64 => go::<f64>(scene, region, how, &stop, &rows),
+                Precision::F32 => go::<f32>(scene, region, how, &stop, &rows),
             };
             let stats = stats.then(|| {
                 merge(
@@ -239,10 +263,15 @@ pub fn render_cpu<'py>(
                     counts_json(counts.as_ref()),
                 )
             });
-            Ok((image, stats))
+            Ok((image, stats, values))
         })?;
         scene.within(&image, name).map_err(errors::other)?;
-        Ok((to_numpy(py, image)?, stats))
+        let size = (image.width, image.height);
+        let values = match (&asked, values) {
+            (Some(names), Some(values)) => Some(crate::aovs::arrays(py, names, &values, size)?),
+            _ => None,
+        };
+        Ok((to_numpy(py, image)?, stats, values))
     })
 }
 

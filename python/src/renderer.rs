@@ -52,8 +52,8 @@ pub struct Renderer {
 }
 
 /// What `Renderer.render` keeps its last prepared scene by: the scene's
-/// id, the precision's name, and whether it counts.
-type LastKey = (u64, &'static str, bool);
+/// id, the precision's name, whether it counts, and whether it gives AOVs.
+type LastKey = (u64, &'static str, bool, bool);
 
 fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     // A render that panicked left nothing half-done that a later
@@ -154,38 +154,14 @@ impl Renderer {
         precision: &str,
         stats: bool,
     ) -> PyResult<PreparedScene> {
-        let settings = self.settings(precision, stats)?;
-        guard(|| {
-            let stop = Arc::new(AtomicBool::new(false));
-            let (now, generation) = scene.get().current();
-            let mut prepared = interruptible(py, &stop, || {
-                lock(&self.inner)
-                    .prepare(&now, &settings)
-                    .map_err(errors::gpu)
-            })?;
-            prepared.stop_when(stop.clone());
-            Ok(PreparedScene {
-                inner: Mutex::new(Held {
-                    prepared,
-                    generation,
-                    size: (now.width, now.height),
-                }),
-                scene,
-                renderer: self.inner.clone(),
-                settings,
-                stop,
-                device: self.device.clone(),
-                device_counted: self.device_counted.clone(),
-                counted: stats,
-                precision: settings.precision.name(),
-            })
-        })
+        self.prepare_with(py, scene, precision, stats, false)
     }
 
     /// Renders `scene`: prepared on the first call, then rendered again
     /// from the device (updated in place where its values changed) while
     /// the calls are of the same scene, precision and stats.
-    #[pyo3(signature = (scene, precision="f32", region=None, stats=false, progress=None))]
+    #[pyo3(signature = (scene, precision="f32", region=None, stats=false, progress=None, aovs=None))]
+    #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
         py: Python<'py>,
@@ -194,8 +170,18 @@ impl Renderer {
         region: RegionArg,
         stats: bool,
         progress: Option<Bound<'py, PyAny>>,
+        aovs: Option<Vec<String>>,
     ) -> PyResult<Rendered<'py>> {
-        let key = (scene.get().id, precision_of(precision)?.name(), stats);
+        let asked = crate::aovs::asked(aovs)?;
+        if asked.is_some() {
+            crate::aovs::check_sampling(&scene.get().scene())?;
+        }
+        let key = (
+            scene.get().id,
+            precision_of(precision)?.name(),
+            stats,
+            asked.is_some(),
+        );
         let kept = lock(&self.last)
             .as_ref()
             .filter(|(k, _)| *k == key)
@@ -205,12 +191,17 @@ impl Renderer {
             None => {
                 // The last scene's buffers go before the next one's are made.
                 *lock(&self.last) = None;
-                let p = Py::new(py, self.prepare(py, scene, precision, stats)?)?;
+                let p = Py::new(
+                    py,
+                    self.prepare_with(py, scene, precision, stats, asked.is_some())?,
+                )?;
                 *lock(&self.last) = Some((key, p.clone_ref(py)));
                 p
             }
         };
-        prepared.get().render(py, region, stats, progress)
+        prepared
+            .get()
+            .render_with(py, region, stats, progress, asked.as_deref())
     }
 
     /// `glint explain`'s record of pixel (x, y) of `scene` (`sample`:
@@ -264,6 +255,44 @@ impl Renderer {
 }
 
 impl Renderer {
+    /// `prepare`, compiling the AOV variant where `aovs`.
+    fn prepare_with(
+        &self,
+        py: Python<'_>,
+        scene: Py<Scene>,
+        precision: &str,
+        stats: bool,
+        aovs: bool,
+    ) -> PyResult<PreparedScene> {
+        let mut settings = self.settings(precision, stats)?;
+        settings.aovs = aovs;
+        guard(|| {
+            let stop = Arc::new(AtomicBool::new(false));
+            let (now, generation) = scene.get().current();
+            let mut prepared = interruptible(py, &stop, || {
+                lock(&self.inner)
+                    .prepare(&now, &settings)
+                    .map_err(errors::gpu)
+            })?;
+            prepared.stop_when(stop.clone());
+            Ok(PreparedScene {
+                inner: Mutex::new(Held {
+                    prepared,
+                    generation,
+                    size: (now.width, now.height),
+                }),
+                scene,
+                renderer: self.inner.clone(),
+                settings,
+                stop,
+                device: self.device.clone(),
+                device_counted: self.device_counted.clone(),
+                counted: stats,
+                precision: settings.precision.name(),
+            })
+        })
+    }
+
     fn settings(&self, precision: &str, count: bool) -> PyResult<RenderSettings> {
         let mut settings = lock(&self.inner).settings();
         settings.precision = precision_of(precision)?;
@@ -335,6 +364,41 @@ impl PreparedScene {
         stats: bool,
         progress: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Rendered<'py>> {
+        self.render_with(py, region, stats, progress, None)
+    }
+
+    /// Width and height of the image it renders (its scene's, as last
+    /// rendered).
+    #[getter]
+    fn size(&self) -> (u32, u32) {
+        lock(&self.inner).size
+    }
+
+    /// Whether its renders count rays (it was prepared with stats=True).
+    #[getter]
+    fn counted(&self) -> bool {
+        self.counted
+    }
+
+    fn __repr__(&self) -> String {
+        let (w, h) = self.size();
+        format!(
+            "<glint.PreparedScene {w}x{h} {} on {:?}>",
+            self.precision, self.device
+        )
+    }
+}
+
+impl PreparedScene {
+    /// `render`, with the AOVs `names` where it was prepared to give them.
+    fn render_with<'py>(
+        &self,
+        py: Python<'py>,
+        region: RegionArg,
+        stats: bool,
+        progress: Option<Bound<'py, PyAny>>,
+        names: Option<&[&str]>,
+    ) -> PyResult<Rendered<'py>> {
         let region = region_of(region);
         let (now, generation) = self.scene.get().current();
         if let Some(r) = region {
@@ -365,6 +429,7 @@ impl PreparedScene {
                 image,
                 times,
                 counts,
+                aovs,
                 ..
             } = rendered;
             let compiled = times.setup.compile_s > 0.0 || times.setup.pipeline_s > 0.0;
@@ -406,29 +471,17 @@ impl PreparedScene {
                     counts_json(counts.as_ref()),
                 )
             });
-            Ok((to_numpy(py, image)?, stats))
+            let values = match (names, aovs) {
+                (Some(names), Some(values)) => Some(crate::aovs::arrays(
+                    py,
+                    names,
+                    &values,
+                    (image.width, image.height),
+                )?),
+                _ => None,
+            };
+            Ok((to_numpy(py, image)?, stats, values))
         })
-    }
-
-    /// Width and height of the image it renders (its scene's, as last
-    /// rendered).
-    #[getter]
-    fn size(&self) -> (u32, u32) {
-        lock(&self.inner).size
-    }
-
-    /// Whether its renders count rays (it was prepared with stats=True).
-    #[getter]
-    fn counted(&self) -> bool {
-        self.counted
-    }
-
-    fn __repr__(&self) -> String {
-        let (w, h) = self.size();
-        format!(
-            "<glint.PreparedScene {w}x{h} {} on {:?}>",
-            self.precision, self.device
-        )
     }
 }
 

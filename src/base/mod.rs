@@ -6,6 +6,7 @@
 //! (Layers) and checked by tests/layers.rs.
 
 pub mod aabb;
+pub mod aov;
 pub mod count;
 pub mod exact;
 pub mod interface;

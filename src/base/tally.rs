@@ -2,6 +2,7 @@
 //! (`super::count`) and what it records (`super::record`), to a tally that
 //! keeps them or to `()`, which keeps nothing at no cost.
 
+use super::aov::EyeHit;
 use super::count::{Counter, RayType};
 use super::record::Event;
 
@@ -18,6 +19,10 @@ pub(crate) trait Tally: Default + Send {
     /// tally that records (`crate::explain`), dropped unbuilt by the others.
     #[inline(always)]
     fn record(&mut self, _event: impl FnOnce() -> Event) {}
+    /// What an eye ray met first, for a render's AOVs: built only by a
+    /// tally that keeps them (`cpu::aov`).
+    #[inline(always)]
+    fn eye_hit(&mut self, _hit: impl FnOnce() -> EyeHit) {}
 }
 
 impl Tally for () {

@@ -3,6 +3,7 @@
 //! intersect, shade, trace) so that a disagreement points at one stage.
 
 pub(crate) mod adaptive;
+mod aov;
 pub mod bound;
 pub(crate) mod intersect;
 mod probe;

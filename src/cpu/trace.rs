@@ -6,6 +6,7 @@ use super::intersect::{intersect_eye, intersect_scene, lift, surface};
 use super::shade::shade;
 use super::texture::at_hit;
 use super::world::World;
+use crate::base::aov::EyeHit;
 use crate::base::ray::Ray;
 use crate::base::real::{Real, Vec3};
 use crate::base::record::Event;
@@ -109,6 +110,14 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
                         .flatten()
                         .map(|[u, v]| glam::DVec2::new(u.to_f64(), v.to_f64())),
                 });
+                if depth == 1 {
+                    tally.eye_hit(|| EyeHit {
+                        depth: hit.t.to_f64(),
+                        normal: n.to_dvec().to_array(),
+                        albedo: m.diffuse.to_dvec().to_array(),
+                        prim: (hit.prim.kind, hit.prim.index),
+                    });
+                }
                 color += shade(w, above, n, -ray.dir, m, hit.prim, tally) * weight;
                 let mut kr = m.reflectivity;
                 let kt = m.transmittance;

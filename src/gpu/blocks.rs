@@ -42,6 +42,9 @@ pub enum Block {
     Queues,
     /// The output tile the shader writes.
     Pixels,
+    /// The output tile's AOVs, where the variant writes them
+    /// (shaders/aov.glsl).
+    Aovs,
 }
 
 impl Block {
@@ -64,6 +67,7 @@ impl Block {
             Block::PathWords => "the paths' words",
             Block::Queues => "the path queues",
             Block::Pixels => "the output tile",
+            Block::Aovs => "the output tile's AOVs",
         }
     }
 }

@@ -21,6 +21,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("bindings.glsl", include_str!("../../shaders/bindings.glsl")),
     ("count.glsl", include_str!("../../shaders/count.glsl")),
     ("record.glsl", include_str!("../../shaders/record.glsl")),
+    ("aov.glsl", include_str!("../../shaders/aov.glsl")),
     ("ray.glsl", include_str!("../../shaders/ray.glsl")),
     (
         "intersect.glsl",
@@ -110,7 +111,20 @@ impl Sources {
     /// and call no such hook themselves, as messages name them (`glint
     /// explain` says which file records nothing).
     pub fn unrecording(&self) -> Vec<String> {
-        let records = |text: &str| text.contains("RECORD_");
+        self.without_hooks("RECORD_")
+    }
+
+    /// The user's files that replace one of glint's that gives AOVs (calls
+    /// an `AOV_` hook: main.comp, trace.glsl) and call none themselves: a
+    /// render's AOVs would say that nothing was met.
+    pub fn without_aovs(&self) -> Vec<String> {
+        self.without_hooks("AOV_")
+    }
+
+    /// The user's files that replace one of glint's that calls a hook
+    /// whose name starts with `hook`, and call none themselves.
+    fn without_hooks(&self, hook: &str) -> Vec<String> {
+        let records = |text: &str| text.contains(hook);
         let mut out = Vec::new();
         for (name, glints) in BUILTIN {
             if !records(glints) {

@@ -187,6 +187,10 @@ impl Variant {
                     s,
                     "layout(std430, set = 0, binding = {binding}) writeonly buffer Pixels {{ vec4 pixels[]; }};"
                 ),
+                Block::Aovs => writeln!(
+                    s,
+                    "layout(std430, set = 0, binding = {binding}) writeonly buffer Aovs {{ uvec4 aov_words[]; }};"
+                ),
             };
         }
         s += "layout(push_constant) uniform Tile { uvec4 rect; uvec4 stage; } tile;\n";
@@ -210,7 +214,7 @@ impl Variant {
         // For `glint explain`'s record (shaders/record.glsl): a bounded
         // kind's array is in the BVH's leaf order, and a tree names a
         // primitive by its place in the scene file, as the CPU's does.
-        s += "#ifdef RECORD_TREE\n\
+        s += "#if defined(RECORD_TREE) || defined(AOVS)\n\
               // The primitive `prim` (an id; NONE: none) as a record names it: its\n\
               // kind above its index in the scene file.\n\
               uint prim_in_file(uint prim) {\n\

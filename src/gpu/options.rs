@@ -158,4 +158,8 @@ pub struct RenderSettings {
     /// records the ray tree of this sample, (x, y, i, j) of the image's
     /// pixel (x, y), in the megakernel (shaders/record.glsl).
     pub record: Option<[u32; 4]>,
+    /// Compile the AOV variant: each render also returns each pixel's
+    /// AOVs (src/base/aov.rs, shaders/aov.glsl), in the megakernel, of a
+    /// scene that samples its pixels' own points.
+    pub aovs: bool,
 }

@@ -26,6 +26,7 @@ use super::work::{Work, COMPILE_TIMEOUT, RAYS_PER_DISPATCH};
 use super::Renderer;
 use super::{GpuError, Precision};
 use crate::accel::refit::Shape;
+use crate::base::aov::{self, Aov};
 use crate::base::real::{Real, Vec3};
 use crate::base::record;
 use crate::raster::region::Region;
@@ -62,6 +63,8 @@ pub struct Prepared {
     stop: Option<Arc<AtomicBool>>,
     /// The last render's record, where the main stage records a tree.
     record: Option<Vec<u32>>,
+    /// The last render's AOVs, where the main stage writes them.
+    aovs: Option<Vec<Aov>>,
     /// What it was prepared under, which an update lays the scene out by.
     settings: RenderSettings,
     /// Its BVH's shape, which an update refits.
@@ -120,6 +123,9 @@ pub struct Rendered {
     /// record one (`RenderSettings::record`): the Record block's words,
     /// which `crate::base::record::decode` reads.
     pub record: Option<Vec<u32>>,
+    /// The region's pixels' AOVs, row by row, where the scene was
+    /// prepared to give them (`RenderSettings::aovs`).
+    pub aovs: Option<Vec<Aov>>,
 }
 
 /// One pipeline and the buffers bound to it through a set of its own.
@@ -143,6 +149,21 @@ impl Prepared {
         let grid = scene.corner_grid();
         let traced = grid.as_ref().unwrap_or(scene);
         let sampling = Sampling::of(scene, grid.is_some());
+        if settings.aovs {
+            if let Some(file) = shared.sources.without_aovs().first() {
+                return Err(GpuError::Unsupported(format!(
+                    "AOVs: {file} replaces a shader file that gives them and calls no AOV_ hook \
+                     (shaders/aov.glsl): its AOVs would say that nothing was met"
+                )));
+            }
+        }
+        if settings.aovs && sampling != Sampling::Pixels {
+            return Err(GpuError::Unsupported(format!(
+                "AOVs are of a pixel's own samples, and this scene samples its pixels' corners \
+                 (sampling = {:?}): render it with sampling = \"centers\"",
+                format!("{:?}", scene.sampling).to_lowercase()
+            )));
+        }
         let t0 = Instant::now();
         let up = Uploads::new(
             traced,
@@ -198,6 +219,7 @@ impl Prepared {
             pending: None,
             stop: None,
             record: None,
+            aovs: None,
             settings: *settings,
             shape: up.shape.clone(),
             texels: traced.texels.clone(),
@@ -335,6 +357,7 @@ impl Prepared {
                     times,
                     counts,
                     record: self.record.take(),
+                    aovs: self.aovs.take(),
                 }
             }
             Sampling::Corners | Sampling::Adaptive(_) => {
@@ -346,6 +369,7 @@ impl Prepared {
                     times,
                     counts,
                     record: self.record.take(),
+                    aovs: None,
                 };
                 if let Sampling::Adaptive(a) = self.sampling {
                     match self.precision {
@@ -426,6 +450,7 @@ impl Prepared {
                 variant.refine = true;
                 variant.wavefront = false;
                 variant.record = false;
+                variant.aovs = false;
                 let defines = self.shared.defines_of(&variant);
                 let (pipeline, setup) = self.shared.pipeline(&variant, &defines)?;
                 times.setup.compile_s += setup.compile_s;
@@ -508,6 +533,8 @@ impl Prepared {
         let mut last = None;
         let (x_end, y_end) = (region.x + region.width, region.y + region.height);
         let mut pixels = vec![[0.0f32; 3]; region.pixel_count() as usize * per];
+        let aov_out = stage.buffer(Block::Aovs);
+        let mut aov_words = aov_out.map(|_| vec![0u32; region.pixel_count() as usize * aov::WORDS]);
         for y0 in (region.y..y_end).step_by(tile_h as usize) {
             for x0 in (region.x..x_end).step_by(tile_w as usize) {
                 if self
@@ -557,6 +584,16 @@ impl Prepared {
                         *dst = [s[0], s[1], s[2]];
                     }
                 }
+                if let (Some(out), Some(words)) = (aov_out, aov_words.as_mut()) {
+                    let tile: &[u32] = out.read(&done, w as usize * h as usize * aov::WORDS);
+                    let row_len = w as usize * aov::WORDS;
+                    for (row, src) in tile.chunks_exact(row_len).enumerate() {
+                        let start = (((y0 - region.y) as usize + row) * region.width as usize
+                            + (x0 - region.x) as usize)
+                            * aov::WORDS;
+                        words[start..start + row_len].copy_from_slice(src);
+                    }
+                }
                 times.dispatch_s += (t2 - t1).as_secs_f64();
                 times.readback_s += t2.elapsed().as_secs_f64();
                 progress(u64::from(w) * u64::from(h));
@@ -575,6 +612,8 @@ impl Prepared {
             let words = record::HEADER_WORDS + used * record::ENTRY_WORDS;
             record.read::<u32>(done, words).to_vec()
         });
+        self.aovs =
+            aov_words.map(|words| words.chunks_exact(aov::WORDS).map(Aov::decode).collect());
         Ok((pixels, counts))
     }
 }

@@ -242,6 +242,12 @@ pub(crate) fn stage_blocks(
                 filled,
                 block.name(),
             )?,
+            Block::Aovs => Buffer::new(
+                device,
+                pixels * 4 * crate::base::aov::WORDS as u64,
+                filled,
+                block.name(),
+            )?,
             _ => continue,
         };
         blocks.push((block, Bound::Buffer(buffer)));

@@ -139,10 +139,15 @@ impl Shared {
         // A shader of the user's knows nothing of the wavefront's stages;
         // a tree is recorded by the megakernel alone.
         variant.record = settings.record.is_some();
+        // AOVs are a megakernel's, of a pixel's own samples; their rays
+        // are the counting variant's counts of the pixel's invocation.
+        variant.aovs = settings.aovs && !variant.record;
+        variant.count |= variant.aovs;
         // One sample's tree is all a recording render is for.
         variant.count &= !variant.record;
         variant.wavefront = self.sources.main_is_glints()
             && !variant.record
+            && !variant.aovs
             && settings.schedule.wavefront_for(scene);
         let defines = self.defines_of(&variant);
         (variant, defines)

@@ -37,6 +37,8 @@ pub struct Variant {
     pub count: bool,
     /// Records one sample's ray tree (shaders/record.glsl, `glint explain`).
     pub record: bool,
+    /// Writes each pixel's AOVs (shaders/aov.glsl, src/base/aov.rs).
+    pub aovs: bool,
     /// The robust forms' cheap filter (`power()` in shaders/exact.glsl),
     /// taken where the device skips a branch no invocation takes.
     pub power_filter: bool,
@@ -82,6 +84,7 @@ impl Variant {
             features: (!generic).then(|| Features::of(scene, uploads, device)),
             count,
             record: false,
+            aovs: false,
             // The generic shader takes it too: a scene's variant renders the
             // generic shader's bits.
             power_filter: intersect == Intersect::Robust
@@ -104,6 +107,7 @@ impl Variant {
             features: None,
             count: false,
             record: false,
+            aovs: false,
             power_filter: false,
             refine: false,
             wavefront: false,
@@ -136,6 +140,9 @@ impl Variant {
         if self.record {
             d.push(("RECORD_TREE".to_owned(), None));
             d.extend(crate::base::record::glsl_defines());
+        }
+        if self.aovs {
+            d.push(("AOVS".to_owned(), None));
         }
         if self.refine {
             d.push((
@@ -267,6 +274,7 @@ impl Variant {
                 vk::DescriptorType::STORAGE_BUFFER,
             ),
             (Block::Pixels, true, vk::DescriptorType::STORAGE_BUFFER),
+            (Block::Aovs, self.aovs, vk::DescriptorType::STORAGE_BUFFER),
         ]);
         blocks
             .into_iter()
@@ -351,6 +359,9 @@ impl Variant {
         }
         if self.record {
             parts.push("recording".to_owned());
+        }
+        if self.aovs {
+            parts.push("aovs".to_owned());
         }
         if self.refine {
             parts.push("refine".to_owned());

@@ -50,6 +50,7 @@ __all__ = [
     "Shown",
     "Scene",
     "Params",
+    "Aovs",
     "Renderer",
     "PreparedScene",
     "Figures",
@@ -172,13 +173,27 @@ def _include(include: Optional[Include]) -> Any:
     return [os.fspath(d) for d in include]
 
 
+#: A render's AOVs (``aovs=[...]``): ``"color"`` and each AOV asked for,
+#: by name (docs/python.md, AOVs).
+Aovs = Dict[str, npt.NDArray[Any]]
+
+
 def _result(
-    image: Image, raw: Optional[str], stats: bool
-) -> Union[Image, Tuple[Image, Stats]]:
+    image: Image, raw: Optional[str], stats: bool, aovs: Optional[Dict[str, Any]] = None
+) -> Any:
+    out: Union[Image, Aovs] = image if aovs is None else {"color": image, **aovs}
     if not stats:
-        return image
+        return out
     assert raw is not None, "a render asked for stats returns them"
-    return image, cast(Stats, json.loads(raw))
+    return out, cast(Stats, json.loads(raw))
+
+
+def _aovs(aovs: Optional[Sequence[str]]) -> Optional[List[str]]:
+    if aovs is None:
+        return None
+    if isinstance(aovs, str):
+        raise TypeError(f"aovs={aovs!r}: a list of names, such as [{aovs!r}]")
+    return list(aovs)
 
 
 class PreparedScene:
@@ -215,8 +230,8 @@ class PreparedScene:
         ``stats=True``, ``(image, stats)``: the times, and the ray counts
         where the scene was prepared with ``stats=True``. ``progress`` is
         called as ``progress(pixels_done, pixels)`` as tiles finish."""
-        image, raw = self._native.render(_region(region), stats, progress)
-        return _result(image, raw, stats)
+        image, raw, _ = self._native.render(_region(region), stats, progress)
+        return cast(Union[Image, Tuple[Image, Stats]], _result(image, raw, stats))
 
     @property
     def size(self) -> Tuple[int, int]:
@@ -277,13 +292,23 @@ class Renderer:
     @overload
     def render(
         self, scene: Scene, precision: str = "f32", region: Optional[Region] = None,
-        stats: Literal[False] = False, progress: Optional[Progress] = None,
+        stats: Literal[False] = False, progress: Optional[Progress] = None, aovs: None = None,
     ) -> Image: ...
     @overload
     def render(
         self, scene: Scene, precision: str = "f32", region: Optional[Region] = None,
-        *, stats: Literal[True], progress: Optional[Progress] = None,
+        *, stats: Literal[True], progress: Optional[Progress] = None, aovs: None = None,
     ) -> Tuple[Image, Stats]: ...
+    @overload
+    def render(
+        self, scene: Scene, precision: str = "f32", region: Optional[Region] = None,
+        stats: Literal[False] = False, progress: Optional[Progress] = None, *, aovs: Sequence[str],
+    ) -> Aovs: ...
+    @overload
+    def render(
+        self, scene: Scene, precision: str = "f32", region: Optional[Region] = None,
+        *, stats: Literal[True], progress: Optional[Progress] = None, aovs: Sequence[str],
+    ) -> Tuple[Aovs, Stats]: ...
 
     def render(
         self,
@@ -292,14 +317,19 @@ class Renderer:
         region: Optional[Region] = None,
         stats: bool = False,
         progress: Optional[Progress] = None,
-    ) -> Union[Image, Tuple[Image, Stats]]:
-        """The image, or ``(image, stats)``. The renderer keeps the scene
-        it rendered last prepared (its buffers on the device) while it is
-        given that scene again, with the same precision and stats: a
-        repeat render only traces, and one after a change of
-        ``scene.params`` updates it in place (:class:`Params`)."""
-        image, raw = self._native.render(scene, precision, _region(region), stats, progress)
-        return _result(image, raw, stats)
+        aovs: Optional[Sequence[str]] = None,
+    ) -> Union[Image, Tuple[Image, Stats], Aovs, Tuple[Aovs, Stats]]:
+        """The image, or ``(image, stats)``; with ``aovs``, a dict of the
+        image (``"color"``) and the AOVs named (docs/python.md, AOVs) in
+        place of the image. The renderer keeps the scene it rendered last
+        prepared (its buffers on the device) while it is given that scene
+        again, with the same precision, stats and AOVs: a repeat render
+        only traces, and one after a change of ``scene.params`` updates it
+        in place (:class:`Params`)."""
+        image, raw, values = self._native.render(
+            scene, precision, _region(region), stats, progress, _aovs(aovs)
+        )
+        return cast(Union[Image, Tuple[Image, Stats], Aovs, Tuple[Aovs, Stats]], _result(image, raw, stats, values))
 
     def explain(
         self, scene: Scene, pixel: Tuple[int, int], sample: Optional[int] = None
@@ -371,14 +401,26 @@ def _default_renderer() -> Renderer:
 def render(
     scene: Scene, backend: str = "gpu", precision: str = "f32", region: Optional[Region] = None,
     stats: Literal[False] = False, renderer: Optional[Renderer] = None,
-    progress: Optional[Progress] = None,
+    progress: Optional[Progress] = None, aovs: None = None,
 ) -> Image: ...
 @overload
 def render(
     scene: Scene, backend: str = "gpu", precision: str = "f32", region: Optional[Region] = None,
     *, stats: Literal[True], renderer: Optional[Renderer] = None,
-    progress: Optional[Progress] = None,
+    progress: Optional[Progress] = None, aovs: None = None,
 ) -> Tuple[Image, Stats]: ...
+@overload
+def render(
+    scene: Scene, backend: str = "gpu", precision: str = "f32", region: Optional[Region] = None,
+    stats: Literal[False] = False, renderer: Optional[Renderer] = None,
+    progress: Optional[Progress] = None, *, aovs: Sequence[str],
+) -> Aovs: ...
+@overload
+def render(
+    scene: Scene, backend: str = "gpu", precision: str = "f32", region: Optional[Region] = None,
+    *, stats: Literal[True], renderer: Optional[Renderer] = None,
+    progress: Optional[Progress] = None, aovs: Sequence[str],
+) -> Tuple[Aovs, Stats]: ...
 
 
 def render(
@@ -389,22 +431,32 @@ def render(
     stats: bool = False,
     renderer: Optional[Renderer] = None,
     progress: Optional[Progress] = None,
-) -> Union[Image, Tuple[Image, Stats]]:
+    aovs: Optional[Sequence[str]] = None,
+) -> Union[Image, Tuple[Image, Stats], Aovs, Tuple[Aovs, Stats]]:
     """Renders ``scene``: on the GPU through ``renderer`` (a default one,
     opened at the first call, where None), or with the CPU reference
     (``backend="cpu"``), in ``"f32"`` or ``"f64"``. Returns the image, or
     ``(image, stats)`` with ``stats=True`` (ray counts and times, as
     ``glint render --stats`` writes them). ``progress`` is called as
     ``progress(pixels_done, pixels)`` while the render runs (GPU tiles or
-    CPU rows), and once at its end: a tqdm bar's ``update``, say."""
+    CPU rows), and once at its end: a tqdm bar's ``update``, say.
+
+    ``aovs`` names AOVs of the eye ray's first hit: ``"depth"``,
+    ``"normal"``, ``"albedo"``, ``"prim_id"``, and ``"rays"``, the rays
+    each pixel traced. With it, the image is a dict of ``"color"`` and
+    those arrays (docs/python.md, AOVs)."""
     if backend == "gpu":
         r = renderer if renderer is not None else _default_renderer()
-        image, raw = r._native.render(scene, precision, _region(region), stats, progress)
-        return _result(image, raw, stats)
-    if backend == "cpu":
-        image, raw = _glint.render_cpu(scene, precision, _region(region), stats, progress)
-        return _result(image, raw, stats)
-    raise ValueError(f'backend {backend!r}: glint renders with "gpu" or "cpu"')
+        image, raw, values = r._native.render(
+            scene, precision, _region(region), stats, progress, _aovs(aovs)
+        )
+    elif backend == "cpu":
+        image, raw, values = _glint.render_cpu(
+            scene, precision, _region(region), stats, progress, _aovs(aovs)
+        )
+    else:
+        raise ValueError(f'backend {backend!r}: glint renders with "gpu" or "cpu"')
+    return cast(Union[Image, Tuple[Image, Stats], Aovs, Tuple[Aovs, Stats]], _result(image, raw, stats, values))
 
 
 @dataclass(frozen=True)
