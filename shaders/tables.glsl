@@ -5,14 +5,18 @@
 // src/cpu/intersect.rs.
 //
 // The tables are one array of 16-byte words (table_at(i).w): the grids,
-// five words each, from word 0 (a0, b0, sa, sb; first cell, na, nb; the
-// three rows of its map); then the cells, two to a word (first entry,
+// five words each, from word 0 (a0, b0, sa, sb; first cell, na, nb, form;
+// the three rows of its map); then the cells, two to a word (first entry,
 // count), from g.tables.x; then the entries, two to a word (primitive word,
 // key bits), from g.tables.y. The eye's grid is in the uniform block
 // (g.eye_*, where g.tables.z is 1); a light's meta.z is its first grid + 1
 // (0: none), meta.w its reach.
 
 const uint TABLE_WALK = 0xffffffffu;
+// A grid's form (`tables::Form`): rows that take a point (one grid, a light
+// without a position) or a direction (six, a cube around a light's position).
+const uint TABLE_PARALLEL = 0u;
+const uint TABLE_PERSPECTIVE = 1u;
 // The slack on a perspective key's bound (KEY_SLACK in src/accel/tables.rs).
 const real KEY_SLACK = 1.0 + 1.0 / 4096.0;
 
@@ -55,9 +59,15 @@ uvec2 shadow_list(Ray r, real dist, Light l, out real bound) {
     COUNT_CELL();
     uint first = 5u * (l.meta.z - 1u);
     real reach = real(uintBitsToFloat(l.meta.w));
-    // A variant compiles the forms its lights take alone.
+    // The light's first grid says the buffer's form; a variant compiles the
+    // forms its lights' buffers take alone.
+#if HAS_POSITIONED && HAS_UNPOSITIONED
+    bool cube = table_at(first + 1u).w.w == TABLE_PERSPECTIVE;
+#else
+    bool cube = HAS_POSITIONED;
+#endif
 #if HAS_POSITIONED
-    if (HAS_DIRECTIONAL == 0 || l.meta.x != LIGHT_DIRECTIONAL) {
+    if (cube) {
         // A cube's face: its map takes a direction d to (+-d[axis],
         // d[axis + 1], d[axis + 2]), so its rows are not read.
         vec3r d = -r.dir;
@@ -80,8 +90,8 @@ uvec2 shadow_list(Ray r, real dist, Light l, out real bound) {
         }
     }
 #endif
-#if HAS_DIRECTIONAL
-    if (!HAS_POSITIONED || l.meta.x == LIGHT_DIRECTIONAL) {
+#if HAS_UNPOSITIONED
+    if (!cube) {
         vec3r a = abs(r.origin);
         if (max(a.x, max(a.y, a.z)) <= reach) {
             list = table_cell(uintBitsToFloat(table_at(first).w), table_at(first + 1u).w,

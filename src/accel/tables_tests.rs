@@ -1,4 +1,6 @@
 use super::*;
+use crate::accel::spans::f32_down;
+use crate::base::real::Vec3;
 
 #[test]
 fn f32_down_never_rounds_up() {

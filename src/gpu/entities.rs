@@ -38,6 +38,10 @@ pub fn light_constants() -> String {
     };
     let _ = writeln!(s, "#define HAS_LIGHTS ({})", any(|_| true));
     let _ = writeln!(s, "#define HAS_POSITIONED ({})", any(|t| t.positioned));
+    // A light buffer's form follows from it (shaders/tables.glsl): a cube
+    // of perspective grids around a positioned light, one parallel grid
+    // for the others.
+    let _ = writeln!(s, "#define HAS_UNPOSITIONED ({})", any(|t| !t.positioned));
     s
 }
 

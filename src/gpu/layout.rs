@@ -125,15 +125,15 @@ fn table_bases(t: &Tables) -> (u32, u32) {
 }
 
 /// The tables as the shader reads them: each grid in five words (its
-/// range, its cells, its three rows: a cube's face reads the first two
-/// alone), then the cells and the entries two to a word
-/// (shaders/tables.glsl).
+/// range; its cells and its form, `tables::Form` as a number; its three
+/// rows: a cube's face reads the first two alone), then the cells and the
+/// entries two to a word (shaders/tables.glsl).
 fn table_words(t: &Tables) -> Vec<table_word::Values> {
     let mut words = Vec::with_capacity(crate::accel::tables::device_bytes(t) / 16);
     let f = |x: f32| x.to_bits();
     for gr in &t.grids {
         words.push([f(gr.a0), f(gr.b0), f(gr.sa), f(gr.sb)]);
-        words.push([gr.first_cell, gr.na, gr.nb, 0]);
+        words.push([gr.first_cell, gr.na, gr.nb, gr.form as u32]);
         for r in gr.rows {
             words.push([f(r[0]), f(r[1]), f(r[2]), 0]);
         }

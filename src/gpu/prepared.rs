@@ -13,27 +13,29 @@ use super::blocks::{Block, Form};
 use super::layout::Uploads;
 use super::options::RenderSettings;
 use super::passes::{Executor, Pass, Target};
-use super::refine;
-use super::resident::{rewrite_scene_blocks, scene_blocks, stage_blocks, Blocks, Own};
+use super::resident::{scene_blocks, stage_blocks, Blocks, Own};
 use super::shared::{Pipeline, Shared};
 use super::times::{RenderTimes, SetupTimes};
-use super::variant::{self, Variant};
+use super::variant::Variant;
 use super::vk::buffer::Buffer;
 use super::vk::command::Completed;
 use super::vk::descriptor::{DescriptorSet, Resource};
-use super::work::{Work, COMPILE_TIMEOUT, RAYS_PER_DISPATCH};
+use super::work::{Work, COMPILE_TIMEOUT};
 #[cfg(doc)]
 use super::Renderer;
 use super::{GpuError, Precision};
 use crate::accel::refit::Shape;
 use crate::base::aov::{self, Aov};
-use crate::base::real::{Real, Vec3};
 use crate::base::record;
 use crate::raster::region::Region;
 use crate::raster::Image;
-use crate::scene::refine::Point;
 use crate::scene::{Adaptive, Scene};
-use crate::stats::{Counter, Counts, Tally};
+use crate::stats::{Counter, Counts};
+
+mod refinement;
+mod update;
+
+pub use update::Update;
 
 /// A scene on the device: its variant's pipeline, its buffers and its own
 /// descriptor sets. It holds no copy of the scene.
@@ -72,18 +74,6 @@ pub struct Prepared {
     /// The texels uploaded (shared with the scene, not copied), which an
     /// update writes again only where the scene's differ.
     texels: Arc<Vec<[f32; 3]>>,
-}
-
-/// What [`Prepared::update`] did.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Update {
-    /// The scene's arrays were written in place, its BVH refitted: the
-    /// next render shows the scene as it is now, compiling nothing.
-    InPlace,
-    /// The scene needs what it was not prepared with, named here: another
-    /// shader variant, more primitives, another size or sampling. Nothing
-    /// was changed; prepare it again ([`Renderer::prepare`]).
-    Prepare(String),
 }
 
 /// How a pixel's colour comes from what the shader traces.
@@ -238,76 +228,6 @@ impl Prepared {
         Ok(prepared)
     }
 
-    /// Takes `scene`'s values in place of those the scene was prepared
-    /// with: `scene` is that scene with values changed (colours,
-    /// positions, radii, lights, the camera). Its arrays are laid out
-    /// again and written over the ones on the device, its BVH refitted
-    /// rather than built (`accel::refit`); nothing is compiled. Where it
-    /// needs another variant or more room, says what and changes nothing.
-    /// The next render's times report the update's work.
-    pub fn update(&mut self, scene: &Scene) -> Result<Update, GpuError> {
-        if self.shared.device.hung() {
-            return Err(GpuError::Lost);
-        }
-        if (scene.width, scene.height) != self.size {
-            return Ok(Update::Prepare(format!(
-                "the image is {}x{}, where it was {}x{}",
-                scene.width, scene.height, self.size.0, self.size.1
-            )));
-        }
-        let grid = scene.corner_grid();
-        let traced = grid.as_ref().unwrap_or(scene);
-        if Sampling::of(scene, grid.is_some()) != self.sampling {
-            return Ok(Update::Prepare("the image's sampling changed".to_owned()));
-        }
-        let t0 = Instant::now();
-        let s = self.settings;
-        let up = Uploads::fitted(
-            traced,
-            s.intersect,
-            s.precision,
-            s.accel,
-            self.shape.as_ref(),
-        );
-        let (variant, _) = self.shared.variant(traced, &s, &up, s.count);
-        if variant != self.main.variant {
-            return Ok(Update::Prepare(format!(
-                "it needs the shader variant {}, where it has {}",
-                variant.name(),
-                self.main.variant.name()
-            )));
-        }
-        let same_texels =
-            Arc::ptr_eq(&self.texels, &traced.texels) || *self.texels == *traced.texels;
-        let unchanged: &[Block] = if same_texels { &[Block::Texels] } else { &[] };
-        let device = self.shared.device.clone();
-        let written = rewrite_scene_blocks(
-            &device,
-            &mut self.executor.commands,
-            &self.scene,
-            &variant,
-            &up,
-            unchanged,
-        )?;
-        if let Err(why) = written {
-            return Ok(Update::Prepare(why));
-        }
-        self.work = Work::of(traced).through(up.ray_cost);
-        self.texels = traced.texels.clone();
-        self.pending = Some(RenderTimes {
-            setup: SetupTimes {
-                device_s: self.shared.device_s(),
-                ..SetupTimes::default()
-            },
-            bvh_s: up.bvh_s,
-            tables_s: up.tables_s,
-            upload_s: t0.elapsed().as_secs_f64() - up.bvh_s - up.tables_s,
-            ..RenderTimes::default()
-        });
-        self.shape = up.shape;
-        Ok(Update::InPlace)
-    }
-
     /// Renders stop with [`GpuError::Interrupted`] before the next tile
     /// once `flag` is set (a host's Ctrl-C, as the Python module's): a
     /// tile on the device is not cut short, so the device and this scene
@@ -386,100 +306,6 @@ impl Prepared {
         };
         self.shared.check_validation()?;
         Ok(rendered)
-    }
-
-    /// Adaptive sampling's refinement of `region`, whose corners are
-    /// `corners`: level by level (`scene::refine`), each level's points one
-    /// list dispatched on the refinement's stage. The refined colours
-    /// replace those pixels' corner means in `rendered`; the times and
-    /// counts join the first pass's.
-    fn refine<R: Real>(
-        &mut self,
-        adaptive: &Adaptive,
-        corners: &Image,
-        region: Region,
-        rendered: &mut Rendered,
-    ) -> Result<(), GpuError> {
-        let t0 = Instant::now();
-        // What the levels' dispatches, readbacks, uploads and compiles take,
-        // so far: the rest of this call is the refinement's host work.
-        let accounted = |t: &RenderTimes| {
-            t.total_s() + t.setup.compile_s + t.setup.pipeline_s + t.setup.driver_compile_s
-        };
-        let before = accounted(&rendered.times);
-        let threshold = R::of(adaptive.threshold_steps());
-        let (times, counts) = (&mut rendered.times, &mut rendered.counts);
-        let image = &mut rendered.image;
-        crate::scene::refine::refine_image(
-            corners,
-            (region.x, region.y),
-            adaptive,
-            threshold,
-            |points| self.trace_points::<R>(points, times, counts),
-            |place, v: Vec3<R>| image.pixels[place] = v.to_rgb(),
-        )?;
-        let spent = accounted(&rendered.times) - before;
-        rendered.times.refine_s += (t0.elapsed().as_secs_f64() - spent).max(0.0);
-        Ok(())
-    }
-
-    /// One level of the refinement: the colours of `points`, traced on the
-    /// refinement's stage, made for this list (`REFINE_POINTS` an
-    /// invocation, the invocations laid out `REFINE_WIDTH` wide).
-    fn trace_points<R: Real>(
-        &mut self,
-        points: &[Point],
-        times: &mut RenderTimes,
-        counts: &mut Option<Counts>,
-    ) -> Result<Vec<Vec3<R>>, GpuError> {
-        let n = points.len() as u32;
-        let per = variant::REFINE_POINTS;
-        let invocations = n.div_ceil(per);
-        let width = variant::REFINE_WIDTH.min(invocations);
-        let entries = Region::whole(width, invocations.div_ceil(width));
-        let rows = (RAYS_PER_DISPATCH / u64::from(width * per)) as u32;
-        let tile = (width, rows.clamp(1, entries.height));
-        // The list is this level's alone: the stage binds it anew, with the
-        // refinement's pipeline, looked up once for this prepared scene.
-        let (pipeline, variant) = match self.refine.take() {
-            Some(Stage {
-                pipeline, variant, ..
-            }) => (pipeline, variant),
-            None => {
-                let mut variant = self.main.variant.clone();
-                variant.refine = true;
-                variant.wavefront = false;
-                variant.record = false;
-                variant.aovs = false;
-                let defines = self.shared.defines_of(&variant);
-                let (pipeline, setup) = self.shared.pipeline(&variant, &defines)?;
-                times.setup.compile_s += setup.compile_s;
-                times.setup.pipeline_s += setup.pipeline_s;
-                (pipeline, variant)
-            }
-        };
-        let t0 = Instant::now();
-        let list = refine::list(points);
-        let stage = Stage::new(
-            &self.shared,
-            pipeline,
-            variant,
-            &self.scene,
-            tile,
-            Own::Refine(&list),
-        )?;
-        self.refine = Some(stage);
-        times.upload_s += t0.elapsed().as_secs_f64();
-        times.setup.driver_compile_s += self.compile_on_driver(true)?;
-        let (pixels, more) = self.tiles(true, entries, f64::from(per), times, &|_| {})?;
-        *counts = match (counts.take(), more) {
-            (Some(a), Some(b)) => Some(Tally::merge(a, b)),
-            (a, _) => a,
-        };
-        Ok(pixels[..n as usize]
-            .iter()
-            .map(|&c| Vec3::of_rgb(c))
-            .collect())
     }
 
     /// The first dispatch of the main stage's pipeline (or the refinement's,

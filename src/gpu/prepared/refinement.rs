@@ -1,0 +1,115 @@
+//! Adaptive sampling's refinement of a prepared scene: level by level, each
+//! level's points a list dispatched on a stage of its own
+//! (shaders/adaptive.glsl), after the corners' pass.
+
+use std::time::Instant;
+
+use super::{Prepared, Rendered, Stage};
+use crate::base::real::{Real, Vec3};
+use crate::gpu::refine;
+use crate::gpu::resident::Own;
+use crate::gpu::times::RenderTimes;
+use crate::gpu::variant::{self};
+use crate::gpu::work::RAYS_PER_DISPATCH;
+use crate::gpu::GpuError;
+use crate::raster::region::Region;
+use crate::raster::Image;
+use crate::scene::refine::Point;
+use crate::scene::Adaptive;
+use crate::stats::{Counts, Tally};
+
+impl Prepared {
+    /// Adaptive sampling's refinement of `region`, whose corners are
+    /// `corners`: level by level (`scene::refine`), each level's points one
+    /// list dispatched on the refinement's stage. The refined colours
+    /// replace those pixels' corner means in `rendered`; the times and
+    /// counts join the first pass's.
+    pub(super) fn refine<R: Real>(
+        &mut self,
+        adaptive: &Adaptive,
+        corners: &Image,
+        region: Region,
+        rendered: &mut Rendered,
+    ) -> Result<(), GpuError> {
+        let t0 = Instant::now();
+        // What the levels' dispatches, readbacks, uploads and compiles take,
+        // so far: the rest of this call is the refinement's host work.
+        let accounted = |t: &RenderTimes| {
+            t.total_s() + t.setup.compile_s + t.setup.pipeline_s + t.setup.driver_compile_s
+        };
+        let before = accounted(&rendered.times);
+        let threshold = R::of(adaptive.threshold_steps());
+        let (times, counts) = (&mut rendered.times, &mut rendered.counts);
+        let image = &mut rendered.image;
+        crate::scene::refine::refine_image(
+            corners,
+            (region.x, region.y),
+            adaptive,
+            threshold,
+            |points| self.trace_points::<R>(points, times, counts),
+            |place, v: Vec3<R>| image.pixels[place] = v.to_rgb(),
+        )?;
+        let spent = accounted(&rendered.times) - before;
+        rendered.times.refine_s += (t0.elapsed().as_secs_f64() - spent).max(0.0);
+        Ok(())
+    }
+
+    /// One level of the refinement: the colours of `points`, traced on the
+    /// refinement's stage, made for this list (`REFINE_POINTS` an
+    /// invocation, the invocations laid out `REFINE_WIDTH` wide).
+    fn trace_points<R: Real>(
+        &mut self,
+        points: &[Point],
+        times: &mut RenderTimes,
+        counts: &mut Option<Counts>,
+    ) -> Result<Vec<Vec3<R>>, GpuError> {
+        let n = points.len() as u32;
+        let per = variant::REFINE_POINTS;
+        let invocations = n.div_ceil(per);
+        let width = variant::REFINE_WIDTH.min(invocations);
+        let entries = Region::whole(width, invocations.div_ceil(width));
+        let rows = (RAYS_PER_DISPATCH / u64::from(width * per)) as u32;
+        let tile = (width, rows.clamp(1, entries.height));
+        // The list is this level's alone: the stage binds it anew, with the
+        // refinement's pipeline, looked up once for this prepared scene.
+        let (pipeline, variant) = match self.refine.take() {
+            Some(Stage {
+                pipeline, variant, ..
+            }) => (pipeline, variant),
+            None => {
+                let mut variant = self.main.variant.clone();
+                variant.refine = true;
+                variant.wavefront = false;
+                variant.record = false;
+                variant.aovs = false;
+                let defines = self.shared.defines_of(&variant);
+                let (pipeline, setup) = self.shared.pipeline(&variant, &defines)?;
+                times.setup.compile_s += setup.compile_s;
+                times.setup.pipeline_s += setup.pipeline_s;
+                (pipeline, variant)
+            }
+        };
+        let t0 = Instant::now();
+        let list = refine::list(points);
+        let stage = Stage::new(
+            &self.shared,
+            pipeline,
+            variant,
+            &self.scene,
+            tile,
+            Own::Refine(&list),
+        )?;
+        self.refine = Some(stage);
+        times.upload_s += t0.elapsed().as_secs_f64();
+        times.setup.driver_compile_s += self.compile_on_driver(true)?;
+        let (pixels, more) = self.tiles(true, entries, f64::from(per), times, &|_| {})?;
+        *counts = match (counts.take(), more) {
+            (Some(a), Some(b)) => Some(Tally::merge(a, b)),
+            (a, _) => a,
+        };
+        Ok(pixels[..n as usize]
+            .iter()
+            .map(|&c| Vec3::of_rgb(c))
+            .collect())
+    }
+}
