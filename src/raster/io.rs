@@ -5,6 +5,8 @@
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
+pub use super::pfm::read_pfm;
+use super::pfm::{pfm_header, write_pfm};
 use super::{quantize, Image};
 use crate::input::{MAX_PIXELS, MAX_SIDE};
 use crate::output::{self, OutputError, Outputs, TargetKind};
@@ -184,17 +186,6 @@ fn write_png(
     })
 }
 
-/// Standard PFM: little-endian (scale -1.0), rows bottom to top.
-fn write_pfm(out: &mut (impl Write + ?Sized), img: &Image) -> std::io::Result<()> {
-    write!(out, "PF\n{} {}\n-1.0\n", img.width, img.height)?;
-    for row in img.pixels.chunks(img.width as usize).rev() {
-        for c in row.iter().flatten() {
-            out.write_all(&c.to_le_bytes())?;
-        }
-    }
-    Ok(())
-}
-
 fn write_exr(out: &mut dyn Write, img: &Image, path: &Path) -> Result<(), ImageIoError> {
     let floats: Vec<f32> = img.pixels.iter().flatten().copied().collect();
     let buffer = image::Rgb32FImage::from_raw(img.width, img.height, floats)
@@ -315,7 +306,7 @@ fn fits(path: &Path, w: u32, h: u32, per_pixel: u64) -> Result<(), ImageIoError>
     .map_err(ImageIoError::TooLarge)
 }
 
-fn check_size(w: u32, h: u32) -> Result<(), String> {
+pub(crate) fn check_size(w: u32, h: u32) -> Result<(), String> {
     if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE || u64::from(w) * u64::from(h) > MAX_PIXELS
     {
         return Err(format!(
@@ -323,45 +314,6 @@ fn check_size(w: u32, h: u32) -> Result<(), String> {
         ));
     }
     Ok(())
-}
-
-/// A PFM header: width, height, whether little-endian, and where the
-/// pixels start.
-fn pfm_header(bytes: &[u8]) -> Result<(u32, u32, bool, usize), String> {
-    // The header is three whitespace-separated tokens after "PF".
-    let mut fields = Vec::new();
-    let mut pos = 0;
-    while fields.len() < 4 {
-        while pos < bytes.len() && bytes[pos].is_ascii_whitespace() {
-            pos += 1;
-        }
-        let start = pos;
-        while pos < bytes.len() && !bytes[pos].is_ascii_whitespace() {
-            pos += 1;
-        }
-        if start == pos {
-            return Err("truncated header".into());
-        }
-        fields.push(String::from_utf8_lossy(&bytes[start..pos]).into_owned());
-    }
-    pos += 1; // the single whitespace byte that ends the header
-    if fields[0] != "PF" {
-        return Err(format!("expected \"PF\" (colour), found \"{}\"", fields[0]));
-    }
-    let parse = |s: &str, what: &str| s.parse::<u32>().map_err(|_| format!("bad {what} \"{s}\""));
-    let (w, h) = (parse(&fields[1], "width")?, parse(&fields[2], "height")?);
-    let scale: f32 = fields[3]
-        .parse()
-        .map_err(|_| format!("bad scale \"{}\"", fields[3]))?;
-    // The scale's sign gives the byte order; 0 or NaN gives none.
-    if !scale.is_finite() || scale == 0.0 {
-        return Err(format!(
-            "bad scale \"{}\" (a finite non-zero number: negative for little-endian)",
-            fields[3]
-        ));
-    }
-    check_size(w, h)?;
-    Ok((w, h, scale < 0.0, pos))
 }
 
 /// The most channels an EXR layer may have: RGBA and a few more (depth,
@@ -451,34 +403,6 @@ pub fn dimensions(path: &Path) -> Result<(u32, u32), ImageIoError> {
                 })
         }
     }
-}
-
-/// A PFM file's image (colour, either byte order, rows bottom-up), or what is wrong with it.
-pub fn read_pfm(bytes: &[u8]) -> Result<Image, String> {
-    let (w, h, little, pos) = pfm_header(bytes)?;
-    let count = w as usize * h as usize;
-    let data = bytes.get(pos..).unwrap_or_default();
-    if data.len() != count * 12 {
-        return Err(format!(
-            "expected {} bytes of pixels for {w}x{h}, found {}",
-            count * 12,
-            data.len()
-        ));
-    }
-    let mut pixels = vec![[0.0f32; 3]; count];
-    for (k, chunk) in data.chunks_exact(4).enumerate() {
-        let b = [chunk[0], chunk[1], chunk[2], chunk[3]];
-        let v = if little {
-            f32::from_le_bytes(b)
-        } else {
-            f32::from_be_bytes(b)
-        };
-        let (pixel, channel) = (k / 3, k % 3);
-        let (row_from_bottom, x) = (pixel / w as usize, pixel % w as usize);
-        let y = h as usize - 1 - row_from_bottom;
-        pixels[y * w as usize + x][channel] = v;
-    }
-    Ok(Image::new(w, h, pixels))
 }
 
 #[cfg(test)]

@@ -3,6 +3,7 @@
 pub mod diff;
 pub mod io;
 pub mod memory;
+mod pfm;
 pub mod region;
 
 /// A linear RGB image, rows top to bottom.
