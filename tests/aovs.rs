@@ -140,48 +140,35 @@ fn the_gpus_aovs_are_the_cpus() {
     }
 }
 
-/// A scene that samples its pixels' corners has no pixel samples of its
-/// own: the GPU refuses AOVs of it in one line.
+/// Why `r` refuses AOVs of `scene` (it must).
 #[cfg(feature = "gpu")]
-#[test]
-fn aovs_of_corner_sampling_are_refused() {
-    use glint::gpu::RenderSettings;
-    let mut r = common::gpu();
-    let mut scene = common::scene_sized(common::SMALL, 16, 12);
-    scene.sampling = glint::scene::Sampling::Corners;
-    let settings = RenderSettings {
+fn refused(r: &mut glint::gpu::Renderer, scene: &Scene) -> String {
+    let settings = glint::gpu::RenderSettings {
         aovs: true,
         ..r.settings()
     };
-    let e = r
-        .prepare(&scene, &settings)
-        .err()
-        .expect("refused")
-        .to_string();
-    assert!(e.contains("pixel's own samples"), "{e}");
+    let e = r.prepare(scene, &settings).err().expect("refused");
+    e.to_string()
 }
 
-/// A user's trace.glsl that calls no AOV hook (an experiment's) would give
-/// AOVs that say nothing was met: refused, naming the file.
+/// A scene that samples its pixels' corners has no pixel samples of its
+/// own, and a user's trace.glsl that calls no AOV hook (an experiment's)
+/// would give AOVs that say nothing was met: both refused in one line,
+/// the second naming the file.
 #[cfg(feature = "gpu")]
 #[test]
-fn aovs_through_a_users_trace_without_the_hooks_are_refused() {
-    use glint::gpu::{GpuOptions, RenderSettings};
-    let mut r = common::gpu_from(GpuOptions {
+fn aovs_that_would_be_wrong_are_refused() {
+    let mut scene = common::scene_sized(common::SMALL, 16, 12);
+    let plain = scene.clone();
+    scene.sampling = glint::scene::Sampling::Corners;
+    let e = refused(&mut common::gpu(), &scene);
+    assert!(e.contains("pixel's own samples"), "{e}");
+    let mut r = common::gpu_from(glint::gpu::GpuOptions {
         include_dirs: vec![common::repo().join("shaders/experiments/normals")],
-        ..GpuOptions::default()
+        ..glint::gpu::GpuOptions::default()
     });
-    let scene = common::scene_sized(common::SMALL, 16, 12);
-    let settings = RenderSettings {
-        aovs: true,
-        ..r.settings()
-    };
-    let e = r
-        .prepare(&scene, &settings)
-        .err()
-        .expect("refused")
-        .to_string();
+    let e = refused(&mut r, &plain);
     assert!(e.contains("trace.glsl") && e.contains("AOV_"), "{e}");
     // Without AOVs it renders.
-    assert!(r.prepare(&scene, &r.settings()).is_ok());
+    assert!(r.prepare(&plain, &r.settings()).is_ok());
 }

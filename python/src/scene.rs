@@ -59,24 +59,10 @@ struct Now {
 static NEXT_ID: AtomicU64 = AtomicU64::new(0);
 
 impl Scene {
-    fn new(
-        scene: lib::Scene,
-        file: FileText,
-        source: String,
-        read_as: PathBuf,
-        base: PathBuf,
-        overrides: Overrides,
-        arrays: Option<tempfile::TempDir>,
-    ) -> Self {
-        let meshes = lib::MeshCache::default();
-        Self::new_with(
-            scene, file, source, read_as, base, overrides, arrays, meshes,
-        )
-    }
-
-    /// As `new`, with the meshes read so far.
+    /// A scene read from `file` (read as the path `read_as`), its meshes
+    /// those `meshes` keeps (`MeshCache::default()`: none yet).
     #[allow(clippy::too_many_arguments)]
-    fn new_with(
+    fn new(
         scene: lib::Scene,
         file: FileText,
         source: String,
@@ -224,6 +210,7 @@ pub fn load(
             folder_of(&path),
             o,
             None,
+            lib::MeshCache::default(),
         ))
     })
 }
@@ -304,6 +291,7 @@ pub fn loads(
             PathBuf::from("."),
             o,
             None,
+            lib::MeshCache::default(),
         ))
     })
 }
@@ -438,7 +426,7 @@ impl Scene {
             files.cache_meshes(&meshes);
             let scene = lib::parse_cached(&text, &read_as, &o, Some(&meshes))
                 .map_err(|e| by_key(e, "<dict>"))?;
-            Ok(Scene::new_with(
+            Ok(Scene::new(
                 scene,
                 FileText::Toml(text),
                 "<dict>".to_owned(),

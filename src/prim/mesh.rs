@@ -424,21 +424,27 @@ impl Cache {
             materials: Vec::new(),
             files: Vec::new(),
         });
-        let mut entries = self.entries.lock().unwrap_or_else(|p| p.into_inner());
         // An OBJ without an mtllib reads the same with or without the
         // scene's material.
         for scene_material in [false, true] {
-            entries.retain(|e| !(e.path == path && e.scene_material == scene_material));
-            if entries.len() >= CACHED_FILES {
-                entries.remove(0);
-            }
-            entries.push(Entry {
+            self.keep(Entry {
                 path: path.to_owned(),
                 scene_material,
                 stamps: vec![stamp(path)],
                 parsed: parsed.clone(),
             });
         }
+    }
+
+    /// Keeps `entry` in place of any of its path and material's, and
+    /// forgets the oldest where the cache is full.
+    fn keep(&self, entry: Entry) {
+        let mut entries = self.entries.lock().unwrap_or_else(|p| p.into_inner());
+        entries.retain(|e| !(e.path == entry.path && e.scene_material == entry.scene_material));
+        if entries.len() >= CACHED_FILES {
+            entries.remove(0);
+        }
+        entries.push(entry);
     }
 
     /// The file at `path` as `read` gives it: from the cache where read
@@ -475,12 +481,7 @@ impl Cache {
         if stamps[0] != before {
             stamps[0] = None;
         }
-        let mut entries = self.entries.lock().unwrap_or_else(|p| p.into_inner());
-        entries.retain(|e| !(e.path == path && e.scene_material == scene_material));
-        if entries.len() >= CACHED_FILES {
-            entries.remove(0);
-        }
-        entries.push(Entry {
+        self.keep(Entry {
             path: path.to_owned(),
             scene_material,
             stamps,

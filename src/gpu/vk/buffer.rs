@@ -186,39 +186,11 @@ impl Buffer {
             usage | vk::BufferUsageFlags::TRANSFER_DST,
             what,
         )?;
-        let staging = Self::written(
-            device,
-            size,
-            write,
-            vk::BufferUsageFlags::TRANSFER_SRC,
-            what,
-        )?;
-        let copy = vk::BufferCopy::default().size(staging.size.min(buffer.size));
-        // SAFETY: both buffers are alive until `run` returns, which waits
-        // for the copy (on a timeout `staging` is leaked, below); the copy
-        // is within both.
-        let copied = commands.run(std::time::Duration::from_secs(60), |d, cb| unsafe {
-            d.cmd_copy_buffer(cb, staging.raw, buffer.raw, &[copy]);
-            // The copy is done before any shader reads the buffer.
-            memory_barrier(
-                d,
-                cb,
-                (
-                    vk::PipelineStageFlags::TRANSFER,
-                    vk::AccessFlags::TRANSFER_WRITE,
-                ),
-                (
-                    vk::PipelineStageFlags::COMPUTE_SHADER,
-                    vk::AccessFlags::SHADER_READ | vk::AccessFlags::UNIFORM_READ,
-                ),
-            );
-        });
-        match copied {
-            Ok(_) => Ok(buffer),
+        match Self::overwrite(device, commands, vec![(&buffer, size, Box::new(write))]) {
+            Ok(()) => Ok(buffer),
             Err(e) => {
                 if device.hung() {
-                    // The copy may still be reading and writing both.
-                    std::mem::forget(staging);
+                    // The copy may still be writing it.
                     std::mem::forget(buffer);
                 }
                 Err(e)
