@@ -21,7 +21,7 @@ pub enum Update {
     InPlace,
     /// The scene needs what it was not prepared with, named here: another
     /// shader variant, more primitives, another size or sampling. Nothing
-    /// was changed; prepare it again ([`Renderer::prepare`]).
+    /// was changed; prepare it again ([`Renderer::prepare`](crate::gpu::Renderer::prepare)).
     Prepare(String),
 }
 
