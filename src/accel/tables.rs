@@ -80,7 +80,7 @@ const COUNT_CHUNK: usize = 64;
 
 /// How a grid reads a ray.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Form {
+pub enum GridForm {
     /// Rows take a point to (along, a, b): a directional light's grid.
     Parallel = 0,
     /// Rows take a direction to (λ, μ, ν), and (a, b) = (μ/λ, ν/λ).
@@ -106,7 +106,7 @@ pub struct Grid {
     /// light (perspective), or has a coordinate larger than this
     /// (parallel), walks the tree: the padding covers rounding up to here.
     pub reach: f32,
-    pub form: Form,
+    pub form: GridForm,
 }
 
 /// A cell's list: where it starts in `Tables::entries` and how long it is

@@ -125,7 +125,7 @@ fn table_bases(t: &Tables) -> (u32, u32) {
 }
 
 /// The tables as the shader reads them: each grid in five words (its
-/// range; its cells and its form, `tables::Form` as a number; its three
+/// range; its cells and its form, `tables::GridForm` as a number; its three
 /// rows: a cube's face reads the first two alone), then the cells and the
 /// entries two to a word (shaders/tables.glsl).
 fn table_words(t: &Tables) -> Vec<table_word::Values> {

@@ -56,7 +56,7 @@ pub struct Prepared {
     work: Work,
     /// The image's size: the scene's, not its corner grid's.
     size: (u32, u32),
-    sampling: Sampling,
+    gather: Gather,
     /// The shader's arithmetic, in which the refinement sums its squares.
     precision: Precision,
     /// What preparing cost, reported by the first render.
@@ -78,7 +78,7 @@ pub struct Prepared {
 
 /// How a pixel's colour comes from what the shader traces.
 #[derive(Clone, Copy, PartialEq)]
-enum Sampling {
+enum Gather {
     /// The traced pixels are the image's.
     Pixels,
     /// The traced pixels are the image's corners, averaged.
@@ -87,14 +87,14 @@ enum Sampling {
     Adaptive(Adaptive),
 }
 
-impl Sampling {
+impl Gather {
     /// How `scene`'s pixels come from what is traced (`corners`: it traces
     /// its corner grid).
     fn of(scene: &Scene, corners: bool) -> Self {
         match (corners, scene.adaptive_sampling()) {
-            (false, _) => Sampling::Pixels,
-            (true, None) => Sampling::Corners,
-            (true, Some(a)) => Sampling::Adaptive(a),
+            (false, _) => Gather::Pixels,
+            (true, None) => Gather::Corners,
+            (true, Some(a)) => Gather::Adaptive(a),
         }
     }
 }
@@ -138,7 +138,7 @@ impl Prepared {
         shared.check_can_render(settings)?;
         let grid = scene.corner_grid();
         let traced = grid.as_ref().unwrap_or(scene);
-        let sampling = Sampling::of(scene, grid.is_some());
+        let gather = Gather::of(scene, grid.is_some());
         if settings.aovs {
             if let Some(file) = shared.sources.without_aovs().first() {
                 return Err(GpuError::Unsupported(format!(
@@ -147,7 +147,7 @@ impl Prepared {
                 )));
             }
         }
-        if settings.aovs && sampling != Sampling::Pixels {
+        if settings.aovs && gather != Gather::Pixels {
             return Err(GpuError::Unsupported(format!(
                 "AOVs are of a pixel's own samples, and this scene samples its pixels' corners \
                  (sampling = {:?}): render it with sampling = \"centers\"",
@@ -204,7 +204,7 @@ impl Prepared {
             shared: shared.clone(),
             work,
             size: (scene.width, scene.height),
-            sampling,
+            gather,
             precision: settings.precision,
             pending: None,
             stop: None,
@@ -269,8 +269,8 @@ impl Prepared {
         if self.executor.timed() {
             times.device_dispatch_s.get_or_insert(0.0);
         }
-        let rendered = match self.sampling {
-            Sampling::Pixels => {
+        let rendered = match self.gather {
+            Gather::Pixels => {
                 let (pixels, counts) = self.tiles(false, region, 1.0, &mut times, progress)?;
                 Rendered {
                     image: Image::new(region.width, region.height, pixels),
@@ -280,7 +280,7 @@ impl Prepared {
                     aovs: self.aovs.take(),
                 }
             }
-            Sampling::Corners | Sampling::Adaptive(_) => {
+            Gather::Corners | Gather::Adaptive(_) => {
                 let traced = region.corners();
                 let (pixels, counts) = self.tiles(false, traced, 1.0, &mut times, progress)?;
                 let corners = Image::new(traced.width, traced.height, pixels);
@@ -291,7 +291,7 @@ impl Prepared {
                     record: self.record.take(),
                     aovs: None,
                 };
-                if let Sampling::Adaptive(a) = self.sampling {
+                if let Gather::Adaptive(a) = self.gather {
                     match self.precision {
                         Precision::F32 => {
                             self.refine::<f32>(&a, &corners, region, &mut rendered)?

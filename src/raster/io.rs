@@ -306,16 +306,6 @@ fn fits(path: &Path, w: u32, h: u32, per_pixel: u64) -> Result<(), ImageIoError>
     .map_err(ImageIoError::TooLarge)
 }
 
-pub(crate) fn check_size(w: u32, h: u32) -> Result<(), String> {
-    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE || u64::from(w) * u64::from(h) > MAX_PIXELS
-    {
-        return Err(format!(
-            "size {w}x{h} is outside 1..={MAX_SIDE} a side and {MAX_PIXELS} pixels in all"
-        ));
-    }
-    Ok(())
-}
-
 /// The most channels an EXR layer may have: RGBA and a few more (depth,
 /// normals, ids) that renderers write beside them.
 pub const MAX_EXR_CHANNELS: usize = 64;

@@ -95,6 +95,19 @@ fn gb(bytes: u64) -> f64 {
     bytes as f64 / 1e9
 }
 
+/// Refuses an image file's size outside what glint reads: 1 to `MAX_SIDE`
+/// a side and `MAX_PIXELS` in all (`io` and `pfm` check a header's with it).
+pub(crate) fn check_size(w: u32, h: u32) -> Result<(), String> {
+    use crate::input::{MAX_PIXELS, MAX_SIDE};
+    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE || u64::from(w) * u64::from(h) > MAX_PIXELS
+    {
+        return Err(format!(
+            "size {w}x{h} is outside 1..={MAX_SIDE} a side and {MAX_PIXELS} pixels in all"
+        ));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,7 +4,7 @@
 
 use std::io::Write;
 
-use super::io::check_size;
+use super::memory::check_size;
 use super::Image;
 
 /// Standard PFM: little-endian (scale -1.0), rows bottom to top.

@@ -11,7 +11,7 @@ use super::super::spans::{
     Span,
 };
 use super::{
-    CameraSpec, Cell, Entry, Form, Grid, LightSpec, Tables, CELL_CAP, COUNT_CHUNK, LIGHT_SCALE,
+    CameraSpec, Cell, Entry, Grid, GridForm, LightSpec, Tables, CELL_CAP, COUNT_CHUNK, LIGHT_SCALE,
     MAX_SIDE, MIN_GRID_BYTES, TILE, WALK, WORK_FACTOR,
 };
 use crate::prim::Hull;
@@ -62,7 +62,7 @@ pub(crate) fn leaves(
 /// A grid under construction: its map and each primitive's span.
 struct Plan {
     rows: DMat3,
-    form: Form,
+    form: GridForm,
     reach: f64,
     /// The grid's extent in (a, b), where it is fixed (the eye's screen).
     domain: Option<((f64, f64), (f64, f64))>,
@@ -145,7 +145,7 @@ impl Plan {
             .collect();
         Plan {
             rows,
-            form: Form::Perspective,
+            form: GridForm::Perspective,
             reach,
             domain: None,
             pixels: None,
@@ -389,7 +389,7 @@ pub fn build(
                     Some(i),
                     Plan {
                         rows,
-                        form: Form::Parallel,
+                        form: GridForm::Parallel,
                         reach,
                         domain: None,
                         pixels: None,
@@ -430,8 +430,8 @@ pub fn build(
                 .par_iter()
                 .map(|(_, plan)| {
                     let side = match plan.form {
-                        Form::Perspective => side_for(plan.spans.len(), light_scale, MAX_SIDE),
-                        Form::Parallel => side_for(plan.spans.len(), light_scale, 4 * MAX_SIDE),
+                        GridForm::Perspective => side_for(plan.spans.len(), light_scale, MAX_SIDE),
+                        GridForm::Parallel => side_for(plan.spans.len(), light_scale, 4 * MAX_SIDE),
                     };
                     plan.count(side, tile)
                 })

@@ -1,7 +1,7 @@
 //! The tables read (src/accel/tables.rs says what they are): the CPU's
 //! twin of shaders/tables.glsl, a shadow or eye ray's list or the walk.
 
-use super::{Form, Grid, Tables, WALK};
+use super::{Grid, GridForm, Tables, WALK};
 use crate::base::real::{Real, Vec3};
 
 /// What a ray reads: a list to scan, with the bound that ends it, or the
@@ -60,7 +60,7 @@ impl Tables {
         let first = self.lights.get(light).copied().flatten()? as usize;
         let g = &self.grids[first];
         let list = match g.form {
-            Form::Perspective => {
+            GridForm::Perspective => {
                 let d = -l;
                 let within = dist <= R::of(g.reach.into());
                 within
@@ -68,7 +68,7 @@ impl Tables {
                     .flatten()
                     .map(|r| Lookup::List(r, dist * R::of(KEY_SLACK)))
             }
-            Form::Parallel => {
+            GridForm::Parallel => {
                 let big = p.x.abs().max(p.y.abs()).max(p.z.abs());
                 let within = big <= R::of(g.reach.into());
                 within

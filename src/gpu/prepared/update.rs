@@ -5,7 +5,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::{Block, Prepared, Sampling};
+use super::{Block, Gather, Prepared};
 use crate::gpu::layout::Uploads;
 use crate::gpu::resident::rewrite_scene_blocks;
 use crate::gpu::times::{RenderTimes, SetupTimes};
@@ -45,7 +45,7 @@ impl Prepared {
         }
         let grid = scene.corner_grid();
         let traced = grid.as_ref().unwrap_or(scene);
-        if Sampling::of(scene, grid.is_some()) != self.sampling {
+        if Gather::of(scene, grid.is_some()) != self.gather {
             return Ok(Update::Prepare("the image's sampling changed".to_owned()));
         }
         let t0 = Instant::now();
