@@ -279,7 +279,6 @@ impl Renderer {
                 inner: Mutex::new(Held {
                     prepared,
                     generation,
-                    size: (now.width, now.height),
                 }),
                 scene,
                 renderer: self.inner.clone(),
@@ -287,8 +286,6 @@ impl Renderer {
                 stop,
                 device: self.device.clone(),
                 device_counted: self.device_counted.clone(),
-                counted: stats,
-                precision: settings.precision.name(),
             })
         })
     }
@@ -313,16 +310,12 @@ pub struct PreparedScene {
     stop: Arc<AtomicBool>,
     device: String,
     device_counted: Arc<AtomicBool>,
-    counted: bool,
-    precision: &'static str,
 }
 
-/// The scene on the device, the generation of its scene it shows, and
-/// the size of its image.
+/// The scene on the device, and the generation of its scene it shows.
 struct Held {
     prepared: gpu::Prepared,
     generation: u64,
-    size: (u32, u32),
 }
 
 impl Held {
@@ -349,7 +342,6 @@ impl Held {
             }
         };
         self.generation = generation;
-        self.size = (now.width, now.height);
         Ok(Some(said))
     }
 }
@@ -371,20 +363,21 @@ impl PreparedScene {
     /// rendered).
     #[getter]
     fn size(&self) -> (u32, u32) {
-        lock(&self.inner).size
+        lock(&self.inner).prepared.size()
     }
 
     /// Whether its renders count rays (it was prepared with stats=True).
     #[getter]
     fn counted(&self) -> bool {
-        self.counted
+        self.settings.count
     }
 
     fn __repr__(&self) -> String {
         let (w, h) = self.size();
         format!(
             "<glint.PreparedScene {w}x{h} {} on {:?}>",
-            self.precision, self.device
+            self.settings.precision.name(),
+            self.device
         )
     }
 }
@@ -454,7 +447,7 @@ impl PreparedScene {
                     json!({
                         "backend": "gpu",
                         "device": self.device,
-                        "precision": self.precision,
+                        "precision": self.settings.precision.name(),
                         "variant": variant,
                         "times": times,
                         "seconds": {

@@ -236,6 +236,11 @@ impl Prepared {
         self.stop = Some(flag);
     }
 
+    /// The image's width and height (the scene's, not its corner grid's).
+    pub fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
     /// The variant the scene was compiled with (docs/shaders.md, Variants).
     pub fn variant(&self) -> &Variant {
         &self.main.variant

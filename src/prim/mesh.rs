@@ -253,12 +253,13 @@ fn read(path: &Path, scene_material: bool, at: &At) -> Result<Parsed, SceneError
     // read with the number of materials it gave, in tobj's order.
     let obj_dir = path.parent().unwrap_or(Path::new(".")).to_owned();
     // Only the materials the OBJ uses are kept (every one is checked).
-    let used = match scene_material {
-        true => Default::default(),
-        false => super::mtl::used_names(BufReader::new(
+    let used = if scene_material {
+        Default::default()
+    } else {
+        super::mtl::used_names(BufReader::new(
             crate::input::open(&path, crate::input::Kind::Mesh)
                 .or_else(|e| at.invalid("file", format!("cannot read {shown}: {e}")))?,
-        )),
+        ))
     };
     let mtl_problem: RefCell<Option<String>> = RefCell::new(None);
     let bad_material: RefCell<Option<SceneError>> = RefCell::new(None);

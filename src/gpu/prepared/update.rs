@@ -68,9 +68,8 @@ impl Prepared {
         let same_texels =
             Arc::ptr_eq(&self.texels, &traced.texels) || *self.texels == *traced.texels;
         let unchanged: &[Block] = if same_texels { &[Block::Texels] } else { &[] };
-        let device = self.shared.device.clone();
         let written = rewrite_scene_blocks(
-            &device,
+            &self.shared.device,
             &mut self.executor.commands,
             &self.scene,
             &variant,
