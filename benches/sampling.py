@@ -5,13 +5,14 @@ checkout's release build:
     cargo build --release && python3 benches/sampling.py [SCENE ...] [--size 320x240] [--runs 3]
 
 For each scene: a converged reference (CPU f64, 16x16 uniform samples),
-then uniform sampling at 1x1, 2x2, 4x4 and 8x8 and adaptive sampling
-(docs/scene-format.md, Rays) at a few thresholds and levels, each on the
-GPU (f32) and the CPU (f32): the median trace time of RUNS renders
-(`render --stats`, seconds.trace, setup apart) and the RMSE against the
-reference (`glint diff`). Prints a Markdown table per scene, and, for each
-renderer, the cheapest adaptive setting that reaches uniform 4x4's error
-with its share of 4x4's time.
+then uniform sampling at 1x1, 2x2, 4x4 and 8x8, Whitted's adaptive
+sampling at a few thresholds and levels, and contrast sampling at a few
+thresholds and most samples (docs/scene-format.md, Rays), each on the GPU
+(f32) and the CPU (f32): the median trace time of RUNS renders (`render
+--stats`, seconds.trace, setup apart) and the RMSE against the reference
+(`glint diff`). Prints a Markdown table per scene, and, for each renderer
+and each adaptive method, the cheapest setting that reaches uniform 4x4's
+error with its share of 4x4's time.
 """
 
 import argparse
@@ -25,7 +26,9 @@ REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_SCENES = ["scenes/seed-fig5.toml", "scenes/whitted-1980.toml"]
 UNIFORM = [1, 2, 4, 8]
 ADAPTIVE = [(0.2, 2), (0.1, 2), (0.05, 2), (0.05, 3), (0.02, 3), (0.01, 4)]
-SAMPLING_KEYS = ("samples =", "sampling =", "threshold =", "max_level =")
+CONTRAST = [("0.4, 0.3, 0.6", 17), (0.1, 17), (0.05, 17), (0.05, 33), (0.03, 17), (0.02, 33)]
+SAMPLING_KEYS = ("samples =", "sampling =", "threshold =", "max_level =",
+                 "thresholds =", "max_samples =", "compare_trees =")
 
 
 def binary():
@@ -92,6 +95,11 @@ def main():
             settings += [(f"adaptive {t} / {l}",
                           ['sampling = "adaptive"', f"threshold = {t}", f"max_level = {l}"])
                          for t, l in ADAPTIVE]
+            settings += [(f"contrast {t} / {m}",
+                          ['sampling = "contrast"',
+                           f"thresholds = [{t}]" if "," in str(t) else f"thresholds = [{t}, {t}, {t}]",
+                           f"max_samples = {m}"])
+                         for t, m in CONTRAST]
             for name, lines in settings:
                 f = scene_file(name.replace(" ", "_").replace("/", ""), lines)
                 row = [name]
@@ -106,14 +114,15 @@ def main():
             for r in rows:
                 print(f"| {r[0]} | {r[1]:.3f} s | {r[2]:.2e} | {r[3]:.3f} s | {r[4]:.2e} |")
             four = next(r for r in rows if r[0] == "uniform 4x4")
-            for label, t_i, e_i in [("GPU", 1, 2), ("CPU", 3, 4)]:
-                reaching = [r for r in rows if r[0].startswith("adaptive") and r[e_i] <= four[e_i]]
-                if reaching:
-                    best = min(reaching, key=lambda r: r[t_i])
-                    print(f"\n{label}: {best[0]} reaches uniform 4x4's RMSE ({four[e_i]:.2e}) "
-                          f"with {best[e_i]:.2e} in {best[t_i] / four[t_i]:.2f} of its time")
-                else:
-                    print(f"\n{label}: no adaptive setting here reaches uniform 4x4's RMSE ({four[e_i]:.2e})")
+            for method in ["adaptive", "contrast"]:
+                for label, t_i, e_i in [("GPU", 1, 2), ("CPU", 3, 4)]:
+                    reaching = [r for r in rows if r[0].startswith(method) and r[e_i] <= four[e_i]]
+                    if reaching:
+                        best = min(reaching, key=lambda r: r[t_i])
+                        print(f"\n{label}: {best[0]} reaches uniform 4x4's RMSE ({four[e_i]:.2e}) "
+                              f"with {best[e_i]:.2e} in {best[t_i] / four[t_i]:.2f} of its time")
+                    else:
+                        print(f"\n{label}: no {method} setting here reaches uniform 4x4's RMSE ({four[e_i]:.2e})")
 
 
 if __name__ == "__main__":

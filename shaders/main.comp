@@ -9,6 +9,7 @@
 // samples*samples eye rays, each traced to the fixed depth.
 
 #include "bindings.glsl"
+#include "tree.glsl"
 #include "ray.glsl"
 #include "intersect.glsl"
 #include "shade.glsl"
@@ -19,6 +20,31 @@
 
 #ifdef WAVEFRONT
 #include "wavefront.glsl"
+#elif defined(CONTRAST)
+// A level of contrast sampling: each invocation traces one listed entry,
+// some samples of one pixel, and writes four words: their sum, least and
+// greatest colour, and trees.
+#include "contrast.glsl"
+
+void main() {
+    uvec2 local = gl_GlobalInvocationID.xy;
+    if (local.x >= tile.rect.z || local.y >= tile.rect.w) {
+        return;
+    }
+    uint entry = (tile.rect.y + local.y) * REFINE_WIDTH + tile.rect.x + local.x;
+    uint out_at = (local.y * tile.rect.z + local.x) * 4u;
+    begin_counts();
+    ContrastBatch b = ContrastBatch(vec3r(0.0), vec3r(0.0), vec3r(0.0), TREE_BASIS, false);
+    if (entry < uint(refine_list.length())) {
+        b = contrast_samples(refine_list[entry]);
+    }
+    float done = loops_completed() ? 1.0 : 0.0;
+    pixels[out_at] = vec4(vec3(b.sum), done);
+    pixels[out_at + 1u] = vec4(vec3(b.least), done);
+    pixels[out_at + 2u] = vec4(vec3(b.most), done);
+    pixels[out_at + 3u] = vec4(float(b.word & 0xffffu), float(b.word >> 16u), b.differ ? 1.0 : 0.0, done);
+    end_counts();
+}
 #elif defined(REFINE_POINTS)
 // A level of adaptive sampling's refinement: each invocation traces
 // REFINE_POINTS listed points, one after another.

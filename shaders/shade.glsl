@@ -23,6 +23,7 @@ real spec_pow(real x, real n) {
 
 #include "specular.glsl"
 #include "record.glsl"
+#include "tree.glsl"
 // Each light type's include and the dispatch over the types: generated
 // from the table of light types (src/scene/light/mod.rs, src/gpu/generated.rs).
 #include "lights.glsl"
@@ -55,6 +56,7 @@ vec3r shade(vec3r p, vec3r n, vec3r v, Material m, uint from) {
             COUNT_AS(RAY_SHADOW);
             direct = !occluded(Ray(p, l), from, dist, light);
             RECORD_SHADOW(k, Ray(p, l), from, dist, !direct);
+            TREE_NOTE(TREE_SHADOW(!direct));
         }
 #endif
         if (direct) {

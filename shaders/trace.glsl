@@ -10,6 +10,7 @@
 #include "texture.glsl"
 #include "record.glsl"
 #include "aov.glsl"
+#include "tree.glsl"
 
 #if HAS_TRANSMISSION
 // A refraction ray waiting to be traced.
@@ -130,6 +131,7 @@ bool path_step(inout Path s) {
     if (!met) {
         s.color += g.background.rgb * weight;
         RECORD_MISS(g.background.rgb * weight);
+        TREE_NOTE(TREE_MISS);
     } else {
         if (depth == 1u) {
             COUNT(COUNT_EYE_HIT);
@@ -149,6 +151,7 @@ bool path_step(inout Path s) {
         apply_textures(m, hit, p);
 #endif
         RECORD_HIT(hit, p, outward, shading);
+        TREE_NOTE(TREE_HIT(hit.material));
         AOV_HIT(depth, hit, n, m);
         s.color += shade(above, n, -ray.dir, m, hit.prim) * weight;
         real kr = m.params.y;

@@ -5,33 +5,15 @@
 
 mod common;
 
-use glint::accel::Accel;
 use glint::cpu;
 use glint::raster::diff::figures;
-use glint::raster::region::Region;
 use glint::raster::Image;
 use glint::scene::{Overrides, Sampling, Scene};
 
 /// `path` at `width`×`height`, with its sampling made adaptive.
 fn adaptive(path: &str, width: u32, height: u32, threshold: f64, levels: u32) -> Scene {
-    let text = std::fs::read_to_string(common::repo().join(path)).unwrap();
-    // The file's own sampling keys out, these in.
-    let text: String = text
-        .lines()
-        .filter(|l| {
-            !["samples =", "sampling =", "threshold =", "max_level ="]
-                .iter()
-                .any(|k| l.starts_with(k))
-        })
-        .map(|l| format!("{l}\n"))
-        .collect();
-    let text = text.replace(
-        "[image]\n",
-        &format!(
-            "[image]\nsampling = \"adaptive\"\nthreshold = {threshold}\nmax_level = {levels}\n"
-        ),
-    );
-    let scene = common::scene_sized(&text, width, height);
+    let keys = format!("sampling = \"adaptive\"\nthreshold = {threshold}\nmax_level = {levels}\n");
+    let scene = common::resampled(path, width, height, &keys);
     assert_eq!(scene.sampling, Sampling::Adaptive);
     scene
 }
@@ -102,35 +84,7 @@ fn refining_brings_the_image_nearer_a_converged_one() {
 #[test]
 fn regions_are_the_whole_render_bit_for_bit() {
     let scene = adaptive("scenes/whitted-1980.toml", 67, 61, 0.05, 2);
-    let whole = cpu::render::<f32>(&scene);
-    #[cfg(feature = "gpu")]
-    let mut gpu = common::gpu();
-    #[cfg(feature = "gpu")]
-    let gpu_whole = gpu.render(&scene, &|_| {}).unwrap().0;
-    for n in [3, 7] {
-        for i in 0..n {
-            let r = Region::tile(i, n, scene.width, scene.height).unwrap();
-            let part = cpu::render_region::<f32>(&scene, Accel::Auto, r, &|_| {});
-            #[cfg(feature = "gpu")]
-            let gpu_part = common::render_region(&mut gpu, &scene, r);
-            for y in 0..r.height {
-                for x in 0..r.width {
-                    let want = whole.get(r.x + x, r.y + y);
-                    assert_eq!(
-                        part.get(x, y).map(f32::to_bits),
-                        want.map(f32::to_bits),
-                        "CPU tile {i} of {n} at ({x}, {y})"
-                    );
-                    #[cfg(feature = "gpu")]
-                    assert_eq!(
-                        gpu_part.get(x, y).map(f32::to_bits),
-                        gpu_whole.get(r.x + x, r.y + y).map(f32::to_bits),
-                        "GPU tile {i} of {n} at ({x}, {y})"
-                    );
-                }
-            }
-        }
-    }
+    common::regions_are_the_whole(&scene);
 }
 
 /// The GPU counts the refinement's eye rays as the CPU does.
@@ -138,7 +92,7 @@ fn regions_are_the_whole_render_bit_for_bit() {
 #[test]
 fn the_refinement_is_counted_alike() {
     let scene = adaptive("scenes/whitted-1980.toml", 80, 60, 0.05, 2);
-    let (_, cpu_counts) = cpu::render_counted::<f32>(&scene, Accel::Auto, &|_| {});
+    let (_, cpu_counts) = cpu::render_counted::<f32>(&scene, glint::accel::Accel::Auto, &|_| {});
     let (_, gpu_counts) = common::render_counted(&mut common::gpu(), &scene);
     let (c, g) = (cpu_counts.rays(), gpu_counts.rays());
     // More eye rays than the 81×61 corners: the refinement's.

@@ -161,8 +161,8 @@ fn names_with_commas_and_quotes_survive_the_csv_and_the_page() {
     assert!(html.contains("fig,3 &quot;q&quot;") && !html.contains(name));
 }
 
-/// `--sampling`: uniform 1x1 to 8x8 and the adaptive settings, each against
-/// a converged render; the uniform grids' error falls as they grow (it
+/// `--sampling`: uniform 1x1 to 8x8, the adaptive settings and the
+/// contrast settings, each against a converged render; the uniform grids' error falls as they grow (it
 /// would not against a wrong reference), and the axis has its own table,
 /// plot and CSV rows.
 #[test]
@@ -195,7 +195,11 @@ fn the_sampling_axis_is_measured_against_a_converged_render() {
             "gpu f32 adaptive 0.2/2",
             "gpu f32 adaptive 0.1/2",
             "gpu f32 adaptive 0.05/2",
-            "gpu f32 adaptive 0.02/3"
+            "gpu f32 adaptive 0.02/3",
+            "gpu f32 contrast 0.2/17",
+            "gpu f32 contrast 0.1/17",
+            "gpu f32 contrast 0.05/17",
+            "gpu f32 contrast 0.05/33"
         ]
     );
     let rmse: Vec<f64> = axis
@@ -212,6 +216,7 @@ fn the_sampling_axis_is_measured_against_a_converged_render() {
     );
     let svg = std::fs::read_to_string(dir.path().join("sampling_vs_time.svg")).unwrap();
     assert!(svg.contains("adaptive sampling") && svg.contains("at 16x16 samples"));
+    assert!(svg.contains("contrast sampling"));
     // Issue 41: the axis's Pareto front is its own, inside the axes (the
     // main plot's front, of other times and errors, was drawn here, off
     // them), and each plot says what it shows. A front of one point (one

@@ -33,7 +33,8 @@ pub fn asked(aovs: Option<Vec<String>>) -> PyResult<Option<Vec<&'static str>>> {
 }
 
 /// Refuses AOVs of a scene that samples its pixels' corners (corners and
-/// adaptive sampling): they are of a pixel's own samples.
+/// adaptive sampling): they are of a pixel's own samples; and of one
+/// sampled by contrast, whose pixels' samples are chosen level by level.
 pub fn check_sampling(scene: &glint::scene::Scene) -> PyResult<()> {
     use glint::scene::Sampling;
     if matches!(scene.sampling, Sampling::Corners | Sampling::Adaptive) {
@@ -42,6 +43,13 @@ pub fn check_sampling(scene: &glint::scene::Scene) -> PyResult<()> {
              corners (sampling = {:?}): render it with sampling = \"centers\"",
             format!("{:?}", scene.sampling).to_lowercase()
         )));
+    }
+    if scene.sampling == Sampling::Contrast {
+        return Err(PyValueError::new_err(
+            "aovs: AOVs are of the first samples of a pixel's grid, and this scene samples by \
+             contrast (sampling = \"contrast\"), level by level: render it with sampling = \
+             \"centers\"",
+        ));
     }
     Ok(())
 }

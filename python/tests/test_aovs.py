@@ -122,3 +122,8 @@ def test_bad_aovs_are_refused_in_one_line():
     corners = glint.loads(ONE_SPHERE.replace("height = 25", 'height = 25\nsampling = "corners"'))
     with pytest.raises(ValueError, match="pixel's own samples"):
         glint.render(corners, backend="cpu", aovs=["depth"])
+    contrast = glint.loads(ONE_SPHERE.replace("height = 25", 'height = 25\nsampling = "contrast"'))
+    with pytest.raises(ValueError, match="samples by contrast"):
+        glint.render(contrast, backend="cpu", aovs=["depth"])
+    # The plain render of the same scene is fine: one image, no AOVs.
+    assert glint.render(contrast, backend="cpu").shape == (25, 33, 3)

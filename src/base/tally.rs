@@ -23,6 +23,32 @@ pub(crate) trait Tally: Default + Send {
     /// tally that keeps them (`cpu::aov`).
     #[inline(always)]
     fn eye_hit(&mut self, _hit: impl FnOnce() -> EyeHit) {}
+    /// One branch of the ray tree, as a word (`tree_word`): kept only by
+    /// a tally that tells trees apart (contrast sampling, `cpu::contrast`).
+    #[inline(always)]
+    fn branch(&mut self, _word: u32) {}
+}
+
+/// The word of a branch of the ray tree, for contrast sampling's
+/// comparison of trees (docs/scene-format.md, Rays): a miss, the material
+/// a ray met, or a shadow ray's verdict. Mirrors shaders/tree.glsl.
+pub(crate) mod tree_word {
+    /// A ray that met nothing.
+    pub const MISS: u32 = 0;
+    /// A ray that met a surface of material `m`.
+    pub fn hit(m: u32) -> u32 {
+        m + 1
+    }
+    /// A shadow ray, blocked or not.
+    pub fn shadow(blocked: bool) -> u32 {
+        0x8000_0000 | u32::from(blocked)
+    }
+    /// The hash of a tree before its first branch.
+    pub const BASIS: u32 = 0x811c_9dc5;
+    /// The hash `h` with one more branch `word`.
+    pub fn fold(h: u32, word: u32) -> u32 {
+        (h ^ word).wrapping_mul(0x0100_0193)
+    }
 }
 
 impl Tally for () {

@@ -91,7 +91,9 @@ pub fn run(a: &ReportArgs) -> anyhow::Result<ExitCode> {
             } else {
                 0
             } + if settings.sampling {
-                (1 + report::SAMPLING_UNIFORM.len() + report::SAMPLING_ADAPTIVE.len()) as u64
+                (1 + report::SAMPLING_UNIFORM.len()
+                    + report::SAMPLING_ADAPTIVE.len()
+                    + report::SAMPLING_CONTRAST.len()) as u64
             } else {
                 0
             }

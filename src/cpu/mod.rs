@@ -5,6 +5,7 @@
 pub(crate) mod adaptive;
 mod aov;
 pub mod bound;
+mod contrast;
 pub(crate) mod intersect;
 mod probe;
 pub(crate) mod ray;
@@ -172,6 +173,9 @@ fn render_tallied<R: Real, T: Tally>(
         Some(r) => r,
         None => Region::whole(world.width, world.height),
     };
+    if let Some(c) = &world.contrast {
+        return contrast::render(world, traced, c, progress);
+    }
     let (width, height, samples) = (traced.width, traced.height, world.samples);
     let inv = R::one() / R::of(f64::from(samples * samples));
     let mut pixels = vec![[0.0f32; 3]; width as usize * height as usize];

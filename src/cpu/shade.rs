@@ -6,6 +6,7 @@ use super::world::World;
 use crate::base::ray::Ray;
 use crate::base::real::{spec_pow, Real, Vec3};
 use crate::base::record::Event;
+use crate::base::tally::tree_word;
 use crate::prim::PrimId;
 use crate::scene::MaterialR;
 use crate::stats::{Counter, RayType, Tally};
@@ -50,6 +51,7 @@ pub fn shade<R: Real, T: Tally>(
             let dir = w.moved_direction(l, p, 2 + index as u64);
             let ray = Ray { origin: p, dir };
             let blocked = occluded(w, &ray, from, dist, index, tally);
+            tally.branch(tree_word::shadow(blocked));
             tally.record(|| Event::Shadow {
                 light: index as u32,
                 origin: p.to_dvec(),

@@ -10,6 +10,7 @@ use crate::base::aov::EyeHit;
 use crate::base::ray::Ray;
 use crate::base::real::{Real, Vec3};
 use crate::base::record::Event;
+use crate::base::tally::tree_word;
 use crate::prim::PrimId;
 use crate::stats::{Counter, RayType, Tally};
 
@@ -68,6 +69,7 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
         match met {
             None => {
                 color += w.background * weight;
+                tally.branch(tree_word::MISS);
                 tally.record(|| Event::Miss {
                     color: (w.background * weight).to_dvec(),
                 });
@@ -98,6 +100,7 @@ pub fn trace<R: Real, T: Tally>(w: &World<R>, primary: Ray<R>, tally: &mut T) ->
                     textured = at_hit(w, m, hit.prim, p);
                     m = &textured;
                 }
+                tally.branch(tree_word::hit(s.material as u32));
                 tally.record(|| Event::Hit {
                     prim: (hit.prim.kind, hit.prim.index),
                     material: s.material as u32,

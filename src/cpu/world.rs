@@ -40,6 +40,8 @@ pub struct World<R: Real> {
     /// Adaptive sampling's threshold (in steps of 1/255) and levels, where
     /// the scene samples so.
     pub adaptive: Option<(R, u32)>,
+    /// Contrast sampling's settings, where the scene samples so.
+    pub contrast: Option<crate::scene::Contrast>,
     /// The conditioning check's moves ([`crate::condition`]): a trial's
     /// seed and the move relative to a hit point's size and a direction's
     /// length. None in every render.
@@ -98,6 +100,7 @@ impl<R: Real> World<R> {
             samples: scene.samples,
             corners,
             adaptive,
+            contrast: scene.contrast_sampling(),
             hit_move: None,
             stop: None,
         }

@@ -70,6 +70,9 @@ pub enum ExplainError {
     /// Adaptive sampling's points depend on the whole image.
     #[error("the scene samples adaptively, and the points it adds depend on the whole image's corners; explain the corners alone by setting sampling = \"corners\" in the scene")]
     Adaptive,
+    /// Contrast sampling's samples depend on the neighbours' samples.
+    #[error("the scene samples by contrast, and the samples a pixel takes depend on its neighbours'; explain its centre sample by setting samples = 1 and no sampling in the scene")]
+    Contrast,
     /// Nothing to trace.
     #[error("the scene has no primitives: every ray meets the background, and there is no tree to explain")]
     Empty,
@@ -117,6 +120,7 @@ pub fn samples(
     }
     let all: Vec<Sample> = match scene.sampling {
         Sampling::Adaptive => return Err(ExplainError::Adaptive),
+        Sampling::Contrast => return Err(ExplainError::Contrast),
         Sampling::Corners => (0..4)
             .map(|c| Sample {
                 pixel: [x, y],

@@ -193,6 +193,10 @@ impl Spec {
             image.insert("threshold".into(), value(0.05));
             image.insert("max_level".into(), value(2));
         }
+        if self.sampling == Sampling::Contrast {
+            image.insert("thresholds".into(), toml::Value::Array(vec![value(0.1); 3]));
+            image.insert("max_samples".into(), value(9));
+        }
         doc.insert("image".into(), toml::Value::Table(image));
 
         let mut render = toml::Table::new();

@@ -11,7 +11,12 @@ use crate::scene::texture::PATTERNS;
 use crate::scene::{Sampling, LIGHT_TYPES};
 
 /// The sampling modes, in the order the sets cycle through them.
-pub const SAMPLINGS: [Sampling; 3] = [Sampling::Centers, Sampling::Corners, Sampling::Adaptive];
+pub const SAMPLINGS: [Sampling; 4] = [
+    Sampling::Centers,
+    Sampling::Corners,
+    Sampling::Adaptive,
+    Sampling::Contrast,
+];
 
 /// The small space's factors for one scene: the values a covering array
 /// picks among.

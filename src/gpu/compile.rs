@@ -33,6 +33,8 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("trace.glsl", include_str!("../../shaders/trace.glsl")),
     ("texture.glsl", include_str!("../../shaders/texture.glsl")),
     ("adaptive.glsl", include_str!("../../shaders/adaptive.glsl")),
+    ("contrast.glsl", include_str!("../../shaders/contrast.glsl")),
+    ("tree.glsl", include_str!("../../shaders/tree.glsl")),
     ("bvh.glsl", include_str!("../../shaders/bvh.glsl")),
     ("tables.glsl", include_str!("../../shaders/tables.glsl")),
     ("budget.glsl", include_str!("../../shaders/budget.glsl")),

@@ -29,9 +29,10 @@ use crate::base::aov::{self, Aov};
 use crate::base::record;
 use crate::raster::region::Region;
 use crate::raster::Image;
-use crate::scene::{Adaptive, Scene};
+use crate::scene::{Adaptive, Contrast, Scene};
 use crate::stats::{Counter, Counts};
 
+mod contrast;
 mod refinement;
 mod update;
 
@@ -85,12 +86,17 @@ enum Gather {
     Corners,
     /// Corners, and pixels whose corners differ split (`Variant::refine`).
     Adaptive(Adaptive),
+    /// Contrast sampling's levels, each a list (`Variant::contrast`).
+    Contrast(Contrast),
 }
 
 impl Gather {
     /// How `scene`'s pixels come from what is traced (`corners`: it traces
     /// its corner grid).
     fn of(scene: &Scene, corners: bool) -> Self {
+        if let Some(c) = scene.contrast_sampling() {
+            return Gather::Contrast(c);
+        }
         match (corners, scene.adaptive_sampling()) {
             (false, _) => Gather::Pixels,
             (true, None) => Gather::Corners,
@@ -275,6 +281,10 @@ impl Prepared {
             times.device_dispatch_s.get_or_insert(0.0);
         }
         let rendered = match self.gather {
+            Gather::Contrast(c) => match self.precision {
+                Precision::F32 => self.contrast::<f32>(&c, region, times)?,
+                Precision::F64 => self.contrast::<f64>(&c, region, times)?,
+            },
             Gather::Pixels => {
                 let (pixels, counts) = self.tiles(false, region, 1.0, &mut times, progress)?;
                 Rendered {

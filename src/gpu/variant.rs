@@ -45,6 +45,10 @@ pub struct Variant {
     /// Adaptive sampling's refinement (shaders/adaptive.glsl): one
     /// invocation a listed point of a level; false: one a pixel.
     pub refine: bool,
+    /// Contrast sampling's levels (shaders/contrast.glsl), with the
+    /// refinement's list: one invocation a listed entry; true where the
+    /// samples' ray trees are compared.
+    pub contrast: Option<bool>,
     /// The wavefront schedule (shaders/wavefront.glsl) rather than one
     /// invocation for each pixel's whole ray tree.
     pub wavefront: bool,
@@ -57,6 +61,11 @@ pub struct Variant {
 /// as each level dispatches it: invocation (i % width, i / width) traces
 /// points `REFINE_POINTS`·i onwards.
 pub const REFINE_WIDTH: u32 = 64;
+
+/// The words one invocation of contrast sampling writes for its entry:
+/// the samples' sum, least and greatest colour, and trees
+/// (shaders/contrast.glsl).
+pub const CONTRAST_OUTPUTS: u32 = 4;
 
 /// The points one invocation of the refinement traces, one after another:
 /// an invocation's fixed costs (and, counting, its atomic adds) are shared
@@ -91,6 +100,7 @@ impl Variant {
                 && device.skips_untaken_branches
                 && !Experiment::from_env().no_filter,
             refine: false,
+            contrast: None,
             wavefront: false,
             reads: reads(uploads, device),
         }
@@ -110,6 +120,7 @@ impl Variant {
             aovs: false,
             power_filter: false,
             refine: false,
+            contrast: None,
             wavefront: false,
             reads: Form::Storage,
         }
@@ -144,7 +155,13 @@ impl Variant {
         if self.aovs {
             d.push(("AOVS".to_owned(), None));
         }
-        if self.refine {
+        if let Some(trees) = self.contrast {
+            d.push(("CONTRAST".to_owned(), None));
+            if trees {
+                d.push(("CONTRAST_TREES".to_owned(), None));
+            }
+            d.push(("REFINE_WIDTH".to_owned(), Some(format!("{REFINE_WIDTH}u"))));
+        } else if self.refine {
             d.push((
                 "REFINE_POINTS".to_owned(),
                 Some(format!("{REFINE_POINTS}u")),
@@ -188,7 +205,9 @@ impl Variant {
     /// The colours one invocation writes: `REFINE_POINTS` for the
     /// refinement, else one (its pixel's).
     pub fn outputs_per_invocation(&self) -> u32 {
-        if self.refine {
+        if self.contrast.is_some() {
+            CONTRAST_OUTPUTS
+        } else if self.refine {
             REFINE_POINTS
         } else {
             1
@@ -363,7 +382,9 @@ impl Variant {
         if self.aovs {
             parts.push("aovs".to_owned());
         }
-        if self.refine {
+        if self.contrast.is_some() {
+            parts.push("contrast".to_owned());
+        } else if self.refine {
             parts.push("refine".to_owned());
         }
         if self.wavefront {

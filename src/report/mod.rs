@@ -24,8 +24,9 @@ pub struct Settings {
     pub runs: usize,
     /// Also sweep max_depth and samples from 1 to the scene's own.
     pub sweeps: bool,
-    /// Also the sampling axis: uniform and adaptive sampling against a
-    /// converged render (`SAMPLING_UNIFORM`, `SAMPLING_ADAPTIVE`).
+    /// Also the sampling axis: uniform, adaptive and contrast sampling
+    /// against a converged render (`SAMPLING_UNIFORM`, `SAMPLING_ADAPTIVE`,
+    /// `SAMPLING_CONTRAST`).
     pub sampling: bool,
 }
 
@@ -33,6 +34,9 @@ pub struct Settings {
 pub const SAMPLING_UNIFORM: [u32; 4] = [1, 2, 4, 8];
 /// Its adaptive settings: threshold in thousandths, and levels.
 pub const SAMPLING_ADAPTIVE: [(u32, u32); 4] = [(200, 2), (100, 2), (50, 2), (20, 3)];
+/// The sampling axis's contrast settings: a threshold in every channel
+/// (in thousandths) and the most samples a pixel takes.
+pub const SAMPLING_CONTRAST: [(u32, u32); 4] = [(200, 17), (100, 17), (50, 17), (50, 33)];
 /// The converged render the sampling axis is measured against: CPU f64
 /// with this many uniform samples a side.
 pub const CONVERGED_SAMPLES: u32 = 16;
@@ -72,6 +76,9 @@ pub enum Variant {
     /// The sampling axis: GPU f32 robust, adaptive sampling with this
     /// threshold (in thousandths) and levels.
     GpuAdaptive(u32, u32),
+    /// The sampling axis: GPU f32 robust, contrast sampling with this
+    /// threshold in every channel (in thousandths) and most samples.
+    GpuContrast(u32, u32),
     /// The CPU reference in f32.
     Cpu32,
     /// The CPU reference in f64: the reference itself.
@@ -91,6 +98,9 @@ impl Variant {
             Variant::GpuUniform(n) => format!("gpu f32 uniform {n}x{n}"),
             Variant::GpuAdaptive(t, l) => {
                 format!("gpu f32 adaptive {}/{l}", f64::from(t) / 1000.0)
+            }
+            Variant::GpuContrast(t, m) => {
+                format!("gpu f32 contrast {}/{m}", f64::from(t) / 1000.0)
             }
             Variant::Cpu32 => "cpu f32".to_owned(),
             Variant::Cpu64 => "cpu f64".to_owned(),
@@ -378,7 +388,8 @@ pub fn measure(
         let axis = SAMPLING_UNIFORM
             .map(Variant::GpuUniform)
             .into_iter()
-            .chain(SAMPLING_ADAPTIVE.map(|(t, l)| Variant::GpuAdaptive(t, l)));
+            .chain(SAMPLING_ADAPTIVE.map(|(t, l)| Variant::GpuAdaptive(t, l)))
+            .chain(SAMPLING_CONTRAST.map(|(t, m)| Variant::GpuContrast(t, m)));
         for variant in axis {
             let (m, _) = measure_one(
                 renderer,
@@ -419,6 +430,17 @@ fn sampled(scene: &Scene, variant: Variant) -> Scene {
             s.samples = n;
             s.sampling = crate::scene::Sampling::Centers;
             s.adaptive = None;
+        }
+        Variant::GpuContrast(t, m) => {
+            let t = f64::from(t) / 1000.0;
+            s.samples = 1;
+            s.sampling = crate::scene::Sampling::Contrast;
+            s.adaptive = None;
+            s.contrast = Some(crate::scene::Contrast {
+                thresholds: [t; 3],
+                max_samples: m,
+                compare_trees: true,
+            });
         }
         Variant::GpuAdaptive(t, l) => {
             s.samples = 1;

@@ -28,11 +28,12 @@ fn colour(v: Variant) -> &'static str {
         Variant::GpuSamples(_) => "#ff9f3f",
         Variant::GpuUniform(_) => "#17becf",
         Variant::GpuAdaptive(..) => "#e377c2",
+        Variant::GpuContrast(..) => "#bcbd22",
     }
 }
 
 /// The legend: one variant of each family, and its label.
-const FAMILIES: [(Variant, &str); 10] = [
+const FAMILIES: [(Variant, &str); 11] = [
     (Variant::Gpu(Intersect::Robust), "gpu f32 robust"),
     (Variant::Gpu(Intersect::Naive), "gpu f32 naive"),
     (Variant::GpuGeneric, "gpu f32 generic shader"),
@@ -43,6 +44,7 @@ const FAMILIES: [(Variant, &str); 10] = [
     (Variant::GpuSamples(1), "gpu f32, fewer samples"),
     (Variant::GpuUniform(1), "gpu f32, uniform sampling"),
     (Variant::GpuAdaptive(0, 1), "gpu f32, adaptive sampling"),
+    (Variant::GpuContrast(0, 4), "gpu f32, contrast sampling"),
 ];
 
 /// The marker shapes, one a scene: a circle, a square, a diamond, a
@@ -118,7 +120,7 @@ pub fn plot_sampling(r: &Report) -> String {
     plot_of(
         r,
         |s| &s.sampling,
-        "Uniform and adaptive sampling: error against run time",
+        "Uniform, adaptive and contrast sampling: error against run time",
         "RMSE against CPU f64 at 16x16 samples",
     )
 }

@@ -110,6 +110,16 @@ pub struct ImageFile {
     /// `"adaptive"`: how many times a pixel may be split.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_level: Option<i64>,
+    /// `"contrast"`: per channel, the contrast past which a pixel takes
+    /// more samples.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thresholds: Option<Triple>,
+    /// `"contrast"`: the samples a refined pixel takes in all.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_samples: Option<i64>,
+    /// `"contrast"`: whether differing ray trees refine a pixel too.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compare_trees: Option<bool>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]

@@ -4,6 +4,7 @@
 
 mod brightness;
 pub mod camera;
+pub mod contrast;
 mod corners;
 mod file;
 pub mod images;
@@ -29,6 +30,7 @@ pub use crate::input::field::{Triple, MAX_COORDINATE};
 pub use crate::prim::mesh::{Arrays as MeshArrays, Cache as MeshCache};
 pub use brightness::PastBound;
 pub use camera::Camera;
+pub use contrast::Contrast;
 pub use file::object_arrays;
 pub use light::{Light, LightKind, LIGHT_TYPES};
 pub use material::{Material, MaterialR};
@@ -73,6 +75,8 @@ pub struct Scene {
     pub sampling: Sampling,
     /// Where `sampling` is adaptive: its threshold and levels.
     pub adaptive: Option<Adaptive>,
+    /// Where `sampling` is contrast: its thresholds and samples.
+    pub contrast: Option<Contrast>,
     /// Whether a PNG is written sRGB-encoded.
     pub srgb: bool,
     /// The ray tree's depth: 1 is eye rays alone.
@@ -130,9 +134,25 @@ impl Scene {
         })
     }
 
+    /// The contrast sampling the renderers follow: where `sampling` is
+    /// contrast, `contrast` (or the defaults, where a scene made in code
+    /// left it out); else none.
+    pub fn contrast_sampling(&self) -> Option<Contrast> {
+        (self.sampling == Sampling::Contrast).then(|| {
+            self.contrast.unwrap_or(Contrast {
+                thresholds: Contrast::DEFAULT_THRESHOLDS,
+                max_samples: Contrast::DEFAULT_MAX_SAMPLES,
+                compare_trees: true,
+            })
+        })
+    }
+
     /// How a pixel is sampled, in a few words: `4 spp`, `corners`,
-    /// `adaptive to 2 levels`.
+    /// `adaptive to 2 levels`, `contrast, 1 to 33 spp`.
     pub fn sampling_summary(&self) -> String {
+        if let Some(c) = self.contrast_sampling() {
+            return format!("contrast, 1 to {} spp", c.max_samples);
+        }
         match (self.sampling, self.adaptive_sampling()) {
             (_, Some(a)) => format!("adaptive to {} levels", a.levels),
             (Sampling::Corners, _) => "corners".to_owned(),

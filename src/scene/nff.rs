@@ -433,6 +433,9 @@ impl<'a> Reader<'a> {
                 sampling: Sampling::Corners,
                 threshold: None,
                 max_level: None,
+                thresholds: None,
+                max_samples: None,
+                compare_trees: None,
             },
             render: RenderFile {
                 max_depth: SPD_DEPTH,

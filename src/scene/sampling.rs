@@ -22,6 +22,9 @@ pub enum Sampling {
     /// corners differ by more than a threshold split into four, again
     /// and again up to a level (`crate::scene::Adaptive`).
     Adaptive,
+    /// Mitchell's contrast sampling: four stratified samples a pixel, and
+    /// more where they differ (`crate::scene::Contrast`).
+    Contrast,
 }
 
 /// Whitted's adaptive antialiasing (docs/scene-format.md, Rays): a square

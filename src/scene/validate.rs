@@ -176,6 +176,9 @@ impl Check<'_> {
         }
         let keys = (raw.image.sampling, raw.image.threshold, raw.image.max_level);
         let adaptive = self.adaptive(&image, keys, samples)?;
+        let im = &raw.image;
+        let keys = (im.thresholds, im.max_samples, im.compare_trees);
+        let contrast = self.contrast(&image, sampling == Sampling::Contrast, keys, samples)?;
         let max_depth =
             self.int_in(&render.key("max_depth"), raw.render.max_depth, 1, MAX_DEPTH)?;
         let background = self.colour(&render.key("background"), raw.render.background)?;
@@ -263,6 +266,7 @@ impl Check<'_> {
             samples,
             sampling,
             adaptive,
+            contrast,
             srgb: raw.image.srgb,
             max_depth,
             shadows: raw.render.shadows,
@@ -300,6 +304,7 @@ fn apply_overrides(scene: &mut Scene, o: &Overrides) -> Result<()> {
         // A grid of samples is the centres sampling's (docs/scene-format.md, Rays).
         scene.sampling = Sampling::Centers;
         scene.adaptive = None;
+        scene.contrast = None;
     }
     if let Some(d) = check("--max-depth", o.max_depth, 1, MAX_DEPTH)? {
         scene.max_depth = d;

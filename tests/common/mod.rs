@@ -368,3 +368,57 @@ pub fn command_lines() -> Vec<String> {
         .map(|b| String::from_utf8_lossy(&b).replace('\0', " "))
         .collect()
 }
+
+/// Tiles and regions of `scene`'s render (3 and 7 tiles) are the whole
+/// render's pixels, bit for bit, on the CPU in f32 and, where built, on
+/// the GPU: for a sampling whose pixels depend on their neighbours'.
+pub fn regions_are_the_whole(scene: &Scene) {
+    use glint::accel::Accel;
+    let whole = glint::cpu::render::<f32>(scene);
+    #[cfg(feature = "gpu")]
+    let mut gpu = gpu();
+    #[cfg(feature = "gpu")]
+    let gpu_whole = gpu.render(scene, &|_| {}).unwrap().0;
+    for n in [3, 7] {
+        for i in 0..n {
+            let r = glint::raster::region::Region::tile(i, n, scene.width, scene.height).unwrap();
+            let part = glint::cpu::render_region::<f32>(scene, Accel::Auto, r, &|_| {});
+            #[cfg(feature = "gpu")]
+            let gpu_part = render_region(&mut gpu, scene, r);
+            for y in 0..r.height {
+                for x in 0..r.width {
+                    let want = whole.get(r.x + x, r.y + y);
+                    assert_eq!(
+                        part.get(x, y).map(f32::to_bits),
+                        want.map(f32::to_bits),
+                        "CPU tile {i} of {n} at ({x}, {y})"
+                    );
+                    #[cfg(feature = "gpu")]
+                    assert_eq!(
+                        gpu_part.get(x, y).map(f32::to_bits),
+                        gpu_whole.get(r.x + x, r.y + y).map(f32::to_bits),
+                        "GPU tile {i} of {n} at ({x}, {y})"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The scene file at `path` (under the repository) at `width`×`height`,
+/// its own sampling keys taken out of `[image]` and `keys` (TOML lines)
+/// put in.
+pub fn resampled(path: &str, width: u32, height: u32, keys: &str) -> Scene {
+    let text = std::fs::read_to_string(repo().join(path)).unwrap();
+    let text: String = text
+        .lines()
+        .filter(|l| {
+            !["samples =", "sampling =", "threshold =", "max_level ="]
+                .iter()
+                .any(|k| l.starts_with(k))
+        })
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let text = text.replace("[image]\n", &format!("[image]\n{keys}"));
+    scene_sized(&text, width, height)
+}

@@ -5,6 +5,7 @@
 use std::time::Instant;
 
 use super::{Prepared, Rendered, Stage};
+use crate::base::interface::Array;
 use crate::base::real::{Real, Vec3};
 use crate::gpu::refine;
 use crate::gpu::resident::Own;
@@ -65,12 +66,37 @@ impl Prepared {
     ) -> Result<Vec<Vec3<R>>, GpuError> {
         let n = points.len() as u32;
         let per = variant::REFINE_POINTS;
-        let invocations = n.div_ceil(per);
+        let list = refine::list(points);
+        let (pixels, more) = self.trace_list(&list, n.div_ceil(per), per, None, times)?;
+        *counts = match (counts.take(), more) {
+            (Some(a), Some(b)) => Some(Tally::merge(a, b)),
+            (a, _) => a,
+        };
+        Ok(pixels[..n as usize]
+            .iter()
+            .map(|&c| Vec3::of_rgb(c))
+            .collect())
+    }
+
+    /// Traces a list on the refinement's stage, made for this list, in
+    /// `invocations` laid out `REFINE_WIDTH` wide, each tracing at most
+    /// `rays` eye rays: adaptive sampling's points, or contrast sampling's
+    /// entries where `contrast` (its trees compared or not). What the
+    /// invocations wrote, in order, and the counts.
+    pub(super) fn trace_list(
+        &mut self,
+        list: &Array<'static>,
+        invocations: u32,
+        rays: u32,
+        contrast: Option<bool>,
+        times: &mut RenderTimes,
+    ) -> Result<(Vec<[f32; 3]>, Option<Counts>), GpuError> {
+        let per = rays.max(1);
         let width = variant::REFINE_WIDTH.min(invocations);
         let entries = Region::whole(width, invocations.div_ceil(width));
         let rows = (RAYS_PER_DISPATCH / u64::from(width * per)) as u32;
         let tile = (width, rows.clamp(1, entries.height));
-        // The list is this level's alone: the stage binds it anew, with the
+        // The list is this call's alone: the stage binds it anew, with the
         // refinement's pipeline, looked up once for this prepared scene.
         let (pipeline, variant) = match self.refine.take() {
             Some(Stage {
@@ -79,6 +105,7 @@ impl Prepared {
             None => {
                 let mut variant = self.main.variant.clone();
                 variant.refine = true;
+                variant.contrast = contrast;
                 variant.wavefront = false;
                 variant.record = false;
                 variant.aovs = false;
@@ -90,26 +117,17 @@ impl Prepared {
             }
         };
         let t0 = Instant::now();
-        let list = refine::list(points);
         let stage = Stage::new(
             &self.shared,
             pipeline,
             variant,
             &self.scene,
             tile,
-            Own::Refine(&list),
+            Own::Refine(list),
         )?;
         self.refine = Some(stage);
         times.upload_s += t0.elapsed().as_secs_f64();
         times.setup.driver_compile_s += self.compile_on_driver(true)?;
-        let (pixels, more) = self.tiles(true, entries, f64::from(per), times, &|_| {})?;
-        *counts = match (counts.take(), more) {
-            (Some(a), Some(b)) => Some(Tally::merge(a, b)),
-            (a, _) => a,
-        };
-        Ok(pixels[..n as usize]
-            .iter()
-            .map(|&c| Vec3::of_rgb(c))
-            .collect())
+        self.tiles(true, entries, f64::from(per), times, &|_| {})
     }
 }

@@ -1,0 +1,83 @@
+//! Contrast sampling of a prepared scene: level by level
+//! (`scene::contrast::refine_levels`, as the CPU runs them), each level's
+//! entries a list dispatched on the refinement's stage
+//! (shaders/contrast.glsl), whose words become the level's batches.
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use super::{Prepared, Rendered};
+use crate::base::real::{Real, Vec3};
+use crate::gpu::refine;
+use crate::gpu::times::RenderTimes;
+use crate::gpu::variant::CONTRAST_OUTPUTS;
+use crate::gpu::GpuError;
+use crate::raster::region::Region;
+use crate::raster::Image;
+use crate::scene::contrast::{refine_levels, Batch, Entry};
+use crate::scene::Contrast;
+use crate::stats::{Counts, Tally};
+
+impl Prepared {
+    /// `region` sampled as `contrast` says, with the levels' times and
+    /// counts; the host's share (listing, choosing, summing) is
+    /// `refine_s`.
+    pub(super) fn contrast<R: Real>(
+        &mut self,
+        contrast: &Contrast,
+        region: Region,
+        mut times: RenderTimes,
+    ) -> Result<Rendered, GpuError> {
+        let t0 = Instant::now();
+        let accounted = |t: &RenderTimes| {
+            t.total_s() + t.setup.compile_s + t.setup.pipeline_s + t.setup.driver_compile_s
+        };
+        let before = accounted(&times);
+        let mut counts: Option<Counts> = None;
+        let size = self.size;
+        let pixels = refine_levels(contrast, region, size, |entries| {
+            self.trace_entries::<R>(entries, contrast, &mut times, &mut counts)
+        })?;
+        let spent = accounted(&times) - before;
+        times.refine_s += (t0.elapsed().as_secs_f64() - spent).max(0.0);
+        Ok(Rendered {
+            image: Image::new(region.width, region.height, pixels),
+            times,
+            counts,
+            record: None,
+            aovs: None,
+        })
+    }
+
+    /// One level: the batches of `entries`, one invocation an entry.
+    fn trace_entries<R: Real>(
+        &mut self,
+        entries: &[Entry],
+        contrast: &Contrast,
+        times: &mut RenderTimes,
+        counts: &mut Option<Counts>,
+    ) -> Result<Vec<Batch<R>>, GpuError> {
+        let n = entries.len() as u32;
+        let rays = entries.iter().map(|e| e.count).max().unwrap_or(1);
+        let list = refine::entries(entries);
+        let trees = Some(contrast.compare_trees);
+        let (words, more) = self.trace_list(&list, n, rays, trees, times)?;
+        *counts = match (counts.take(), more) {
+            (Some(a), Some(b)) => Some(Tally::merge(a, b)),
+            (None, b) => b,
+            (a, None) => a,
+        };
+        let per = CONTRAST_OUTPUTS as usize;
+        Ok(words[..n as usize * per]
+            .par_chunks_exact(per)
+            .map(|w| Batch {
+                sum: Vec3::of_rgb(w[0]),
+                least: w[1],
+                most: w[2],
+                word: w[3][0] as u32 | (w[3][1] as u32) << 16,
+                differ: w[3][2] != 0.0,
+            })
+            .collect())
+    }
+}

@@ -1,0 +1,515 @@
+//! Contrast sampling (docs/scene-format.md, Rays), after Mitchell's
+//! "Generating antialiased images at low sampling densities" (SIGGRAPH
+//! 1987): one sample at every pixel's centre, then more, level by level,
+//! where the samples so far (the pixel's own, or with a neighbour's) pass
+//! a per-channel contrast threshold, or where their ray trees differ.
+//!
+//! What both renderers share, so that they trace the same samples and
+//! sum them alike: the keys and their checks, where each sample lies
+//! (`sample_at`), which pixels go on at each level (`Contrast::next`) and
+//! the levels themselves (`refine_levels`), which take each renderer's
+//! tracer of a list of entries (src/cpu/contrast.rs; the GPU's
+//! shaders/contrast.glsl, one invocation an entry).
+
+use rayon::prelude::*;
+
+use crate::base::real::{Real, Vec3};
+use crate::base::tally::tree_word;
+use crate::input::error::SceneError;
+use crate::input::field::{Check, Triple};
+use crate::input::locate::KeyPath;
+use crate::raster::region::Region;
+
+/// Contrast sampling's settings (`[image]`'s `thresholds`, `max_samples`
+/// and `compare_trees`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Contrast {
+    /// Per channel (r, g, b): the contrast (Imax − Imin)/(Imax + Imin)
+    /// past which a pixel takes more samples.
+    pub thresholds: [f64; 3],
+    /// The most samples a pixel takes.
+    pub max_samples: u32,
+    /// Whether a pixel whose samples' ray trees differ goes on too,
+    /// whatever their colours.
+    pub compare_trees: bool,
+}
+
+impl Contrast {
+    /// Mitchell's thresholds, for red, green and blue.
+    pub const DEFAULT_THRESHOLDS: [f64; 3] = [0.4, 0.3, 0.6];
+    /// The most samples a pixel takes where the scene does not say.
+    pub const DEFAULT_MAX_SAMPLES: u32 = 33;
+    /// The least `max_samples` may be.
+    pub const MIN_SAMPLES: u32 = 4;
+    /// The most `max_samples` may be.
+    pub const MAX_SAMPLES: u32 = 256;
+    /// The samples a pixel has after each level, before `max_samples`
+    /// caps them: the centre, then 4, 16 and 64 more (odd counts, each
+    /// centred in the pixel: `sample_at`).
+    pub const LEVELS: [u32; 4] = [1, 5, 17, 65];
+    /// A threshold is compared in units of 1/`SCALE`, in integers, so that
+    /// every renderer and precision makes the same choice from the same
+    /// quantised colours.
+    pub const SCALE: u32 = 4096;
+    /// A sample's place in its pixel is counted in units of 1/`GRID` pixel:
+    /// exact in f32 for every image size (`MAX_SIZE` · `GRID` < 2²⁴).
+    pub const GRID: u32 = 512;
+    /// The pixels around a region that its levels trace too, so that a
+    /// region's choices are the whole image's: a pixel's second level
+    /// looks at its neighbours' first, which look at theirs.
+    pub const MARGIN: u32 = 2;
+
+    /// The samples a pixel has after each level: `LEVELS` below
+    /// `max_samples`, then `max_samples`.
+    pub fn levels(&self) -> Vec<u32> {
+        let mut out: Vec<u32> = Self::LEVELS
+            .into_iter()
+            .filter(|&n| n < self.max_samples)
+            .collect();
+        out.push(self.max_samples);
+        out
+    }
+
+    /// The thresholds in units of 1/`SCALE`, rounded; one past `SCALE`
+    /// where a threshold is 1 or more (no contrast passes it).
+    pub fn scaled_thresholds(&self) -> [u32; 3] {
+        let scale = f64::from(Self::SCALE);
+        self.thresholds
+            .map(|t| (t * scale).round().clamp(0.0, scale + 1.0) as u32)
+    }
+
+    /// Whether the quantised range `lo..=hi` (per channel, in steps of
+    /// 1/255) passes the thresholds: (hi − lo)/(hi + lo) > t in a channel,
+    /// compared in integers.
+    pub fn passes(&self, lo: [u8; 3], hi: [u8; 3]) -> bool {
+        passes(&self.scaled_thresholds(), lo, hi)
+    }
+
+    /// Which of `reached`, the pixels of a `width`-wide image of `pixels`
+    /// that reached `level` (0: the centres), go on from it, by their
+    /// place: each whose own samples pass (`passes`, or differing trees
+    /// where trees are compared), and after the first two levels each
+    /// whose samples pass together with a neighbour's (any of eight after
+    /// the centres, any of four after the next): an edge a pixel's few
+    /// samples missed lies between them and a neighbour's.
+    pub fn next(&self, level: usize, pixels: &[Pixel], width: u32, reached: &[u32]) -> Vec<u32> {
+        let w = width as usize;
+        let h = pixels.len() / w.max(1);
+        let t = self.scaled_thresholds();
+        let neighbours = match level {
+            0 => &EIGHT[..],
+            1 => &EIGHT[..4],
+            _ => &[],
+        };
+        let goes = |i: usize| {
+            let p = &pixels[i];
+            if self.compare_trees && p.trees_differ || passes(&t, p.lo, p.hi) {
+                return true;
+            }
+            let (x, y) = ((i % w) as isize, (i / w) as isize);
+            neighbours.iter().any(|&(dx, dy)| {
+                let (nx, ny) = (x + dx, y + dy);
+                if nx < 0 || ny < 0 || nx >= w as isize || ny >= h as isize {
+                    return false;
+                }
+                let q = &pixels[ny as usize * w + nx as usize];
+                let lo = [0, 1, 2].map(|k| p.lo[k].min(q.lo[k]));
+                let hi = [0, 1, 2].map(|k| p.hi[k].max(q.hi[k]));
+                passes(&t, lo, hi)
+            })
+        };
+        // In order, over the threads: the first level looks at every pixel.
+        reached
+            .par_iter()
+            .copied()
+            .filter(|&i| goes(i as usize))
+            .collect()
+    }
+}
+
+/// `Contrast::passes` with the thresholds `t` scaled.
+fn passes(t: &[u32; 3], lo: [u8; 3], hi: [u8; 3]) -> bool {
+    (0..3).any(|c| {
+        let (lo, hi) = (u32::from(lo[c]), u32::from(hi[c]));
+        hi > lo && (hi - lo) * Contrast::SCALE > t[c] * (hi + lo)
+    })
+}
+
+/// A pixel's neighbours, the four that share an edge first.
+const EIGHT: [(isize, isize); 8] = [
+    (-1, 0),
+    (1, 0),
+    (0, -1),
+    (0, 1),
+    (-1, -1),
+    (1, -1),
+    (-1, 1),
+    (1, 1),
+];
+
+/// Sample `k` of a pixel: its place from the pixel's top-left corner, in
+/// units of 1/`Contrast::GRID` pixel. Sample 0 is the centre; the others
+/// come in pairs mirrored through it, so that every odd count of samples
+/// is centred in the pixel (a sample set off-centre moves every edge it
+/// sees). The first of each pair is a point of the Sobol (0,2) sequence,
+/// moved off the lattice by an offset that shrinks as the pairs get
+/// denser: the first two pairs are a rotated grid, each row and column of
+/// a 4×4 grid once. Mirrors sample_at() in shaders/contrast.glsl.
+pub fn sample_at(k: u32) -> (u32, u32) {
+    if k == 0 {
+        return (Contrast::GRID / 2, Contrast::GRID / 2);
+    }
+    let j = (k - 1) / 2;
+    let offset = match j {
+        0..2 => 64,
+        2..8 => 16,
+        8..32 => 4,
+        _ => 1,
+    };
+    let (sx, sy) = sobol(j);
+    let x = (2 * sx + offset) % Contrast::GRID;
+    let y = (2 * sy + 3 * offset) % Contrast::GRID;
+    if k % 2 == 1 {
+        (x, y)
+    } else {
+        (Contrast::GRID - x, Contrast::GRID - y)
+    }
+}
+
+/// Point `k` (< 256) of the Sobol (0,2) sequence, both coordinates in
+/// units of 1/256: the van der Corput radical inverse and Sobol's second
+/// dimension, whose first 2^m points are stratified in every 2^-a × 2^-b
+/// box with a + b = m.
+pub fn sobol(k: u32) -> (u32, u32) {
+    let x = (k & 0xff).reverse_bits() >> 24;
+    let (mut y, mut v) = (0, 0x80);
+    for bit in 0..8 {
+        if k >> bit & 1 == 1 {
+            y ^= v;
+        }
+        v ^= v >> 1;
+    }
+    (x, y)
+}
+
+/// Samples `first..first + count` of pixel (x, y) of the image: what a
+/// renderer traces for one entry of a level's list.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Entry {
+    /// The pixel's column in the image.
+    pub x: u32,
+    /// The pixel's row in the image.
+    pub y: u32,
+    /// The first sample's index (`sample_at`).
+    pub first: u32,
+    /// How many samples.
+    pub count: u32,
+}
+
+/// What an entry's samples gave: their colours' sum, in sample order;
+/// per channel their least and greatest colour clamped to 0..=1; the
+/// first sample's tree word (`tree_word`) and whether the others' differ
+/// from it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Batch<R> {
+    /// The sum of the samples' colours, the first first.
+    pub sum: Vec3<R>,
+    /// The least clamped value per channel.
+    pub least: [f32; 3],
+    /// The greatest clamped value per channel.
+    pub most: [f32; 3],
+    /// The first sample's tree word.
+    pub word: u32,
+    /// Whether another sample's tree word differs from the first's.
+    pub differ: bool,
+}
+
+/// A pixel's samples so far, for the next level's choice.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pixel {
+    /// How many it has.
+    pub samples: u32,
+    /// Per channel, the least of its samples' clamped values, in steps of
+    /// 1/255 (rounded to the nearest: quantising is monotonic, so this is
+    /// the least of the samples' quantised values).
+    pub lo: [u8; 3],
+    /// Per channel, the greatest, as `lo`.
+    pub hi: [u8; 3],
+    /// The first sample's tree word.
+    pub word: u32,
+    /// Whether two of its samples' trees differ.
+    pub trees_differ: bool,
+}
+
+impl Pixel {
+    /// A pixel with no samples yet.
+    const EMPTY: Pixel = Pixel {
+        samples: 0,
+        lo: [u8::MAX; 3],
+        hi: [0; 3],
+        word: tree_word::BASIS,
+        trees_differ: false,
+    };
+
+    /// The pixel with one more batch of `count` samples.
+    fn add<R>(&mut self, b: &Batch<R>, count: u32) {
+        if self.samples == 0 {
+            self.word = b.word;
+        }
+        self.trees_differ |= b.differ || b.word != self.word;
+        let (least, most) = (b.least.map(quantise), b.most.map(quantise));
+        self.lo = [0, 1, 2].map(|c| self.lo[c].min(least[c]));
+        self.hi = [0, 1, 2].map(|c| self.hi[c].max(most[c]));
+        self.samples += count;
+    }
+}
+
+/// A colour value in 0..=1 in steps of 1/255, rounded to the nearest.
+fn quantise(v: f32) -> u8 {
+    (f64::from(v).clamp(0.0, 1.0) * 255.0 + 0.5).floor() as u8
+}
+
+/// The colours of `region` of a `size` image, sampled so: each level's
+/// entries traced by `trace` (their batches in the entries' order), over
+/// the region and `Contrast::MARGIN` pixels around it within the image,
+/// so that a region's pixels are the whole image's. Each pixel's colour is
+/// the sum of its batches, in order, times one over its samples.
+pub fn refine_levels<R: Real, E>(
+    contrast: &Contrast,
+    region: Region,
+    size: (u32, u32),
+    mut trace: impl FnMut(&[Entry]) -> Result<Vec<Batch<R>>, E>,
+) -> Result<Vec<[f32; 3]>, E> {
+    let m = Contrast::MARGIN;
+    let (x0, y0) = (region.x.saturating_sub(m), region.y.saturating_sub(m));
+    let x1 = (region.x + region.width + m).min(size.0);
+    let y1 = (region.y + region.height + m).min(size.1);
+    let (w, h) = (x1 - x0, y1 - y0);
+    let mut pixels = vec![Pixel::EMPTY; (w * h) as usize];
+    let mut sums = vec![Vec3::<R>::zero(); (w * h) as usize];
+    let mut going: Vec<u32> = (0..w * h).collect();
+    let levels = contrast.levels();
+    for (level, &reach) in levels.iter().enumerate() {
+        // One entry a pixel: its new samples, summed in order on either
+        // renderer, then added to its sum.
+        let entries: Vec<Entry> = going
+            .iter()
+            .map(|&i| Entry {
+                x: x0 + i % w,
+                y: y0 + i / w,
+                first: pixels[i as usize].samples,
+                count: reach - pixels[i as usize].samples,
+            })
+            .collect();
+        let batches = trace(&entries)?;
+        // Each pixel once a level: its new state made over the threads,
+        // then put in place.
+        let added: Vec<(Pixel, Vec3<R>)> = going
+            .par_iter()
+            .zip(&entries)
+            .zip(&batches)
+            .map(|((&i, e), b)| {
+                let mut p = pixels[i as usize];
+                p.add(b, e.count);
+                (p, sums[i as usize] + b.sum)
+            })
+            .collect();
+        for (&i, (p, sum)) in going.iter().zip(added) {
+            pixels[i as usize] = p;
+            sums[i as usize] = sum;
+        }
+        if level + 1 == levels.len() {
+            break;
+        }
+        going = contrast.next(level, &pixels, w, &going);
+        if going.is_empty() {
+            break;
+        }
+    }
+    let mut out = Vec::with_capacity(region.pixel_count() as usize);
+    for y in region.y..region.y + region.height {
+        for x in region.x..region.x + region.width {
+            let i = ((y - y0) * w + (x - x0)) as usize;
+            let n = R::of(f64::from(pixels[i].samples));
+            out.push((sums[i] * (R::one() / n)).to_rgb());
+        }
+    }
+    Ok(out)
+}
+
+impl Check<'_> {
+    /// `[image]`'s contrast sampling: its thresholds (default Mitchell's
+    /// 0.4, 0.3, 0.6, each ≥ 0), its `max_samples` (default 33, 4..=256)
+    /// and `compare_trees` (default true); the keys are refused for
+    /// another sampling.
+    pub(crate) fn contrast(
+        &self,
+        path: &KeyPath,
+        contrast: bool,
+        (thresholds, max_samples, compare_trees): (Option<Triple>, Option<i64>, Option<bool>),
+        samples: u32,
+    ) -> Result<Option<Contrast>, SceneError> {
+        if !contrast {
+            for (key, given) in [
+                ("thresholds", thresholds.is_some()),
+                ("max_samples", max_samples.is_some()),
+                ("compare_trees", compare_trees.is_some()),
+            ] {
+                if given {
+                    return self.err(&path.key(key), "only sampling = \"contrast\" takes it");
+                }
+            }
+            return Ok(None);
+        }
+        if samples != 1 {
+            return self.err(
+                &path.key("sampling"),
+                format!("\"contrast\" places its own samples: it takes samples = 1, got {samples}"),
+            );
+        }
+        let thresholds = thresholds.map_or(Contrast::DEFAULT_THRESHOLDS, |t| t.0);
+        for (i, t) in thresholds.iter().enumerate() {
+            let at = path.key("thresholds").index(i);
+            let t = self.finite(&at, *t)?;
+            if t < 0.0 {
+                return self.err(&at, format!("must be >= 0, got {t}"));
+            }
+        }
+        let max_samples = self.int_in(
+            &path.key("max_samples"),
+            max_samples.unwrap_or(i64::from(Contrast::DEFAULT_MAX_SAMPLES)),
+            Contrast::MIN_SAMPLES,
+            Contrast::MAX_SAMPLES,
+        )?;
+        Ok(Some(Contrast {
+            thresholds,
+            max_samples,
+            compare_trees: compare_trees.unwrap_or(true),
+        }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The first 2^m points are stratified in x and in y: each of the 2^m
+    /// columns and rows holds one.
+    #[test]
+    fn the_sequence_is_stratified_in_every_power_of_two_prefix() {
+        for m in 0..=8 {
+            let n = 1u32 << m;
+            let (mut xs, mut ys): (Vec<u32>, Vec<u32>) = (0..n)
+                .map(sobol)
+                .map(|(x, y)| (x * n / 256, y * n / 256))
+                .unzip();
+            xs.sort_unstable();
+            ys.sort_unstable();
+            assert_eq!(xs, (0..n).collect::<Vec<_>>(), "columns of {n}");
+            assert_eq!(ys, (0..n).collect::<Vec<_>>(), "rows of {n}");
+        }
+    }
+
+    /// Every odd count of samples is centred in the pixel, every sample
+    /// lies inside it, and no two coincide; the first five are the centre
+    /// and a rotated grid.
+    #[test]
+    fn odd_counts_of_samples_are_centred_in_the_pixel() {
+        let all: Vec<_> = (0..Contrast::MAX_SAMPLES).map(sample_at).collect();
+        for n in (1..=Contrast::MAX_SAMPLES).step_by(2) {
+            let (sx, sy) = all[..n as usize]
+                .iter()
+                .fold((0, 0), |(a, b), (x, y)| (a + x, b + y));
+            assert_eq!((sx, sy), (n * 256, n * 256), "{n} samples");
+        }
+        assert!(all
+            .iter()
+            .all(|&(x, y)| (1..512).contains(&x) && (1..512).contains(&y)));
+        let mut distinct = all.clone();
+        distinct.sort_unstable();
+        distinct.dedup();
+        assert_eq!(distinct.len(), all.len());
+        let mut columns: Vec<_> = all[1..5].iter().map(|p| p.0 / 128).collect();
+        let mut rows: Vec<_> = all[1..5].iter().map(|p| p.1 / 128).collect();
+        columns.sort_unstable();
+        rows.sort_unstable();
+        assert_eq!((columns, rows), (vec![0, 1, 2, 3], vec![0, 1, 2, 3]));
+    }
+
+    fn contrast(compare_trees: bool) -> Contrast {
+        Contrast {
+            thresholds: [0.4, 0.3, 0.6],
+            max_samples: 33,
+            compare_trees,
+        }
+    }
+
+    /// Mitchell's contrast, per channel, in integers: a range passes only
+    /// above its channel's threshold.
+    #[test]
+    fn the_contrast_test_compares_each_channel_with_its_threshold() {
+        let c = contrast(false);
+        // (hi − lo)/(hi + lo): 60/140 = 0.43 > 0.4 in red.
+        assert!(c.passes([40, 0, 0], [100, 0, 0]));
+        // 40/160 = 0.25 < 0.4.
+        assert!(!c.passes([60, 0, 0], [100, 0, 0]));
+        // The same range passes green's 0.3 but not blue's 0.6.
+        assert!(c.passes([0, 40, 0], [0, 100, 0]));
+        assert!(!c.passes([0, 0, 40], [0, 0, 100]));
+        // Black everywhere: no contrast.
+        assert!(!c.passes([0; 3], [0; 3]));
+        assert_eq!(c.levels(), vec![1, 5, 17, 33]);
+        assert_eq!(
+            Contrast {
+                max_samples: 4,
+                ..c
+            }
+            .levels(),
+            vec![1, 4]
+        );
+        assert_eq!(
+            Contrast {
+                max_samples: 65,
+                ..c
+            }
+            .levels(),
+            vec![1, 5, 17, 65]
+        );
+    }
+
+    fn pixel(v: u8, samples: u32, trees_differ: bool) -> Pixel {
+        Pixel {
+            samples,
+            lo: [v; 3],
+            hi: [v; 3],
+            word: 0,
+            trees_differ,
+        }
+    }
+
+    /// Every pixel of `image`, as the pixels that reached a level.
+    fn all(image: &[Pixel]) -> Vec<u32> {
+        (0..image.len() as u32).collect()
+    }
+
+    /// After the centres a pixel goes on where a neighbour of eight
+    /// differs from it; after the next level, one of four; after that,
+    /// only where its own samples differ.
+    #[test]
+    fn the_neighbours_a_pixel_looks_at_narrow_level_by_level() {
+        let c = contrast(false);
+        // A 3×3 image, the bottom-right pixel bright.
+        let mut image: Vec<Pixel> = (0..9).map(|_| pixel(50, 1, false)).collect();
+        image[8] = pixel(230, 1, false);
+        assert_eq!(c.next(0, &image, 3, &all(&image)), vec![4, 5, 7, 8]);
+        assert_eq!(c.next(1, &image, 3, &all(&image)), vec![5, 7, 8]);
+        assert_eq!(c.next(2, &image, 3, &all(&image)), Vec::<u32>::new());
+        // Only the pixels that reached the level are looked at.
+        assert_eq!(c.next(0, &image, 3, &[0, 4, 8]), vec![4, 8]);
+        // Differing trees send a pixel on where trees are compared.
+        let mut trees = image.clone();
+        trees[0].trees_differ = true;
+        assert_eq!(c.next(2, &trees, 3, &all(&trees)), Vec::<u32>::new());
+        assert_eq!(contrast(true).next(2, &trees, 3, &all(&trees)), vec![0]);
+    }
+}

@@ -1,0 +1,198 @@
+//! Contrast sampling (docs/scene-format.md, Rays): both renderers sample
+//! alike and near the f64 reference, a contrast nothing passes is the
+//! centres' image bit for bit, more samples bring the image nearer a
+//! converged one, regions are the whole render bit for bit, the GPU counts
+//! as the CPU does, and bad keys are named.
+
+mod common;
+
+use glint::cpu;
+use glint::raster::diff::figures;
+use glint::raster::Image;
+use glint::scene::{Overrides, Sampling, Scene};
+
+/// `path` at `width`×`height`, sampled by contrast with `threshold` in
+/// every channel and at most `max_samples` a pixel.
+fn contrast(path: &str, width: u32, height: u32, threshold: f64, max_samples: u32) -> Scene {
+    contrast_with(path, width, height, threshold, max_samples, true)
+}
+
+fn contrast_with(
+    path: &str,
+    width: u32,
+    height: u32,
+    threshold: f64,
+    max_samples: u32,
+    compare_trees: bool,
+) -> Scene {
+    let t = threshold;
+    let keys = format!(
+        "sampling = \"contrast\"\nthresholds = [{t}, {t}, {t}]\n\
+         max_samples = {max_samples}\ncompare_trees = {compare_trees}\n"
+    );
+    let scene = common::resampled(path, width, height, &keys);
+    assert_eq!(scene.sampling, Sampling::Contrast);
+    scene
+}
+
+/// The GPU and CPU f32 agree with the f64 reference, on the Whitted scene
+/// and the showcase; a scene perturbed by 1 % of a sphere's radius does
+/// not, so the comparison can fail.
+#[test]
+fn both_renderers_sample_alike() {
+    for (path, w, h) in [
+        ("scenes/whitted-1980.toml", 160, 120),
+        ("scenes/showcase.toml", 160, 120),
+    ] {
+        let scene = contrast(path, w, h, 0.05, 17);
+        let reference = cpu::render::<f64>(&scene);
+        let f32_image = cpu::render::<f32>(&scene);
+        assert!(common::passes(&f32_image, &reference), "{path}: CPU f32");
+        if let Some(gpu) = common::render_gpu_if_built(&scene) {
+            let f = figures(&gpu, &reference).unwrap();
+            assert!(common::passes(&gpu, &reference), "{path}: GPU f32 {f:?}");
+        }
+        let mut perturbed = scene.clone();
+        perturbed.prims.spheres[0].radius *= 1.01;
+        let moved = common::render_gpu_if_built(&perturbed)
+            .unwrap_or_else(|| cpu::render::<f32>(&perturbed));
+        assert!(!common::passes(&moved, &reference), "{path}: perturbed");
+    }
+}
+
+/// Where no contrast passes and trees are not compared, every pixel keeps
+/// its centre sample: the image of one sample a pixel, bit for bit, on
+/// both renderers.
+#[test]
+fn a_contrast_nothing_passes_is_the_centres_image() {
+    let scene = contrast_with("scenes/whitted-1980.toml", 64, 48, 9.0, 33, false);
+    let mut centres = scene.clone();
+    centres.sampling = Sampling::Centers;
+    centres.contrast = None;
+    assert!(common::same_bits(
+        &cpu::render::<f32>(&scene),
+        &cpu::render::<f32>(&centres)
+    ));
+    if let (Some(a), Some(b)) = (
+        common::render_gpu_if_built(&scene),
+        common::render_gpu_if_built(&centres),
+    ) {
+        assert!(common::same_bits(&a, &b));
+    }
+}
+
+/// More samples where pixels differ bring the image nearer a converged
+/// one (16×16 uniform samples) than the centres alone; more levels
+/// nearer still.
+#[test]
+fn more_samples_bring_the_image_nearer_a_converged_one() {
+    let path = "scenes/whitted-1980.toml";
+    let converged = {
+        let text = std::fs::read_to_string(common::repo().join(path)).unwrap();
+        let mut s = common::scene_sized(&text, 96, 72);
+        s.samples = 16;
+        s.sampling = Sampling::Centers;
+        s.adaptive = None;
+        cpu::render::<f64>(&s)
+    };
+    let rmse = |i: &Image| figures(i, &converged).unwrap().rmse;
+    let centres = cpu::render::<f64>(&contrast_with(path, 96, 72, 9.0, 33, false));
+    let five = cpu::render::<f64>(&contrast(path, 96, 72, 0.05, 5));
+    let more = cpu::render::<f64>(&contrast(path, 96, 72, 0.05, 65));
+    assert!(
+        rmse(&five) < rmse(&centres),
+        "{} against {}",
+        rmse(&five),
+        rmse(&centres)
+    );
+    assert!(
+        rmse(&more) < rmse(&five),
+        "{} against {}",
+        rmse(&more),
+        rmse(&five)
+    );
+}
+
+/// Tiles and regions of a contrast render are the whole render, bit for
+/// bit, on both renderers.
+#[test]
+fn regions_are_the_whole_render_bit_for_bit() {
+    let scene = contrast("scenes/whitted-1980.toml", 67, 61, 0.05, 17);
+    common::regions_are_the_whole(&scene);
+}
+
+/// The GPU counts the levels' eye rays as the CPU does: more than one a
+/// pixel, fewer than the most.
+#[cfg(feature = "gpu")]
+#[test]
+fn the_levels_are_counted_alike() {
+    let scene = contrast("scenes/whitted-1980.toml", 80, 60, 0.05, 17);
+    let (_, cpu_counts) = cpu::render_counted::<f32>(&scene, glint::accel::Accel::Auto, &|_| {});
+    let (_, gpu_counts) = common::render_counted(&mut common::gpu(), &scene);
+    let (c, g) = (cpu_counts.rays(), gpu_counts.rays());
+    assert!(c.eye > 80 * 60 && c.eye < 80 * 60 * 17, "{c:?}");
+    let off = (c.eye as f64 - g.eye as f64).abs() / c.eye as f64;
+    assert!(off <= 0.001, "{c:?} against {g:?}");
+}
+
+#[test]
+fn bad_contrast_keys_are_named() {
+    let head = "[image]\nwidth = 8\nheight = 6\n";
+    let tail = "[camera]\neye = [0.0, 0.0, 5.0]\nlook_at = [0.0, 0.0, 0.0]\nvfov = 40.0\n";
+    let on = "sampling = \"contrast\"\n";
+    for (image, key, words) in [
+        (
+            "thresholds = [0.1, 0.1, 0.1]\n".to_owned(),
+            "image.thresholds",
+            "only sampling = \"contrast\"",
+        ),
+        (
+            "sampling = \"adaptive\"\nmax_samples = 9\n".to_owned(),
+            "image.max_samples",
+            "only sampling = \"contrast\"",
+        ),
+        (
+            "compare_trees = false\n".to_owned(),
+            "image.compare_trees",
+            "only sampling = \"contrast\"",
+        ),
+        (
+            format!("{on}max_samples = 3\n"),
+            "image.max_samples",
+            "must be in 4..=256",
+        ),
+        (
+            format!("{on}max_samples = 257\n"),
+            "image.max_samples",
+            "must be in 4..=256",
+        ),
+        (
+            format!("{on}thresholds = [0.1, -0.2, 0.1]\n"),
+            "image.thresholds[1]",
+            "must be >= 0",
+        ),
+        (
+            format!("{on}thresholds = [0.1, 0.2]\n"),
+            "thresholds",
+            "exactly three numbers",
+        ),
+        (
+            format!("{on}samples = 2\n"),
+            "image.sampling",
+            "takes samples = 1",
+        ),
+    ] {
+        let text = format!("{head}{image}{tail}");
+        let msg = match glint::scene::parse(
+            &text,
+            std::path::Path::new("bad.toml"),
+            &Overrides::default(),
+        ) {
+            Ok(_) => panic!("accepted:\n{text}"),
+            Err(e) => e.to_string(),
+        };
+        assert!(msg.starts_with("bad.toml:"), "{msg}");
+        assert!(msg.contains(key), "expected {key}: {msg}");
+        assert!(msg.contains(words), "expected {words:?}: {msg}");
+    }
+}
