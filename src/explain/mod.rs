@@ -128,7 +128,7 @@ pub fn samples(
                 traced: [x + c % 2, y + c / 2, 0, 0],
             })
             .collect(),
-        _ => {
+        Sampling::Centers => {
             let n = scene.samples;
             (0..n * n)
                 .map(|s| Sample {

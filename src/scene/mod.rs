@@ -150,13 +150,17 @@ impl Scene {
     /// How a pixel is sampled, in a few words: `4 spp`, `corners`,
     /// `adaptive to 2 levels`, `contrast, 1 to 33 spp`.
     pub fn sampling_summary(&self) -> String {
-        if let Some(c) = self.contrast_sampling() {
-            return format!("contrast, 1 to {} spp", c.max_samples);
-        }
-        match (self.sampling, self.adaptive_sampling()) {
-            (_, Some(a)) => format!("adaptive to {} levels", a.levels),
-            (Sampling::Corners, _) => "corners".to_owned(),
-            _ => format!("{} spp", self.samples * self.samples),
+        match self.sampling {
+            Sampling::Centers => format!("{} spp", self.samples * self.samples),
+            Sampling::Corners => "corners".to_owned(),
+            Sampling::Adaptive => {
+                let levels = self.adaptive_sampling().map_or(0, |a| a.levels);
+                format!("adaptive to {levels} levels")
+            }
+            Sampling::Contrast => {
+                let most = self.contrast_sampling().map_or(0, |c| c.max_samples);
+                format!("contrast, 1 to {most} spp")
+            }
         }
     }
 }
