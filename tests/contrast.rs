@@ -172,6 +172,26 @@ fn bad_contrast_keys_are_named() {
             "must be >= 0",
         ),
         (
+            format!("{on}thresholds = [nan, 0.1, 0.1]\n"),
+            "image.thresholds[0]",
+            "must be a finite number",
+        ),
+        (
+            format!("{on}thresholds = [0.1, 0.1, inf]\n"),
+            "image.thresholds[2]",
+            "must be a finite number",
+        ),
+        (
+            format!("{on}thresholds = []\n"),
+            "thresholds",
+            "exactly three numbers",
+        ),
+        (
+            format!("{on}max_samples = 99999999999\n"),
+            "image.max_samples",
+            "must be in 4..=256",
+        ),
+        (
             format!("{on}thresholds = [0.1, 0.2]\n"),
             "thresholds",
             "exactly three numbers",

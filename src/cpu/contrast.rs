@@ -3,8 +3,6 @@
 //! GPU runs too; this file traces a level's entries over the threads.
 //! Mirrors shaders/contrast.glsl.
 
-use std::sync::Mutex;
-
 use rayon::prelude::*;
 
 use super::ray::ray_through;
@@ -27,7 +25,7 @@ pub fn render<R: Real, T: Tally>(
     contrast: &Contrast,
     progress: &(dyn Fn(u64) + Sync),
 ) -> (Image, T) {
-    let counts = Mutex::new(T::default());
+    let mut counts = T::default();
     let trace_entries = |entries: &[Entry]| {
         let parts: Vec<(Vec<Batch<R>>, T)> = entries
             .par_chunks(64)
@@ -42,16 +40,14 @@ pub fn render<R: Real, T: Tally>(
             })
             .collect();
         let mut batches = Vec::with_capacity(entries.len());
-        let mut counts = counts.lock().expect("no thread panicked");
         for (b, t) in parts {
             batches.extend(b);
-            *counts = std::mem::take(&mut *counts).merge(t);
+            counts = std::mem::take(&mut counts).merge(t);
         }
         Ok::<_, std::convert::Infallible>(batches)
     };
     let Ok(pixels) = refine_levels(contrast, region, (w.width, w.height), trace_entries);
     progress(u64::from(region.height));
-    let counts = counts.into_inner().expect("no thread panicked");
     (Image::new(region.width, region.height, pixels), counts)
 }
 

@@ -34,6 +34,18 @@ pub struct Contrast {
     pub compare_trees: bool,
 }
 
+impl Default for Contrast {
+    /// Mitchell's thresholds, `DEFAULT_MAX_SAMPLES`, trees compared: what
+    /// a scene file that gives none of the keys samples with.
+    fn default() -> Self {
+        Self {
+            thresholds: Self::DEFAULT_THRESHOLDS,
+            max_samples: Self::DEFAULT_MAX_SAMPLES,
+            compare_trees: true,
+        }
+    }
+}
+
 impl Contrast {
     /// Mitchell's thresholds, for red, green and blue.
     pub const DEFAULT_THRESHOLDS: [f64; 3] = [0.4, 0.3, 0.6];
@@ -350,16 +362,12 @@ impl Check<'_> {
         samples: u32,
     ) -> Result<Option<Contrast>, SceneError> {
         if !contrast {
-            for (key, given) in [
+            let given = [
                 ("thresholds", thresholds.is_some()),
                 ("max_samples", max_samples.is_some()),
                 ("compare_trees", compare_trees.is_some()),
-            ] {
-                if given {
-                    return self.err(&path.key(key), "only sampling = \"contrast\" takes it");
-                }
-            }
-            return Ok(None);
+            ];
+            return self.none_given(path, "contrast", &given).map(|()| None);
         }
         if samples != 1 {
             return self.err(
@@ -367,7 +375,8 @@ impl Check<'_> {
                 format!("\"contrast\" places its own samples: it takes samples = 1, got {samples}"),
             );
         }
-        let thresholds = thresholds.map_or(Contrast::DEFAULT_THRESHOLDS, |t| t.0);
+        let defaults = Contrast::default();
+        let thresholds = thresholds.map_or(defaults.thresholds, |t| t.0);
         for (i, t) in thresholds.iter().enumerate() {
             let at = path.key("thresholds").index(i);
             let t = self.finite(&at, *t)?;
@@ -377,14 +386,14 @@ impl Check<'_> {
         }
         let max_samples = self.int_in(
             &path.key("max_samples"),
-            max_samples.unwrap_or(i64::from(Contrast::DEFAULT_MAX_SAMPLES)),
+            max_samples.unwrap_or(i64::from(defaults.max_samples)),
             Contrast::MIN_SAMPLES,
             Contrast::MAX_SAMPLES,
         )?;
         Ok(Some(Contrast {
             thresholds,
             max_samples,
-            compare_trees: compare_trees.unwrap_or(true),
+            compare_trees: compare_trees.unwrap_or(defaults.compare_trees),
         }))
     }
 }

@@ -138,13 +138,7 @@ impl Scene {
     /// contrast, `contrast` (or the defaults, where a scene made in code
     /// left it out); else none.
     pub fn contrast_sampling(&self) -> Option<Contrast> {
-        (self.sampling == Sampling::Contrast).then(|| {
-            self.contrast.unwrap_or(Contrast {
-                thresholds: Contrast::DEFAULT_THRESHOLDS,
-                max_samples: Contrast::DEFAULT_MAX_SAMPLES,
-                compare_trees: true,
-            })
-        })
+        (self.sampling == Sampling::Contrast).then(|| self.contrast.unwrap_or_default())
     }
 
     /// How a pixel is sampled, in a few words: `4 spp`, `corners`,

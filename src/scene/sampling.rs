@@ -22,8 +22,9 @@ pub enum Sampling {
     /// corners differ by more than a threshold split into four, again
     /// and again up to a level (`crate::scene::Adaptive`).
     Adaptive,
-    /// Mitchell's contrast sampling: four stratified samples a pixel, and
-    /// more where they differ (`crate::scene::Contrast`).
+    /// Mitchell's contrast sampling: one sample at each pixel's centre,
+    /// then more, level by level, where they or a neighbour's differ
+    /// (`crate::scene::Contrast`).
     Contrast,
 }
 
@@ -85,6 +86,23 @@ impl Adaptive {
 }
 
 impl Check<'_> {
+    /// Refuses the first of `given`, `[image]`'s keys that only `sampling
+    /// = "<sampling>"` takes, that the file gives: for another sampling.
+    pub(crate) fn none_given(
+        &self,
+        path: &KeyPath,
+        sampling: &str,
+        given: &[(&str, bool)],
+    ) -> Result<(), SceneError> {
+        match given.iter().find(|(_, given)| *given) {
+            Some((key, _)) => self.err(
+                &path.key(key),
+                format!("only sampling = \"{sampling}\" takes it"),
+            ),
+            None => Ok(()),
+        }
+    }
+
     /// `[image]`'s adaptive sampling: its threshold (default 0.1, ≥ 0) and
     /// its levels (default 2, 1..=4); those keys are refused for another
     /// sampling.
@@ -96,15 +114,11 @@ impl Check<'_> {
         samples: u32,
     ) -> Result<Option<Adaptive>, SceneError> {
         if sampling != Sampling::Adaptive {
-            for (key, given) in [
+            let given = [
                 ("threshold", threshold.is_some()),
                 ("max_level", max_level.is_some()),
-            ] {
-                if given {
-                    return self.err(&path.key(key), "only sampling = \"adaptive\" takes it");
-                }
-            }
-            return Ok(None);
+            ];
+            return self.none_given(path, "adaptive", &given).map(|()| None);
         }
         if samples != 1 {
             return self.err(

@@ -3,10 +3,9 @@
 //! entries a list dispatched on the refinement's stage
 //! (shaders/contrast.glsl), whose words become the level's batches.
 
-use std::time::Instant;
-
 use rayon::prelude::*;
 
+use super::refinement::HostShare;
 use super::{Prepared, Rendered};
 use crate::base::real::{Real, Vec3};
 use crate::gpu::refine;
@@ -17,7 +16,7 @@ use crate::raster::region::Region;
 use crate::raster::Image;
 use crate::scene::contrast::{refine_levels, Batch, Entry};
 use crate::scene::Contrast;
-use crate::stats::{Counts, Tally};
+use crate::stats::Counts;
 
 impl Prepared {
     /// `region` sampled as `contrast` says, with the levels' times and
@@ -29,18 +28,13 @@ impl Prepared {
         region: Region,
         mut times: RenderTimes,
     ) -> Result<Rendered, GpuError> {
-        let t0 = Instant::now();
-        let accounted = |t: &RenderTimes| {
-            t.total_s() + t.setup.compile_s + t.setup.pipeline_s + t.setup.driver_compile_s
-        };
-        let before = accounted(&times);
+        let host = HostShare::start(&times);
         let mut counts: Option<Counts> = None;
         let size = self.size;
         let pixels = refine_levels(contrast, region, size, |entries| {
             self.trace_entries::<R>(entries, contrast, &mut times, &mut counts)
         })?;
-        let spent = accounted(&times) - before;
-        times.refine_s += (t0.elapsed().as_secs_f64() - spent).max(0.0);
+        host.end(&mut times);
         Ok(Rendered {
             image: Image::new(region.width, region.height, pixels),
             times,
@@ -62,12 +56,7 @@ impl Prepared {
         let rays = entries.iter().map(|e| e.count).max().unwrap_or(1);
         let list = refine::entries(entries);
         let trees = Some(contrast.compare_trees);
-        let (words, more) = self.trace_list(&list, n, rays, trees, times)?;
-        *counts = match (counts.take(), more) {
-            (Some(a), Some(b)) => Some(Tally::merge(a, b)),
-            (None, b) => b,
-            (a, None) => a,
-        };
+        let words = self.trace_list(&list, n, rays, trees, times, counts)?;
         let per = CONTRAST_OUTPUTS as usize;
         Ok(words[..n as usize * per]
             .par_chunks_exact(per)

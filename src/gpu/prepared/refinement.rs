@@ -32,13 +32,7 @@ impl Prepared {
         region: Region,
         rendered: &mut Rendered,
     ) -> Result<(), GpuError> {
-        let t0 = Instant::now();
-        // What the levels' dispatches, readbacks, uploads and compiles take,
-        // so far: the rest of this call is the refinement's host work.
-        let accounted = |t: &RenderTimes| {
-            t.total_s() + t.setup.compile_s + t.setup.pipeline_s + t.setup.driver_compile_s
-        };
-        let before = accounted(&rendered.times);
+        let host = HostShare::start(&rendered.times);
         let threshold = R::of(adaptive.threshold_steps());
         let (times, counts) = (&mut rendered.times, &mut rendered.counts);
         let image = &mut rendered.image;
@@ -50,8 +44,7 @@ impl Prepared {
             |points| self.trace_points::<R>(points, times, counts),
             |place, v: Vec3<R>| image.pixels[place] = v.to_rgb(),
         )?;
-        let spent = accounted(&rendered.times) - before;
-        rendered.times.refine_s += (t0.elapsed().as_secs_f64() - spent).max(0.0);
+        host.end(&mut rendered.times);
         Ok(())
     }
 
@@ -67,11 +60,7 @@ impl Prepared {
         let n = points.len() as u32;
         let per = variant::REFINE_POINTS;
         let list = refine::list(points);
-        let (pixels, more) = self.trace_list(&list, n.div_ceil(per), per, None, times)?;
-        *counts = match (counts.take(), more) {
-            (Some(a), Some(b)) => Some(Tally::merge(a, b)),
-            (a, _) => a,
-        };
+        let pixels = self.trace_list(&list, n.div_ceil(per), per, None, times, counts)?;
         Ok(pixels[..n as usize]
             .iter()
             .map(|&c| Vec3::of_rgb(c))
@@ -82,7 +71,7 @@ impl Prepared {
     /// `invocations` laid out `REFINE_WIDTH` wide, each tracing at most
     /// `rays` eye rays: adaptive sampling's points, or contrast sampling's
     /// entries where `contrast` (its trees compared or not). What the
-    /// invocations wrote, in order, and the counts.
+    /// invocations wrote, in order; their counts join `counts`.
     pub(super) fn trace_list(
         &mut self,
         list: &Array<'static>,
@@ -90,7 +79,8 @@ impl Prepared {
         rays: u32,
         contrast: Option<bool>,
         times: &mut RenderTimes,
-    ) -> Result<(Vec<[f32; 3]>, Option<Counts>), GpuError> {
+        counts: &mut Option<Counts>,
+    ) -> Result<Vec<[f32; 3]>, GpuError> {
         let per = rays.max(1);
         let width = variant::REFINE_WIDTH.min(invocations);
         let entries = Region::whole(width, invocations.div_ceil(width));
@@ -128,6 +118,40 @@ impl Prepared {
         self.refine = Some(stage);
         times.upload_s += t0.elapsed().as_secs_f64();
         times.setup.driver_compile_s += self.compile_on_driver(true)?;
-        self.tiles(true, entries, f64::from(per), times, &|_| {})
+        let (words, more) = self.tiles(true, entries, f64::from(per), times, &|_| {})?;
+        *counts = match (counts.take(), more) {
+            (Some(a), Some(b)) => Some(Tally::merge(a, b)),
+            (a, b) => a.or(b),
+        };
+        Ok(words)
+    }
+}
+
+/// The host's share of a pass over levels (adaptive sampling's refinement,
+/// contrast sampling): its time, less what its dispatches, readbacks,
+/// uploads and compiles took, goes to `refine_s`.
+pub(super) struct HostShare {
+    start: Instant,
+    accounted: f64,
+}
+
+impl HostShare {
+    /// Starts counting, with `times` as they are.
+    pub(super) fn start(times: &RenderTimes) -> Self {
+        Self {
+            start: Instant::now(),
+            accounted: Self::accounted(times),
+        }
+    }
+
+    /// Adds the host's share since the start to `times.refine_s`.
+    pub(super) fn end(self, times: &mut RenderTimes) {
+        let spent = Self::accounted(times) - self.accounted;
+        times.refine_s += (self.start.elapsed().as_secs_f64() - spent).max(0.0);
+    }
+
+    /// What the dispatches, readbacks, uploads and compiles took so far.
+    fn accounted(t: &RenderTimes) -> f64 {
+        t.total_s() + t.setup.compile_s + t.setup.pipeline_s + t.setup.driver_compile_s
     }
 }
