@@ -10,21 +10,21 @@ use clap::{CommandFactory, FromArgMatches};
 fn main() -> ExitCode {
     let code = run();
     #[cfg(feature = "gpu")]
-    if glint::gpu::open_abandoned() {
+    if glint::gpu::open_unfinished() {
         cli::console::exit_past_a_stuck_open(code);
     }
     code
 }
 
 fn run() -> ExitCode {
-    // On SIGINT or SIGTERM, remove the temporary file of any write in
+    // On SIGINT, SIGTERM or SIGHUP, remove the temporary file of any write in
     // progress, so that an output is whole or absent. A handler that
     // cannot be installed only loses that clean-up.
-    let _ = ctrlc::set_handler(|| {
+    let _ = cli::signals::set_handler(|| {
         glint::output::remove_in_progress();
         cli::interrupt::clean_up();
         cli::console::last_words(format_args!("error: interrupted\n"));
-        std::process::exit(130);
+        cli::console::exit_interrupted();
     });
     let argv: Vec<std::ffi::OsString> = std::env::args_os().collect();
     let mut command = cli::Cli::command();

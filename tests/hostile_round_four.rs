@@ -321,6 +321,79 @@ fn a_driver_manifest_or_library_that_is_a_fifo_ends_in_one_line() {
     assert!(!out.exists());
 }
 
+/// Defect 14 again (the CI of stop 65): `render` stopped by SIGTERM while
+/// its open was stuck in the `dlopen` of a FIFO never ended, since the
+/// signal handler's exit waited on the loader's lock. It now ends at once:
+/// status 130, one line, no image. The test holds the FIFO open for
+/// writing once the loader is in it, so the open stays stuck in its read.
+#[cfg(feature = "gpu")]
+#[test]
+fn a_signal_during_a_stuck_open_ends_the_run_at_once() {
+    use std::io::Read;
+    use std::os::unix::fs::OpenOptionsExt;
+    use std::time::{Duration, Instant};
+    let dir = tempfile::tempdir().unwrap();
+    let library = dir.path().join("libfifo.so");
+    common::make_fifo(&library);
+    let manifest = dir.path().join("icd.json");
+    common::write_icd_manifest(&manifest, &library);
+    let out = dir.path().join("out.png");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_glint"))
+        .arg("render")
+        .arg(common::repo().join("scenes/seed-fig3.toml"))
+        .arg("-o")
+        .arg(&out)
+        .env("VK_DRIVER_FILES", &manifest)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // A FIFO opens for writing without blocking only while a reader is in
+    // its open: the loader is then inside `dlopen`, holding its lock.
+    let start = Instant::now();
+    let writer = loop {
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .custom_flags(libc::O_NONBLOCK)
+            .open(&library)
+        {
+            Ok(w) => break w,
+            Err(e) if e.raw_os_error() == Some(libc::ENXIO) && start.elapsed().as_secs() < 15 => {
+                std::thread::sleep(Duration::from_millis(5))
+            }
+            Err(e) => {
+                let _ = child.kill();
+                panic!("the loader never opened the FIFO: {e}");
+            }
+        }
+    };
+    // SAFETY: signals the child this test started.
+    unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) };
+    let signalled = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if signalled.elapsed().as_secs() >= 5 {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("SIGTERM did not end a run whose open is stuck");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    drop(writer);
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    assert_eq!(status.code(), Some(130), "{err}");
+    assert_eq!(err.trim(), "error: interrupted");
+    assert!(!out.exists());
+}
+
 /// Defect 13: a million identical faces (20 MB, within the triangles'
 /// allowance) make a tree that cannot separate them, so every ray tests
 /// them all. The CPU's bound counted rays alone, and 1024x768 (hours) was

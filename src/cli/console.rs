@@ -94,7 +94,23 @@ fn unwind(stream: Stream, cause: io::Error) -> ! {
 /// and nothing is staged before the device is open.
 #[cfg(feature = "gpu")]
 pub fn exit_past_a_stuck_open(code: ExitCode) -> ! {
-    let status = if code == ExitCode::SUCCESS { 0 } else { 2 };
+    exit_without_handlers(if code == ExitCode::SUCCESS { 0 } else { 2 })
+}
+
+/// Ends an interrupted run with status 130, once its clean-up is done: with
+/// `_exit` while an open of the device is unfinished (its thread may hold
+/// the dynamic loader's lock, and the C library's exit waited on it for
+/// ever: a `render` stopped by SIGTERM during a stuck open never ended).
+pub fn exit_interrupted() -> ! {
+    #[cfg(feature = "gpu")]
+    if glint::gpu::open_unfinished() {
+        exit_without_handlers(130);
+    }
+    std::process::exit(130)
+}
+
+#[cfg(feature = "gpu")]
+fn exit_without_handlers(status: i32) -> ! {
     // SAFETY: _exit ends the process at once; nothing of Rust's runs after.
     unsafe { libc::_exit(status) }
 }

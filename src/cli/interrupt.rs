@@ -56,7 +56,7 @@ pub fn folder_kept(path: &Path) {
 
 /// Stops new children, kills and reaps the listed ones, then removes the
 /// listed folders (the children first, so that none writes into a folder
-/// being removed). Runs on the signal handler's thread (ctrlc's, outside
+/// being removed). Runs on the signal handler's thread (cli/signals.rs, outside
 /// the signal context); once it has run, `spawn` starts no child.
 pub fn clean_up() {
     let mut guard = CHILDREN.lock().unwrap_or_else(|e| e.into_inner());

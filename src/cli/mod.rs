@@ -27,6 +27,7 @@ mod report;
 #[cfg(feature = "gpu")]
 mod shader;
 mod shell;
+pub mod signals;
 #[cfg(feature = "gpu")]
 mod stability;
 mod tile;

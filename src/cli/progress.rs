@@ -29,13 +29,34 @@ pub fn bar(total: u64, what: &str) -> ProgressBar {
 /// Runs `f` under a spinner that says `what` and the seconds so far, and
 /// clears it after.
 pub fn waiting<T>(what: &str, f: impl FnOnce() -> T) -> T {
+    let spinner = spinner(what);
+    spinner.enable_steady_tick(TICK);
+    let out = f();
+    spinner.finish_and_clear();
+    out
+}
+
+/// Runs `f` under a line that says `what`, drawn once, and clears it after:
+/// for the device's open, which must start no thread just before its own.
+/// A spinner's clock is a thread, and one that has not yet run when the
+/// open's `dlopen` blocks holding the dynamic loader's lock (a driver
+/// library that is a FIFO) cannot start, since a new thread's first step
+/// takes that lock; the spinner's end waits for its clock, and `render`
+/// never ended (CI, one run in twelve under load).
+#[cfg(feature = "gpu")]
+pub fn waiting_without_a_clock<T>(what: &str, f: impl FnOnce() -> T) -> T {
+    let spinner = spinner(what);
+    spinner.tick();
+    let out = f();
+    spinner.finish_and_clear();
+    out
+}
+
+fn spinner(what: &str) -> ProgressBar {
     let spinner = ProgressBar::new_spinner();
     spinner.set_style(
         ProgressStyle::with_template("{spinner} {elapsed:>3} {wide_msg}").expect("valid template"),
     );
     spinner.set_message(what.to_owned());
-    spinner.enable_steady_tick(TICK);
-    let out = f();
-    spinner.finish_and_clear();
-    out
+    spinner
 }

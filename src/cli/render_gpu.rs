@@ -45,10 +45,11 @@ fn label(precision: Precision, device: &str) -> String {
     format!("GPU {} on {device}", precision.name())
 }
 
-/// Opens the device `options` name, under a spinner: lavapipe takes a
-/// moment, and a command that opens it has nothing else to show yet.
+/// Opens the device `options` name, under a line that says so: lavapipe
+/// takes a moment, and a command that opens it has nothing else to show
+/// yet. The line has no clock (`progress::waiting_without_a_clock`).
 pub fn open(options: &gpu::GpuOptions) -> Result<gpu::Renderer, gpu::GpuError> {
-    progress::waiting("opening the Vulkan device", || gpu::Renderer::new(options))
+    progress::waiting_without_a_clock("opening the Vulkan device", || gpu::Renderer::new(options))
 }
 
 /// Opens the device and prepares `scene` on it, under a spinner: opening

@@ -48,7 +48,7 @@ pub use prepared::{Prepared, Rendered, Update};
 pub use renderer::Renderer;
 pub use schedule::Schedule;
 pub use times::{RenderTimes, SetupTimes};
-pub use vk::bounded::{open_abandoned, OPEN_LIMIT};
+pub use vk::bounded::{open_unfinished, OPEN_LIMIT};
 pub use vk::device::DeviceInfo;
 pub use vk::instance::validation_layer_installed;
 pub use work::{tile_timeout, COMPILE_TIMEOUT};

@@ -28,7 +28,7 @@ pub fn unregister(path: &Path) {
 }
 
 /// Removes every temporary file of a write in progress (from a signal
-/// handler's thread: ctrlc runs it outside the signal context).
+/// handler's thread: cli/signals.rs runs it outside the signal context).
 pub fn remove_in_progress() {
     if let Ok(v) = IN_PROGRESS.lock() {
         for p in v.iter() {

@@ -6,7 +6,7 @@
 //! waiting at the limit: that thread is left behind, and whatever it opens
 //! in the end is closed again when its answer finds no one to take it.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Condvar, Mutex, PoisonError};
 use std::time::Duration;
 
@@ -17,14 +17,16 @@ use crate::gpu::error::GpuError;
 /// builds its caches the first time.
 pub const OPEN_LIMIT: Duration = Duration::from_secs(20);
 
-static ABANDONED: AtomicBool = AtomicBool::new(false);
+/// Opens started in this process whose thread has not yet come back.
+static UNFINISHED: AtomicUsize = AtomicUsize::new(0);
 
-/// Whether an open was given up in this process. Its thread may hold the
-/// dynamic loader's lock for ever (a `dlopen` of a FIFO), and the C
-/// library's exit takes that lock: the command line then ends with
-/// `_exit`.
-pub fn open_abandoned() -> bool {
-    ABANDONED.load(Ordering::Relaxed)
+/// Whether an open in this process is still running: one given up at its
+/// limit, or one a signal interrupts. Its thread may hold the dynamic
+/// loader's lock for ever (a `dlopen` of a FIFO), and the C library's exit
+/// takes that lock: the command line then ends with `_exit`, on its way
+/// out and in its signal handler alike.
+pub fn open_unfinished() -> bool {
+    UNFINISHED.load(Ordering::SeqCst) > 0
 }
 
 /// `open()`'s answer, or [`GpuError::OpenTimeout`] where it takes longer than
@@ -58,6 +60,7 @@ impl<T: Send + 'static> Opening<T> {
     ) -> Result<Self, GpuError> {
         let answer = Arc::new((Mutex::new(None), Condvar::new()));
         let shared = Arc::clone(&answer);
+        UNFINISHED.fetch_add(1, Ordering::SeqCst);
         std::thread::Builder::new()
             .name("glint-vulkan-open".to_owned())
             .spawn(move || {
@@ -68,6 +71,7 @@ impl<T: Send + 'static> Opening<T> {
                                 .to_owned(),
                         ))
                     });
+                UNFINISHED.fetch_sub(1, Ordering::SeqCst);
                 let (slot, ready) = &*shared;
                 *slot.lock().unwrap_or_else(PoisonError::into_inner) = Some(got);
                 ready.notify_one();
@@ -76,6 +80,7 @@ impl<T: Send + 'static> Opening<T> {
                 // dropped here, and closed.
             })
             .map_err(|e| {
+                UNFINISHED.fetch_sub(1, Ordering::SeqCst);
                 GpuError::Unsupported(format!("cannot start a thread to open Vulkan: {e}"))
             })?;
         Ok(Opening { answer })
@@ -88,7 +93,6 @@ impl<T: Send + 'static> Opening<T> {
             .wait_timeout_while(slot, limit, |s| s.is_none())
             .unwrap_or_else(PoisonError::into_inner);
         slot.take().unwrap_or_else(|| {
-            ABANDONED.store(true, Ordering::Relaxed);
             Err(GpuError::OpenTimeout {
                 seconds: limit.as_secs_f64(),
             })
