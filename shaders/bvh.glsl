@@ -3,7 +3,7 @@
 // src/cpu/intersect.rs. The PackedNode struct and node_at() are in
 // interface.glsl.
 // Each kind in the tree is uploaded in leaf order, so a leaf names a range
-// of one kind's array (leaf_nearest and leaf_occluded in kinds.glsl test
+// of one kind's array (leaf_nearest and leaf_occluded in scans.glsl test
 // it); each primitive's meta.y is its index in the scene file, which breaks
 // ties in t the way the linear scan does (the first in the file wins).
 //

@@ -1,7 +1,8 @@
 // Nearest hit and any hit over every primitive; mirrors src/cpu/intersect.rs.
 // Each kind's intersect and normal are in its include (shaders/prim/), the
-// scans over the kinds in kinds.glsl, which the host generates from its
-// table of kinds (src/prim/mod.rs, src/gpu/generated.rs).
+// scans over the kinds in scans.glsl, over the lists of kinds that
+// kinds.glsl defines: the host generates it from its table of kinds
+// (src/prim/mod.rs, src/gpu/generated.rs).
 //
 // Self-intersection is prevented without an epsilon: a ray that leaves a
 // surface carries that primitive's id (NONE for an eye ray), and each kind
@@ -34,7 +35,7 @@ struct Hit {
 // coordinate of p and of the ray's origin o (512 ulps in f32): more than
 // the rounding of p = o + t d and of t can put it behind a neighbouring
 // triangle's plane. The same distance in f64, so that both precisions
-// trace the same model. For the kinds that ask for it (kinds.glsl's
+// trace the same model. For the kinds that ask for it (scans.glsl's
 // leave()); mirrors lift() in src/cpu/intersect.rs.
 vec3r lift(vec3r p, vec3r o, vec3r side) {
     vec3r a = max(abs(p), abs(o));
@@ -42,6 +43,7 @@ vec3r lift(vec3r p, vec3r o, vec3r side) {
 }
 
 #include "kinds.glsl"
+#include "scans.glsl"
 
 #ifdef USE_BVH
 #include "bvh.glsl"

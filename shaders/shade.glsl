@@ -24,9 +24,11 @@ real spec_pow(real x, real n) {
 #include "specular.glsl"
 #include "record.glsl"
 #include "tree.glsl"
-// Each light type's include and the dispatch over the types: generated
-// from the table of light types (src/scene/light/mod.rs, src/gpu/generated.rs).
+// Each light type's include and the lists of types, generated from the
+// table of light types (src/scene/light/mod.rs, src/gpu/entities.rs); the
+// dispatch over them.
 #include "lights.glsl"
+#include "light_dispatch.glsl"
 
 // The sum of every light's contribution at p, where n faces the viewer.
 vec3r shade(vec3r p, vec3r n, vec3r v, Material m, uint from) {

@@ -5,10 +5,12 @@
 // without images (HAS_IMAGES 0).
 
 #if HAS_TEXTURES
-// Each pattern's include and texture_colour(t, hit, p), the colour of
-// texture t at p over the patterns: generated from the table of patterns
-// (src/scene/texture/mod.rs, src/gpu/entities.rs).
+// Each pattern's code and include and the lists of patterns, generated
+// from the table of patterns (src/scene/texture/mod.rs,
+// src/gpu/entities.rs); texture_colour(t, hit, p), the colour of texture t
+// at p, over them.
 #include "textures.glsl"
+#include "texture_dispatch.glsl"
 
 // m at the hit point p: its textured colours in place of its own. One call
 // site for texture_colour, looped over the two colours: two inlined copies

@@ -70,6 +70,31 @@ impl Block {
             Block::Aovs => "the output tile's AOVs",
         }
     }
+
+    /// A read-write or write-only storage block's declaration after its
+    /// `layout(...)`: its qualifier, its GLSL name and its members.
+    /// The read-only arrays (access.rs) and the uniform block have none.
+    pub fn storage(self) -> Option<&'static str> {
+        Some(match self {
+            Block::Counts => "buffer Counts { uint count_words[]; }",
+            Block::Record => "buffer Record { uvec4 record_at; uint record_count; uint record_pad[3]; uint record_words[]; }",
+            Block::Refine => "readonly buffer RefineList { Refine refine_list[]; }",
+            Block::PathReals => "buffer PathReals { vec4r path_reals[]; }",
+            Block::PathWords => "buffer PathWords { uvec4 path_words[]; }",
+            Block::Queues => "buffer Queues { uint wave_header[8]; uint wave_queue[]; }",
+            Block::Pixels => "writeonly buffer Pixels { vec4 pixels[]; }",
+            Block::Aovs => "writeonly buffer Aovs { uvec4 aov_words[]; }",
+            Block::Globals
+            | Block::Kind(_)
+            | Block::Materials
+            | Block::Lights
+            | Block::Textures
+            | Block::Texels
+            | Block::Uvs
+            | Block::Nodes
+            | Block::Tables => return None,
+        })
+    }
 }
 
 /// How the shader reads one read-only array.

@@ -6,7 +6,7 @@ use std::fmt::Write;
 
 use super::variant::Variant;
 use crate::scene::light::LightTypeInfo;
-use crate::scene::texture::{Needs, PatternInfo, PATTERNS};
+use crate::scene::texture::{Needs, PATTERNS};
 use crate::scene::LIGHT_TYPES;
 
 /// The generated file of the lights, as `#include` names it.
@@ -45,30 +45,6 @@ pub fn light_constants() -> String {
     s
 }
 
-/// `body(t)` for the light whose type is one of `types`, chosen by its
-/// code, else `otherwise`; no test where one type is all there is.
-fn by_type(
-    types: &[&LightTypeInfo],
-    body: impl Fn(&LightTypeInfo) -> String,
-    otherwise: &str,
-) -> String {
-    let mut s = String::from("    ");
-    for t in types {
-        let _ = write!(
-            s,
-            "if (kind == LIGHT_{}) {{\n        {}\n    }} else ",
-            t.upper(),
-            body(t)
-        );
-    }
-    if types.is_empty() {
-        let _ = writeln!(s, "{otherwise}");
-    } else {
-        let _ = writeln!(s, "{{\n        {otherwise}\n    }}");
-    }
-    s
-}
-
 impl Variant {
     /// The light types this variant's lights take: the scene's, or every
     /// one for the generic shader.
@@ -84,52 +60,49 @@ impl Variant {
         }
     }
 
-    /// lights.glsl: every type's include, and `light_toward` and
-    /// `light_cone` over the variant's types, mirroring `LightKind::toward`
-    /// and `LightKind::cone`.
+    /// lights.glsl: every type's include (one type's functions may call
+    /// another's), and the lists of the variant's types that
+    /// shaders/light_dispatch.glsl's `light_toward` and `light_cone` run
+    /// over, mirroring `LightKind::toward` and `LightKind::cone`.
     pub(super) fn lights(&self) -> String {
         let mut s = String::new();
-        // Every include: one type's functions may call another's.
         for t in LIGHT_TYPES {
             let _ = writeln!(s, "#include \"{}\"", t.include());
         }
         let present = self.light_types();
-        let call = |t: &LightTypeInfo| format!("{}_toward(light, p, l, dist, att);", t.name);
-        s += "\n// How light `light` reaches p: l the unit way to it, dist the distance\n\
-              // (INF without a position), att the attenuation.\n\
-              void light_toward(Light light, vec3r p, out vec3r l, out real dist, out real att) {\n";
-        s += &match present.split_last() {
-            Some((last, [])) => format!("    {}\n", call(last)),
-            Some((last, rest)) => {
-                "    uint kind = light.meta.x;\n".to_owned() + &by_type(rest, call, &call(last))
-            }
-            None => "    l = vec3r(0.0);\n    dist = INF;\n    att = 1.0;\n".to_owned(),
-        };
-        s += "}\n\n// The share of the light in direction l (unit, towards it), 0..1: 1\n\
-              // but for the types with a cone.\n\
-              real light_cone(Light light, vec3r l) {\n";
-        let cones: Vec<&LightTypeInfo> = present.iter().copied().filter(|t| t.cone).collect();
-        let cone = |t: &LightTypeInfo| format!("return {}_cone(light, l);", t.name);
-        s += &match cones.as_slice() {
-            [only] if present.len() == 1 => format!("    {}\n", cone(only)),
-            [] => "    return 1.0;\n".to_owned(),
-            _ => {
-                "    uint kind = light.meta.x;\n".to_owned() + &by_type(&cones, cone, "return 1.0;")
-            }
-        };
-        s += "}\n";
+        let _ = writeln!(s, "\nconst bool ONE_LIGHT_TYPE = {};", present.len() == 1);
+        s += &list(
+            "LIGHTS_PRESENT",
+            present.iter().map(|t| (t.upper(), t.name)),
+        );
+        s += &list(
+            "LIGHTS_CONE",
+            present
+                .iter()
+                .filter(|t| t.cone)
+                .map(|t| (t.upper(), t.name)),
+        );
         s
     }
+}
+
+/// `#define <name>(X)` calling `X(UPPER, name)` for each of `entries`.
+fn list(name: &str, entries: impl Iterator<Item = (String, &'static str)>) -> String {
+    let mut s = format!("#define {name}(X)");
+    for (upper, lower) in entries {
+        let _ = write!(s, " X({upper}, {lower})");
+    }
+    s + "\n"
 }
 
 /// The generated file of the textures, as `#include` names it.
 pub const TEXTURES_FILE: &str = "textures.glsl";
 
 /// textures.glsl: each pattern's code (`Texture.meta.x`) and include, and
-/// `texture_colour` over the patterns, mirroring `Pattern::colour`. The
-/// patterns that read uvs are compiled where the variant has images
-/// (`HAS_IMAGES`), and tested first; of the others the last is what is
-/// left.
+/// the lists of patterns that shaders/texture_dispatch.glsl's
+/// `texture_colour` runs over, mirroring `Pattern::colour`: those that read
+/// uvs (compiled where the variant has images, `HAS_IMAGES`), then the
+/// others.
 pub fn textures() -> String {
     let mut s = String::new();
     for p in PATTERNS {
@@ -145,32 +118,13 @@ pub fn textures() -> String {
     for include in includes {
         let _ = writeln!(s, "#include \"{include}\"");
     }
-    s += "\n// The colour of texture t at p, a point of the primitive hit.\n\
-          vec3r texture_colour(uint t, Hit hit, vec3r p) {\n\
-          \x20   Texture tx = texture_at(t);\n\
-          \x20   uint pattern = tx.meta.x;\n";
-    let call = |p: &PatternInfo| format!("{}_colour(tx, hit, p)", p.name);
-    let test = |p: &PatternInfo| {
-        format!(
-            "    if (pattern == PATTERN_{}) {{\n        return {};\n    }}\n",
-            p.upper(),
-            call(p)
-        )
+    let entries = |uv: bool| {
+        PATTERNS
+            .iter()
+            .filter(move |p| (p.needs == Needs::Uv) == uv)
+            .map(|p| (p.upper(), p.name))
     };
-    let (uv, rest): (Vec<&PatternInfo>, Vec<&PatternInfo>) =
-        PATTERNS.iter().partition(|p| p.needs == Needs::Uv);
-    if !uv.is_empty() {
-        s += "#if HAS_IMAGES\n";
-        uv.iter().for_each(|p| s += &test(p));
-        s += "#endif\n";
-    }
-    match rest.split_last() {
-        Some((last, others)) => {
-            others.iter().for_each(|p| s += &test(p));
-            let _ = writeln!(s, "    return {};", call(last));
-        }
-        None => s += "    return vec3r(0.0);\n",
-    }
-    s += "}\n";
+    s += &list("PATTERNS_UV", entries(true));
+    s += &list("PATTERNS_OTHER", entries(false));
     s
 }

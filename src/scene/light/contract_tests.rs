@@ -81,7 +81,11 @@ pub(super) fn problems<T: LightType>(kind: LightKind) -> Vec<String> {
             "direction" => f.direction = Some(Triple([0.0, 0.0, 1.0])),
             "attenuation" => f.attenuation = Some(Triple([1.0, 0.0, 0.0])),
             "cutoff" => f.cutoff = Some(10.0),
-            _ => f.exponent = Some(1.0),
+            "exponent" => f.exponent = Some(1.0),
+            other => {
+                out.push(format!("{name}: the contract cannot set `{other}`"));
+                continue;
+            }
         }
         match checked(&f) {
             Err(e)

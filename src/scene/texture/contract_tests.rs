@@ -106,7 +106,11 @@ pub(super) fn problems<P: PatternType>(pattern: Pattern) -> Vec<String> {
             "size" => t.size = Some(1.0),
             "colors" => t.colors = Some([Triple([1.0; 3]); 2]),
             "angle" => t.angle = Some(1.0),
-            _ => t.origin = Some(Triple([0.0; 3])),
+            "origin" => t.origin = Some(Triple([0.0; 3])),
+            other => {
+                out.push(format!("{name}: the contract cannot set `{other}`"));
+                continue;
+            }
         }
         if checked(&t).is_ok() {
             out.push(format!("{name}: `{key}` is not refused"));
