@@ -12,7 +12,10 @@
 
 use std::path::Path;
 
+use glam::DVec3;
+
 use super::*;
+use crate::input::field::{Check, Triple};
 use crate::input::locate::Located;
 
 /// A light table of type `kind`, lit, at `position`, pointing `direction`.

@@ -1,0 +1,156 @@
+//! A light once checked: its type, placement and colours; its struct in
+//! the shader's buffers and its form in the CPU reference's arithmetic.
+
+use glam::DVec3;
+
+use super::LightKind;
+use crate::base::real::{Real, Vec3};
+
+/// A light (docs/scene-format.md, Lights).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Light {
+    /// What type.
+    pub kind: LightKind,
+    /// Where a positioned light is; zero for the others.
+    pub position: DVec3,
+    /// Unit length: the way a directional light travels, a cone's axis;
+    /// zero for the others.
+    pub direction: DVec3,
+    /// Its ambient intensity, per channel.
+    pub ambient: DVec3,
+    /// Its diffuse intensity, per channel.
+    pub diffuse: DVec3,
+    /// Its specular intensity, per channel.
+    pub specular: DVec3,
+    /// [c, l, q]: 1 / (c + l d + q d²); [1, 0, 0] where it has none.
+    pub attenuation: DVec3,
+    /// The cosine of a cone's half-angle; -1 without a cone.
+    pub cos_cutoff: f64,
+    /// A cone's falloff towards its edge: cos(angle)^exponent.
+    pub exponent: f64,
+}
+
+/// What a type's check gives: everything of a light but its colours.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Placement {
+    /// `Light::position`.
+    pub position: DVec3,
+    /// `Light::direction`.
+    pub direction: DVec3,
+    /// `Light::attenuation`.
+    pub attenuation: DVec3,
+    /// `Light::cos_cutoff`.
+    pub cos_cutoff: f64,
+    /// `Light::exponent`.
+    pub exponent: f64,
+}
+
+impl Default for Placement {
+    fn default() -> Self {
+        Self {
+            position: DVec3::ZERO,
+            direction: DVec3::ZERO,
+            attenuation: DVec3::X,
+            cos_cutoff: -1.0,
+            exponent: 0.0,
+        }
+    }
+}
+
+impl Light {
+    /// Whether the light has a diffuse or specular term: a shadow ray
+    /// towards a light without one could change nothing.
+    pub fn has_direct_term(&self) -> bool {
+        self.diffuse != DVec3::ZERO || self.specular != DVec3::ZERO
+    }
+
+    /// Its position, where its type has one.
+    pub fn position(&self) -> Option<DVec3> {
+        self.kind.info().positioned.then_some(self.position)
+    }
+
+    /// Its struct in the shader's buffers, in coordinates moved by
+    /// `-origin`; meta's z and w (its light buffer) are the tables'.
+    pub(crate) fn gpu(&self, origin: DVec3) -> gpu::Values {
+        let xyz = |v: DVec3| [v.x, v.y, v.z, 0.0];
+        gpu::Values {
+            position: xyz(self.position - origin),
+            direction: xyz(self.direction),
+            ambient: xyz(self.ambient),
+            diffuse: xyz(self.diffuse),
+            specular: xyz(self.specular),
+            attenuation: xyz(self.attenuation),
+            cone: [self.cos_cutoff, self.exponent, 0.0, 0.0],
+            meta: [self.kind as u32, u32::from(self.has_direct_term()), 0, 0],
+        }
+    }
+
+    /// The light in the CPU reference's arithmetic, moved by `-origin`.
+    pub fn cpu<R: Real>(&self, origin: DVec3) -> LightR<R> {
+        LightR {
+            kind: self.kind,
+            position: Vec3::of(self.position - origin),
+            direction: Vec3::of(self.direction),
+            ambient: Vec3::of(self.ambient),
+            diffuse: Vec3::of(self.diffuse),
+            specular: Vec3::of(self.specular),
+            attenuation: Vec3::of(self.attenuation),
+            cos_cutoff: R::of(self.cos_cutoff),
+            exponent: R::of(self.exponent),
+            direct: self.has_direct_term(),
+        }
+    }
+}
+
+crate::base::interface::gpu_struct!(
+    pub(crate) mod gpu: "Light" {
+        /// xyz (positioned types)
+        position: real4,
+        /// xyz unit (directional: travel; a cone's axis)
+        direction: real4,
+        /// rgb Ia
+        ambient: real4,
+        /// rgb Id
+        diffuse: real4,
+        /// rgb Is
+        specular: real4,
+        /// xyz = c, l, q
+        attenuation: real4,
+        /// x cos(cutoff), y exponent of a cone
+        cone: real4,
+        /// x LIGHT_* (its type), y 1 if it has a diffuse or specular term,
+        /// z its light buffer's first grid + 1 (0: none), w the buffer's
+        /// reach (f32 bits)
+        meta: uvec4,
+    }
+);
+
+/// A light in the CPU reference's arithmetic, in camera-relative
+/// coordinates; what the shader's `Light` holds.
+#[derive(Debug, Clone, Copy)]
+pub struct LightR<R> {
+    /// `Light::kind`.
+    pub kind: LightKind,
+    /// `Light::position`, moved.
+    pub position: Vec3<R>,
+    /// `Light::direction`.
+    pub direction: Vec3<R>,
+    /// `Light::ambient`.
+    pub ambient: Vec3<R>,
+    /// `Light::diffuse`.
+    pub diffuse: Vec3<R>,
+    /// `Light::specular`.
+    pub specular: Vec3<R>,
+    /// `Light::attenuation`.
+    pub attenuation: Vec3<R>,
+    /// `Light::cos_cutoff`.
+    pub cos_cutoff: R,
+    /// `Light::exponent`.
+    pub exponent: R,
+    /// Whether it has a diffuse or specular term.
+    pub direct: bool,
+}
+
+/// How light reaches a point: the unit way towards the light, the distance
+/// to it (infinite for a light without a position) and the attenuation.
+pub type Toward<R> = (Vec3<R>, R, R);
