@@ -82,3 +82,68 @@ fn the_check_sees_a_broken_link() {
     let targets: Vec<String> = link_targets(text).into_iter().map(|(_, t)| t).collect();
     assert_eq!(targets, ["img/a.png", "b.md#part"]);
 }
+
+/// The file names in `text`'s code spans (outside fenced blocks), with
+/// their lines: a span without spaces or placeholders (`<name>`, `*`) that
+/// has a folder and a file's extension, or ends in `/`.
+fn named_files(text: &str) -> Vec<(usize, String)> {
+    const EXTENSIONS: &[&str] = &[
+        ".rs", ".glsl", ".comp", ".md", ".py", ".toml", ".json", ".svg", ".nff", ".obj",
+    ];
+    let mut names = Vec::new();
+    let mut fenced = false;
+    for (n, line) in text.lines().enumerate() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+            continue;
+        }
+        if fenced {
+            continue;
+        }
+        for span in line.split('`').skip(1).step_by(2) {
+            let plain = !span.contains(|c: char| c.is_whitespace() || "<>*{}()".contains(c));
+            let file = EXTENSIONS.iter().any(|e| span.ends_with(e)) || span.ends_with('/');
+            if plain && file && span.contains('/') {
+                names.push((n + 1, span.to_owned()));
+            }
+        }
+    }
+    names
+}
+
+/// The names of `named_files(text)` that are no file or folder, read from
+/// the repository's root, or from src/ or shaders/ (where the page names
+/// a file by its place in one of them).
+fn missing_files(text: &str) -> Vec<String> {
+    let root = common::repo();
+    named_files(text)
+        .into_iter()
+        .filter(|(_, name)| {
+            !["", "src", "shaders"]
+                .iter()
+                .any(|base| root.join(base).join(name).exists())
+        })
+        .map(|(line, name)| format!("{line}: {name}"))
+        .collect()
+}
+
+/// docs/architecture.md is the map (issue 59): every file and folder it
+/// names is there. The check fails on a name that is not, and passes over
+/// placeholders and code in fenced blocks.
+#[test]
+fn every_file_the_architecture_names_is_there() {
+    let text = std::fs::read_to_string(common::repo().join("docs/architecture.md")).unwrap();
+    assert!(named_files(&text).len() > 40, "{:?}", named_files(&text));
+    let missing = missing_files(&text);
+    assert!(
+        missing.is_empty(),
+        "docs/architecture.md names:\n{}",
+        missing.join("\n")
+    );
+    let made_up = "`src/gpu/nowhere.rs`, `accel/bvh.rs`, `prim/sphere.glsl`, \
+                   `src/prim/<name>.rs`, `cli/`\n```\nsrc/fenced.rs\n```\n`gpu/gone/`";
+    assert_eq!(
+        missing_files(made_up),
+        ["1: src/gpu/nowhere.rs", "5: gpu/gone/"]
+    );
+}
