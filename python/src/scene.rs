@@ -306,7 +306,7 @@ fn is_obj(path: &Path) -> bool {
 /// 40° look-at camera, lit by a light at the eye and one from above
 /// (docs/python.md, Loading an OBJ file).
 fn obj_scene(path: &Path, o: &Overrides) -> Result<(lib::Scene, FileText), LibSceneError> {
-    let text = glint::input::read_text(path, glint::input::Kind::Mesh).map_err(|cause| {
+    let text = glint::input::read_text(path, glint::input::ReadAs::Mesh).map_err(|cause| {
         LibSceneError::Read {
             path: path.to_owned(),
             cause,

@@ -28,7 +28,7 @@ pub struct ConvertArgs {
 pub fn run(a: &ConvertArgs) -> anyhow::Result<ExitCode> {
     let mut outputs = Outputs::new([&a.scene], a.force);
     outputs.check(&a.output)?;
-    let text = glint::input::read_text(&a.scene, glint::input::Kind::Scene).map_err(|cause| {
+    let text = glint::input::read_text(&a.scene, glint::input::ReadAs::Scene).map_err(|cause| {
         glint::scene::SceneError::Read {
             path: a.scene.clone(),
             cause,

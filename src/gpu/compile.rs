@@ -218,7 +218,7 @@ impl Sources {
         // and refused only if a compile includes it.
         for f in files {
             h.write(f.display().to_string().as_bytes());
-            match crate::input::read(&f, crate::input::Kind::Shader) {
+            match crate::input::read(&f, crate::input::ReadAs::Shader) {
                 Ok(bytes) => h.write(&bytes),
                 Err(e) => h.write(e.to_string().as_bytes()),
             }
@@ -232,7 +232,7 @@ impl Sources {
 /// (glslang takes C strings; issue 31, defect 16).
 fn read_source(path: &Path) -> Result<(String, String), String> {
     let shown = crate::printable::path(path);
-    let text = crate::input::read_text(path, crate::input::Kind::Shader)
+    let text = crate::input::read_text(path, crate::input::ReadAs::Shader)
         .map_err(|e| format!("{shown}: {e}"))?;
     if let Some(at) = text.find('\0') {
         let line = text[..at].matches('\n').count() + 1;

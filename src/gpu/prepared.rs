@@ -20,7 +20,7 @@ use super::variant::Variant;
 use super::vk::buffer::Buffer;
 use super::vk::command::Completed;
 use super::vk::descriptor::{DescriptorSet, Resource};
-use super::work::{Work, COMPILE_TIMEOUT};
+use super::work::{PixelWork, COMPILE_TIMEOUT};
 #[cfg(doc)]
 use super::Renderer;
 use super::{GpuError, Precision};
@@ -45,16 +45,16 @@ pub use update::Update;
 /// buffers) before the scene's buffers, before the commands, before the
 /// renderer's device.
 pub struct Prepared {
-    main: Stage,
+    main: BoundStage,
     /// Adaptive sampling's second pass, made at the first render that
     /// splits a pixel.
-    refine: Option<Stage>,
+    refine: Option<BoundStage>,
     scene: Blocks,
     executor: Executor,
     shared: Arc<Shared>,
     /// What the traced image (the corner grid, where the scene samples
     /// corners) asks of a pixel.
-    work: Work,
+    work: PixelWork,
     /// The image's size: the scene's, not its corner grid's.
     size: (u32, u32),
     gather: Gather,
@@ -126,7 +126,7 @@ pub struct Rendered {
 
 /// One pipeline and the buffers bound to it through a set of its own.
 /// Field order is drop order: the set before the buffers it names.
-struct Stage {
+struct BoundStage {
     set: DescriptorSet,
     own: Blocks,
     pipeline: Arc<Pipeline>,
@@ -191,9 +191,9 @@ impl Prepared {
             &variant,
             &up,
         )?;
-        let work = Work::of(traced).through(up.ray_cost);
+        let work = PixelWork::of(traced).through(up.ray_cost);
         let tile = work.tile_size(&variant, info.max_storage_buffer_range);
-        let main = Stage::new(
+        let main = BoundStage::new(
             shared,
             pipeline,
             variant,
@@ -461,7 +461,11 @@ impl Prepared {
 
 /// The main stage, or the refinement's where `refine` (a free function,
 /// so that the executor stays free to borrow).
-fn pick<'a>(main: &'a Stage, refinement: &'a Option<Stage>, refine: bool) -> &'a Stage {
+fn pick<'a>(
+    main: &'a BoundStage,
+    refinement: &'a Option<BoundStage>,
+    refine: bool,
+) -> &'a BoundStage {
     if refine {
         refinement
             .as_ref()
@@ -471,7 +475,7 @@ fn pick<'a>(main: &'a Stage, refinement: &'a Option<Stage>, refine: bool) -> &'a
     }
 }
 
-impl Stage {
+impl BoundStage {
     /// `pipeline` (of `variant`) with a set of its own, bound to the scene's
     /// buffers (`scene`) and to its own, made here: an output tile of
     /// `tile` pixels and what else the variant declares.

@@ -28,7 +28,7 @@ pub const COMPILE_TIMEOUT: Duration = Duration::from_secs(300);
 /// What a traced scene asks of each pixel, kept from the scene when it is
 /// prepared so that the prepared object holds no copy of it.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Work {
+pub(crate) struct PixelWork {
     pub width: u32,
     pub height: u32,
     samples: u32,
@@ -41,7 +41,7 @@ pub(crate) struct Work {
     tree: Option<f64>,
 }
 
-impl Work {
+impl PixelWork {
     pub fn of(scene: &Scene) -> Self {
         Self {
             width: scene.width,
@@ -115,9 +115,9 @@ impl Work {
 }
 
 /// The longest wait for a tile of `pixels` of `scene`, traced through a
-/// BVH where `bvh` (`Work::timeout`).
+/// BVH where `bvh` (`PixelWork::timeout`).
 pub fn tile_timeout(scene: &Scene, pixels: u64, bvh: bool) -> Duration {
-    Work::of(scene).timeout(pixels, bvh)
+    PixelWork::of(scene).timeout(pixels, bvh)
 }
 
 #[cfg(test)]
@@ -128,7 +128,7 @@ mod tests {
     /// (identical faces) waits for that cost, not for a good tree's.
     #[test]
     fn the_watchdog_waits_for_the_tree_that_was_built() {
-        let work = Work {
+        let work = PixelWork {
             width: 64,
             height: 48,
             samples: 1,

@@ -10,4 +10,4 @@ pub(crate) mod locate;
 mod read;
 pub(crate) mod triangles;
 
-pub use read::{check, open, read, read_text, Kind, MAX_PIXELS, MAX_SIDE};
+pub use read::{check, open, read, read_text, ReadAs, MAX_PIXELS, MAX_SIDE};

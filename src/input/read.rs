@@ -17,7 +17,7 @@ pub const MAX_PIXELS: u64 = 1 << 28;
 
 /// What a file is read as, and how large it may be.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Kind {
+pub enum ReadAs {
     /// A TOML or NFF scene: 256 MiB (the largest scene in the repository,
     /// the level-4 sphereflake, is 0.8 MB; a million spheres are 100 MB).
     Scene,
@@ -39,32 +39,32 @@ pub enum Kind {
     Image,
 }
 
-impl Kind {
+impl ReadAs {
     /// The most bytes a file of this kind may have.
     pub const fn limit(self) -> u64 {
         match self {
-            Kind::Scene | Kind::Mesh => 256 << 20,
-            Kind::Sidecar | Kind::Manifest => 1 << 20,
-            Kind::Shader => 16 << 20,
-            Kind::Pfm => MAX_PIXELS * 12 + 4096,
-            Kind::Image => u64::MAX >> 1,
+            ReadAs::Scene | ReadAs::Mesh => 256 << 20,
+            ReadAs::Sidecar | ReadAs::Manifest => 1 << 20,
+            ReadAs::Shader => 16 << 20,
+            ReadAs::Pfm => MAX_PIXELS * 12 + 4096,
+            ReadAs::Image => u64::MAX >> 1,
         }
     }
 
     fn name(self) -> &'static str {
         match self {
-            Kind::Scene => "a scene file",
-            Kind::Mesh => "a mesh file",
-            Kind::Sidecar => "a sidecar",
-            Kind::Manifest => "a driver manifest",
-            Kind::Shader => "a shader file",
-            Kind::Pfm | Kind::Image => "an image",
+            ReadAs::Scene => "a scene file",
+            ReadAs::Mesh => "a mesh file",
+            ReadAs::Sidecar => "a sidecar",
+            ReadAs::Manifest => "a driver manifest",
+            ReadAs::Shader => "a shader file",
+            ReadAs::Pfm | ReadAs::Image => "an image",
         }
     }
 }
 
 /// Fails unless `path` is a regular file of at most `kind`'s bound.
-pub fn check(path: &Path, kind: Kind) -> std::io::Result<()> {
+pub fn check(path: &Path, kind: ReadAs) -> std::io::Result<()> {
     let (limit, what) = (kind.limit(), kind.name());
     let meta = std::fs::metadata(path)?;
     if !meta.is_file() {
@@ -87,7 +87,7 @@ pub fn check(path: &Path, kind: Kind) -> std::io::Result<()> {
 
 /// Opens `path` for reading as `kind` (see `check`); the reader fails past
 /// the bound.
-pub fn open(path: &Path, kind: Kind) -> std::io::Result<impl Read> {
+pub fn open(path: &Path, kind: ReadAs) -> std::io::Result<impl Read> {
     check(path, kind)?;
     let file = std::fs::File::open(path)?;
     Ok(Bounded {
@@ -99,14 +99,14 @@ pub fn open(path: &Path, kind: Kind) -> std::io::Result<impl Read> {
 }
 
 /// `path`'s bytes, read as `kind`.
-pub fn read(path: &Path, kind: Kind) -> std::io::Result<Vec<u8>> {
+pub fn read(path: &Path, kind: ReadAs) -> std::io::Result<Vec<u8>> {
     let mut bytes = Vec::new();
     open(path, kind)?.read_to_end(&mut bytes)?;
     Ok(bytes)
 }
 
 /// `path`'s text (UTF-8), read as `kind`.
-pub fn read_text(path: &Path, kind: Kind) -> std::io::Result<String> {
+pub fn read_text(path: &Path, kind: ReadAs) -> std::io::Result<String> {
     String::from_utf8(read(path, kind)?)
         .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidData, e.utf8_error()))
 }
@@ -165,9 +165,9 @@ mod tests {
     #[test]
     fn devices_fifos_and_directories_are_refused_and_sizes_bounded() {
         let dir = tempfile::tempdir().unwrap();
-        let e = read(Path::new("/dev/zero"), Kind::Scene).unwrap_err();
+        let e = read(Path::new("/dev/zero"), ReadAs::Scene).unwrap_err();
         assert!(e.to_string().contains("a character device"), "{e}");
-        let e = read(dir.path(), Kind::Mesh).unwrap_err();
+        let e = read(dir.path(), ReadAs::Mesh).unwrap_err();
         assert!(e.to_string().contains("a directory"), "{e}");
         let fifo = dir.path().join("pipe");
         if std::process::Command::new("mkfifo")
@@ -176,15 +176,15 @@ mod tests {
             .is_ok_and(|s| s.success())
         {
             // Refused without opening it: an open would wait for a writer.
-            let e = read(&fifo, Kind::Scene).unwrap_err();
+            let e = read(&fifo, ReadAs::Scene).unwrap_err();
             assert!(e.to_string().contains("a FIFO"), "{e}");
         }
         let big = dir.path().join("big.json");
-        std::fs::write(&big, vec![b' '; (Kind::Sidecar.limit() + 1) as usize]).unwrap();
-        let e = read(&big, Kind::Sidecar).unwrap_err();
+        std::fs::write(&big, vec![b' '; (ReadAs::Sidecar.limit() + 1) as usize]).unwrap();
+        let e = read(&big, ReadAs::Sidecar).unwrap_err();
         assert!(e.to_string().contains("over the 1 MiB"), "{e}");
         let ok = dir.path().join("ok.json");
         std::fs::write(&ok, "{}").unwrap();
-        assert_eq!(read_text(&ok, Kind::Sidecar).unwrap(), "{}");
+        assert_eq!(read_text(&ok, ReadAs::Sidecar).unwrap(), "{}");
     }
 }

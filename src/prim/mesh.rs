@@ -227,13 +227,13 @@ pub struct Parsed {
 fn read(path: &Path, scene_material: bool, at: &At) -> Result<Parsed, SceneError> {
     let shown = crate::printable::path(path);
     let path = path.to_owned();
-    let file = crate::input::open(&path, crate::input::Kind::Mesh)
+    let file = crate::input::open(&path, crate::input::ReadAs::Mesh)
         .or_else(|e| at.invalid("file", format!("cannot read {shown}: {e}")))?;
     // The faces' triangles are counted before tobj makes them.
     {
         use crate::input::triangles;
         let bytes = std::fs::metadata(&path).map_or(0, |m| m.len());
-        let counted = crate::input::open(&path, crate::input::Kind::Mesh)
+        let counted = crate::input::open(&path, crate::input::ReadAs::Mesh)
             .and_then(|f| triangles::obj_past(BufReader::new(f), triangles::allowed(bytes)))
             .or_else(|e| at.invalid("file", format!("cannot read {shown}: {e}")))?;
         if let Some(past) = counted {
@@ -257,7 +257,7 @@ fn read(path: &Path, scene_material: bool, at: &At) -> Result<Parsed, SceneError
         Default::default()
     } else {
         super::mtl::used_names(BufReader::new(
-            crate::input::open(&path, crate::input::Kind::Mesh)
+            crate::input::open(&path, crate::input::ReadAs::Mesh)
                 .or_else(|e| at.invalid("file", format!("cannot read {shown}: {e}")))?,
         ))
     };
@@ -282,7 +282,7 @@ fn read(path: &Path, scene_material: bool, at: &At) -> Result<Parsed, SceneError
             mtl_problem.borrow_mut().get_or_insert(problem);
             tobj::LoadError::OpenFileFailed
         };
-        let text = crate::input::read(&mtl, crate::input::Kind::Mesh)
+        let text = crate::input::read(&mtl, crate::input::ReadAs::Mesh)
             .map_err(|e| fail(format!("cannot read {name}: {e}")))?;
         short_colour_line(&text).map_or(Ok(()), |(line, key, n)| {
             Err(fail(format!(

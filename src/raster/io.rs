@@ -230,7 +230,7 @@ fn read_levels(path: &Path) -> Result<Image, ImageIoError> {
                 reason,
             };
             let mut file =
-                crate::input::open(path, crate::input::Kind::Pfm).map_err(io_err(path))?;
+                crate::input::open(path, crate::input::ReadAs::Pfm).map_err(io_err(path))?;
             let mut bytes = Vec::new();
             (&mut file)
                 .take(128)
@@ -330,7 +330,7 @@ fn reader_of(
     format: Format,
 ) -> Result<image::ImageReader<std::io::BufReader<std::fs::File>>, ImageIoError> {
     // A FIFO would block the open, a device never end.
-    crate::input::check(path, crate::input::Kind::Image).map_err(io_err(path))?;
+    crate::input::check(path, crate::input::ReadAs::Image).map_err(io_err(path))?;
     let mut reader = image::ImageReader::open(path)
         .map_err(io_err(path))?
         .with_guessed_format()
@@ -375,7 +375,7 @@ pub fn dimensions(path: &Path) -> Result<(u32, u32), ImageIoError> {
         Format::Pfm => {
             // The header fits in 4 tokens of at most 16 characters each.
             let mut head = Vec::new();
-            crate::input::open(path, crate::input::Kind::Pfm)
+            crate::input::open(path, crate::input::ReadAs::Pfm)
                 .and_then(|f| f.take(128).read_to_end(&mut head))
                 .map_err(io_err(path))?;
             let (w, h, _, _) = pfm_header(&head).map_err(|reason| ImageIoError::BadPfm {

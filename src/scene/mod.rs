@@ -182,7 +182,7 @@ impl Scene {
         path: &Path,
         overrides: &Overrides,
     ) -> Result<(Scene, String), SceneError> {
-        let text = crate::input::read_text(path, crate::input::Kind::Scene).map_err(|cause| {
+        let text = crate::input::read_text(path, crate::input::ReadAs::Scene).map_err(|cause| {
             SceneError::Read {
                 path: path.to_owned(),
                 cause,

@@ -161,7 +161,7 @@ pub fn read_tile(path: &Path) -> Result<Tile, TileError> {
         _ => return Err(TileError::NotFloat(path.to_owned())),
     }
     let sidecar = sidecar_path(path);
-    let text = crate::input::read_text(&sidecar, crate::input::Kind::Sidecar).map_err(|err| {
+    let text = crate::input::read_text(&sidecar, crate::input::ReadAs::Sidecar).map_err(|err| {
         TileError::NoSidecar {
             tile: path.to_owned(),
             sidecar: sidecar.clone(),

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 /// FIFO and waited on it), before any child starts.
 pub fn check_given(files: &[PathBuf]) -> anyhow::Result<()> {
     for f in files {
-        glint::input::check(f, glint::input::Kind::Manifest)
+        glint::input::check(f, glint::input::ReadAs::Manifest)
             .map_err(|e| anyhow::anyhow!("--icd {}: {e}", glint::printable::path(f)))?;
     }
     Ok(())
@@ -99,7 +99,7 @@ pub fn short_name(file: &Path) -> String {
 /// a bare name, which the dynamic loader looks up in the system's folders,
 /// or a manifest that cannot be read as one.
 pub fn library(manifest: &Path) -> Option<PathBuf> {
-    let text = glint::input::read_text(manifest, glint::input::Kind::Manifest).ok()?;
+    let text = glint::input::read_text(manifest, glint::input::ReadAs::Manifest).ok()?;
     let json: serde_json::Value = serde_json::from_str(&text).ok()?;
     let named = json.get("ICD")?.get("library_path")?.as_str()?;
     named

@@ -304,7 +304,7 @@ fn readme(f: &Failure, command: &str, shader_problem: Option<String>) -> String 
 /// the loader's folders would block the run or fill its memory (issue 42,
 /// defect 11). What cannot be read is said in its place.
 fn manifest_text(icd: &Path) -> String {
-    glint::input::read_text(icd, glint::input::Kind::Manifest)
+    glint::input::read_text(icd, glint::input::ReadAs::Manifest)
         .unwrap_or_else(|e| format!("(not read: {e})"))
 }
 

@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use super::{Prepared, Rendered, Stage};
+use super::{BoundStage, Prepared, Rendered};
 use crate::base::interface::Array;
 use crate::base::real::{Real, Vec3};
 use crate::gpu::refine;
@@ -89,7 +89,7 @@ impl Prepared {
         // The list is this call's alone: the stage binds it anew, with the
         // refinement's pipeline, looked up once for this prepared scene.
         let (pipeline, variant) = match self.refine.take() {
-            Some(Stage {
+            Some(BoundStage {
                 pipeline, variant, ..
             }) => (pipeline, variant),
             None => {
@@ -107,7 +107,7 @@ impl Prepared {
             }
         };
         let t0 = Instant::now();
-        let stage = Stage::new(
+        let stage = BoundStage::new(
             &self.shared,
             pipeline,
             variant,

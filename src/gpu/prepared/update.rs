@@ -9,7 +9,7 @@ use super::{Block, Gather, Prepared};
 use crate::gpu::layout::Uploads;
 use crate::gpu::resident::rewrite_scene_blocks;
 use crate::gpu::times::{RenderTimes, SetupTimes};
-use crate::gpu::work::Work;
+use crate::gpu::work::PixelWork;
 use crate::gpu::GpuError;
 use crate::scene::Scene;
 
@@ -79,7 +79,7 @@ impl Prepared {
         if let Err(why) = written {
             return Ok(Update::Prepare(why));
         }
-        self.work = Work::of(traced).through(up.ray_cost);
+        self.work = PixelWork::of(traced).through(up.ray_cost);
         self.texels = traced.texels.clone();
         self.pending = Some(RenderTimes {
             setup: SetupTimes {
