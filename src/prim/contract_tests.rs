@@ -17,6 +17,8 @@
 //!   each other and to its normal;
 //! - a bounded kind has a box, which holds it and moves with it; an
 //!   unbounded kind has none;
+//! - its hull (`Kind::hull`), where it has one, holds every hit of rays
+//!   from all around it;
 //! - its CPU form has the same material.
 
 use glam::DVec3;
@@ -182,7 +184,114 @@ fn problems<K: Kind>() -> Vec<String> {
             "{name}: BOUNDED is {bounded} but its example's box is {b:?}"
         )),
     }
+    // A hull holds every hit: the tables' spans take it for the primitive
+    // (`Kind::hull`), and a hull too small would lose hits from their lists.
+    if let (false, Some(b)) = (p.hull().balls().is_empty(), p.bounds()) {
+        for hit in hits_around(&cpu, b) {
+            if let Some(by) = outside_hull(&p.hull(), hit) {
+                out.push(format!(
+                    "{name}: a hit at {hit} lies {by:.3e} outside its hull {:?}",
+                    p.hull()
+                ));
+                break;
+            }
+        }
+    }
     out
+}
+
+/// Where rays from 26 directions around `b` (its corners, edges' and
+/// faces' middles), aimed at points about its centre, meet `shape`.
+fn hits_around<S: Shape<f64>>(shape: &S, b: Aabb) -> Vec<DVec3> {
+    let size = (b.hi - b.lo).max_element().max(1e-9);
+    let mut hits = Vec::new();
+    for i in 0..27 {
+        let way = DVec3::new(
+            f64::from(i % 3) - 1.0,
+            f64::from(i / 3 % 3) - 1.0,
+            f64::from(i / 9) - 1.0,
+        );
+        if way == DVec3::ZERO {
+            continue;
+        }
+        for aim in [
+            DVec3::ZERO,
+            DVec3::new(0.2, -0.1, 0.15),
+            DVec3::new(-0.3, 0.25, -0.2),
+        ] {
+            let target = b.center() + aim * (b.hi - b.lo);
+            let origin = target + way.normalize() * (4.0 * size);
+            let ray = Ray {
+                origin: Vec3::of(origin),
+                dir: Vec3::of(-way.normalize()),
+            };
+            if let Some(t) = shape.intersect(&ray, false) {
+                hits.push(origin - way.normalize() * t);
+            }
+        }
+    }
+    hits
+}
+
+/// How far `p` lies outside the convex hull of `hull`'s balls, where it
+/// does by more than rounding. The hull is the union of the balls
+/// `B(sum w c, sum w r)` over weights w >= 0 that sum to 1, so the least of
+/// `|p - sum w c| - sum w r` over w (convex in w: found by ternary search,
+/// nested for three balls) is <= 0 exactly where p is in it.
+fn outside_hull(hull: &Hull, p: DVec3) -> Option<f64> {
+    let balls = hull.balls();
+    let gap = |w: [f64; 3]| {
+        let (c, r) = balls
+            .iter()
+            .zip(w)
+            .fold((DVec3::ZERO, 0.0), |(c, r), (&(bc, br), w)| {
+                (c + bc * w, r + br * w)
+            });
+        (p - c).length() - r
+    };
+    let least = |f: &dyn Fn(f64) -> f64, hi: f64| {
+        let (mut lo, mut hi) = (0.0, hi);
+        for _ in 0..100 {
+            let (a, b) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
+            if f(a) <= f(b) {
+                hi = b;
+            } else {
+                lo = a;
+            }
+        }
+        f(0.5 * (lo + hi))
+    };
+    let by = match balls.len() {
+        1 => gap([1.0, 0.0, 0.0]),
+        2 => least(&|t| gap([1.0 - t, t, 0.0]), 1.0),
+        _ => least(&|a| least(&|b| gap([1.0 - a - b, a, b]), 1.0 - a), 1.0),
+    };
+    let scale = balls.iter().fold(p.abs().max_element(), |m, (c, r)| {
+        m.max(c.abs().max_element() + r)
+    });
+    (by > 1e-9 * (1.0 + scale)).then_some(by)
+}
+
+/// The hull's check fails a hull that is too small, and passes the true
+/// one: a sphere's hits against its own ball and half of it, a segment's
+/// and a triangle's points against the balls at their ends and corners.
+#[test]
+fn a_hull_too_small_is_found() {
+    let s = sphere::Sphere::example(0);
+    let b = s.bounds().unwrap();
+    let hits = hits_around(&s.cpu::<f64>(), b);
+    assert!(hits.len() > 50, "{}", hits.len());
+    let (c, r) = s.hull().balls()[0];
+    assert!(hits.iter().all(|&h| outside_hull(&s.hull(), h).is_none()));
+    let half = Hull::of(&[(c, 0.5 * r)]);
+    assert!(hits.iter().all(|&h| outside_hull(&half, h).is_some()));
+    let ends = Hull::of(&[(DVec3::ZERO, 1.0), (DVec3::X * 4.0, 0.5)]);
+    assert!(outside_hull(&ends, DVec3::new(2.0, 0.74, 0.0)).is_none());
+    assert!(outside_hull(&ends, DVec3::new(2.0, 0.8, 0.0)).is_some());
+    let corners = Hull::of(&[(DVec3::ZERO, 0.0), (DVec3::X, 0.0), (DVec3::Y, 0.0)]);
+    assert!(outside_hull(&corners, DVec3::new(0.25, 0.25, 0.0)).is_none());
+    assert!(outside_hull(&corners, DVec3::new(0.25, 0.25, 1e-3)).is_some());
+    assert!(outside_hull(&corners, DVec3::new(0.6, 0.6, 0.0)).is_some());
 }
 
 macro_rules! every_kind {
