@@ -118,6 +118,13 @@ pub use glint::settings::Precision;
 pub struct SceneArgs {
     /// The scene file: TOML, or NFF by its .nff extension (docs/scene-format.md).
     pub scene: PathBuf,
+    #[command(flatten)]
+    pub overrides: OverrideArgs,
+}
+
+/// The settings that override a scene's own.
+#[derive(Args)]
+pub struct OverrideArgs {
     /// Image width in pixels (1..=16384).
     #[arg(long)]
     width: Option<u32>,
@@ -132,15 +139,21 @@ pub struct SceneArgs {
     max_depth: Option<u32>,
 }
 
-impl SceneArgs {
-    /// The scene file, absolute, and its overrides as the words of a
-    /// command line, for a child glint.
+impl OverrideArgs {
+    /// As the scene's loader takes them.
+    pub fn overrides(&self) -> Overrides {
+        Overrides {
+            width: self.width,
+            height: self.height,
+            samples: self.samples,
+            max_depth: self.max_depth,
+        }
+    }
+
+    /// As the words of a command line, for a child glint.
     #[cfg(feature = "gpu")]
     pub fn forward(&self) -> Vec<std::ffi::OsString> {
-        let mut v = vec![std::path::absolute(&self.scene).map_or_else(
-            |_| self.scene.clone().into_os_string(),
-            PathBuf::into_os_string,
-        )];
+        let mut v = Vec::new();
         for (flag, value) in [
             ("--width", self.width),
             ("--height", self.height),
@@ -153,15 +166,23 @@ impl SceneArgs {
         }
         v
     }
+}
+
+impl SceneArgs {
+    /// The scene file, absolute, and its overrides as the words of a
+    /// command line, for a child glint.
+    #[cfg(feature = "gpu")]
+    pub fn forward(&self) -> Vec<std::ffi::OsString> {
+        let mut v = vec![std::path::absolute(&self.scene).map_or_else(
+            |_| self.scene.clone().into_os_string(),
+            PathBuf::into_os_string,
+        )];
+        v.extend(self.overrides.forward());
+        v
+    }
 
     pub fn load(&self) -> anyhow::Result<Scene> {
-        let overrides = Overrides {
-            width: self.width,
-            height: self.height,
-            samples: self.samples,
-            max_depth: self.max_depth,
-        };
-        Ok(Scene::load(&self.scene, &overrides)?)
+        Ok(Scene::load(&self.scene, &self.overrides.overrides())?)
     }
 }
 

@@ -15,9 +15,9 @@ use serde::{Deserialize, Serialize};
 use glint::gpu::{GpuError, Renderer};
 use glint::raster::io;
 
-use glint::scene::{Overrides, Scene};
+use glint::scene::Scene;
 
-use super::super::DeviceArgs;
+use super::super::{DeviceArgs, OverrideArgs};
 
 /// The hidden command's arguments.
 #[derive(Args)]
@@ -28,12 +28,8 @@ pub struct ProbeArgs {
     /// The scene to render; without it the probe names the device only.
     #[arg(long, value_name = "FILE")]
     scene: Option<PathBuf>,
-    #[arg(long)]
-    width: Option<u32>,
-    #[arg(long)]
-    height: Option<u32>,
-    #[arg(long)]
-    samples: Option<u32>,
+    #[command(flatten)]
+    overrides: OverrideArgs,
     #[command(flatten)]
     device: DeviceArgs,
 }
@@ -146,13 +142,7 @@ fn probe(a: &ProbeArgs) -> Probe {
             },
         };
     };
-    let overrides = Overrides {
-        width: a.width,
-        height: a.height,
-        samples: a.samples,
-        max_depth: None,
-    };
-    let scene = match Scene::load(scene, &overrides) {
+    let scene = match Scene::load(scene, &a.overrides.overrides()) {
         Ok(s) => s,
         Err(e) => {
             return failed(
