@@ -23,26 +23,30 @@ fn markdown_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// The lines of `text` outside fenced code blocks, numbered from 1.
+fn unfenced_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    let mut fenced = false;
+    text.lines().enumerate().filter_map(move |(n, line)| {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+            return None;
+        }
+        (!fenced).then_some((n + 1, line))
+    })
+}
+
 /// The targets of `[text](target)` and `![alt](target)` in `text`, with
 /// their lines; code spans and fenced blocks are skipped.
 fn link_targets(text: &str) -> Vec<(usize, String)> {
     let mut targets = Vec::new();
-    let mut fenced = false;
-    for (n, line) in text.lines().enumerate() {
-        if line.trim_start().starts_with("```") {
-            fenced = !fenced;
-            continue;
-        }
-        if fenced {
-            continue;
-        }
+    for (n, line) in unfenced_lines(text) {
         // Code spans hold examples, not links.
         let prose: String = line.split('`').step_by(2).collect::<Vec<_>>().join(" ");
         let mut rest = prose.as_str();
         while let Some(at) = rest.find("](") {
             let after = &rest[at + 2..];
             let Some(end) = after.find(')') else { break };
-            targets.push((n + 1, after[..end].to_owned()));
+            targets.push((n, after[..end].to_owned()));
             rest = &after[end..];
         }
     }
@@ -91,20 +95,12 @@ fn named_files(text: &str) -> Vec<(usize, String)> {
         ".rs", ".glsl", ".comp", ".md", ".py", ".toml", ".json", ".svg", ".nff", ".obj",
     ];
     let mut names = Vec::new();
-    let mut fenced = false;
-    for (n, line) in text.lines().enumerate() {
-        if line.trim_start().starts_with("```") {
-            fenced = !fenced;
-            continue;
-        }
-        if fenced {
-            continue;
-        }
+    for (n, line) in unfenced_lines(text) {
         for span in line.split('`').skip(1).step_by(2) {
             let plain = !span.contains(|c: char| c.is_whitespace() || "<>*{}()".contains(c));
             let file = EXTENSIONS.iter().any(|e| span.ends_with(e)) || span.ends_with('/');
             if plain && file && span.contains('/') {
-                names.push((n + 1, span.to_owned()));
+                names.push((n, span.to_owned()));
             }
         }
     }
