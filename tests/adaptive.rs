@@ -8,7 +8,7 @@ mod common;
 use glint::cpu;
 use glint::raster::diff::figures;
 use glint::raster::Image;
-use glint::scene::{Overrides, Sampling, Scene};
+use glint::scene::{Sampling, Scene};
 
 /// `path` at `width`×`height`, with its sampling made adaptive.
 fn adaptive(path: &str, width: u32, height: u32, threshold: f64, levels: u32) -> Scene {
@@ -30,12 +30,7 @@ fn both_renderers_refine_alike() {
     ] {
         let scene = adaptive(path, w, h, 0.05, 2);
         let reference = cpu::render::<f64>(&scene);
-        let f32_image = cpu::render::<f32>(&scene);
-        assert!(common::passes(&f32_image, &reference), "{path}: CPU f32");
-        if let Some(gpu) = common::render_gpu_if_built(&scene) {
-            let f = figures(&gpu, &reference).unwrap();
-            assert!(common::passes(&gpu, &reference), "{path}: GPU f32 {f:?}");
-        }
+        common::assert_renderers_agree(path, &scene, &reference);
     }
 }
 
@@ -45,13 +40,7 @@ fn both_renderers_refine_alike() {
 #[test]
 fn refining_brings_the_image_nearer_a_converged_one() {
     let path = "scenes/whitted-1980.toml";
-    let converged = {
-        let text = std::fs::read_to_string(common::repo().join(path)).unwrap();
-        let mut s = common::scene_sized(&text, 96, 72);
-        s.samples = 16;
-        s.sampling = Sampling::Centers;
-        cpu::render::<f64>(&s)
-    };
+    let converged = common::converged(path, 96, 72);
     let corners = {
         let mut s = adaptive(path, 96, 72, 0.05, 1);
         s.sampling = Sampling::Corners;
@@ -92,19 +81,13 @@ fn regions_are_the_whole_render_bit_for_bit() {
 #[test]
 fn the_refinement_is_counted_alike() {
     let scene = adaptive("scenes/whitted-1980.toml", 80, 60, 0.05, 2);
-    let (_, cpu_counts) = cpu::render_counted::<f32>(&scene, glint::accel::Accel::Auto, &|_| {});
-    let (_, gpu_counts) = common::render_counted(&mut common::gpu(), &scene);
-    let (c, g) = (cpu_counts.rays(), gpu_counts.rays());
+    let c = common::eye_rays_counted_alike(&scene);
     // More eye rays than the 81×61 corners: the refinement's.
     assert!(c.eye > 81 * 61, "{c:?}");
-    let off = (c.eye as f64 - g.eye as f64).abs() / c.eye as f64;
-    assert!(off <= 0.001, "{c:?} against {g:?}");
 }
 
 #[test]
 fn bad_adaptive_keys_are_named() {
-    let head = "[image]\nwidth = 8\nheight = 6\n";
-    let tail = "[camera]\neye = [0.0, 0.0, 5.0]\nlook_at = [0.0, 0.0, 0.0]\nvfov = 40.0\n";
     for (image, key, words) in [
         (
             "threshold = 0.1\n",
@@ -132,17 +115,6 @@ fn bad_adaptive_keys_are_named() {
             "takes samples = 1",
         ),
     ] {
-        let text = format!("{head}{image}{tail}");
-        let msg = match glint::scene::parse(
-            &text,
-            std::path::Path::new("bad.toml"),
-            &Overrides::default(),
-        ) {
-            Ok(_) => panic!("accepted:\n{text}"),
-            Err(e) => e.to_string(),
-        };
-        assert!(msg.starts_with("bad.toml:"), "{msg}");
-        assert!(msg.contains(key), "expected {key}: {msg}");
-        assert!(msg.contains(words), "expected {words:?}: {msg}");
+        common::assert_image_keys_refused(image, key, words);
     }
 }

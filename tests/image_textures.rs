@@ -42,7 +42,7 @@ fn the_textures_scene_agrees_on_both_renderers() {
     );
     assert!(scene.input_files.iter().any(|f| f.ends_with("globe.png")));
     let reference = cpu::render::<f64>(&scene);
-    common::assert_renderers_agree(&scene, &reference);
+    common::assert_renderers_agree("the MTL scene", &scene, &reference);
 }
 
 /// A perturbed mapping fails: the floor's uvs shifted by a fiftieth, the

@@ -32,7 +32,7 @@ fn distinct_colours(image: &Image) -> usize {
 fn the_whitted_scene_agrees_on_both_renderers() {
     let (_, scene) = whitted(160, 120);
     let reference = cpu::render::<f64>(&scene);
-    common::assert_renderers_agree(&scene, &reference);
+    common::assert_renderers_agree("whitted", &scene, &reference);
 }
 
 /// A perturbed checker fails the comparison: squares 2 % larger, or the
@@ -117,7 +117,7 @@ fn solid_and_turned_checkers_agree_and_can_fail() {
     let scene = common::scene(SOLID);
     let reference = cpu::render::<f64>(&scene);
     assert!(distinct_colours(&reference) > 6, "the textures show");
-    common::assert_renderers_agree(&scene, &reference);
+    common::assert_renderers_agree("the checkers", &scene, &reference);
     let moved =
         common::scene(&SOLID.replace("origin = [0.1, 0.05, 0.0]", "origin = [0.135, 0.05, 0.0]"));
     assert!(!common::passes(&cpu::render::<f64>(&moved), &reference));

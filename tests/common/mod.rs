@@ -308,18 +308,58 @@ pub fn same_bits(a: &Image, b: &Image) -> bool {
             .all(|(p, q)| (0..3).all(|c| p[c].to_bits() == q[c].to_bits()))
 }
 
-/// Asserts that the CPU f32 render of `scene`, and the GPU's where glint
-/// is built with it, are within the default tolerance of `reference` (its
-/// CPU f64 render).
-pub fn assert_renderers_agree(scene: &Scene, reference: &Image) {
+/// Asserts that the CPU f32 render of `scene` (`what`, in the message),
+/// and the GPU's where glint is built with it, are within the default
+/// tolerance of `reference` (its CPU f64 render).
+pub fn assert_renderers_agree(what: &str, scene: &Scene, reference: &Image) {
     assert!(
         passes(&glint::cpu::render::<f32>(scene), reference),
-        "CPU f32"
+        "{what}: CPU f32"
     );
     if let Some(gpu) = render_gpu_if_built(scene) {
         let f = glint::raster::diff::figures(&gpu, reference).unwrap();
-        assert!(passes(&gpu, reference), "GPU f32: {f:?}");
+        assert!(passes(&gpu, reference), "{what}: GPU f32: {f:?}");
     }
+}
+
+/// The CPU f64 render of the scene file `path` at `width`×`height` with
+/// 16×16 samples a pixel: a converged image, for the samplings' tests.
+pub fn converged(path: &str, width: u32, height: u32) -> Image {
+    let text = std::fs::read_to_string(repo().join(path)).unwrap();
+    let mut s = scene_sized(&text, width, height);
+    s.samples = 16;
+    s.sampling = glint::scene::Sampling::Centers;
+    s.adaptive = None;
+    glint::cpu::render::<f64>(&s)
+}
+
+/// The CPU f32 render's ray counts of `scene`, once the GPU's count of its
+/// eye rays is asserted to be within 0.1 % of them.
+#[cfg(feature = "gpu")]
+pub fn eye_rays_counted_alike(scene: &Scene) -> glint::stats::RayCounts {
+    let (_, cpu_counts) =
+        glint::cpu::render_counted::<f32>(scene, glint::accel::Accel::Auto, &|_| {});
+    let (_, gpu_counts) = render_counted(&mut gpu(), scene);
+    let (c, g) = (cpu_counts.rays(), gpu_counts.rays());
+    let off = (c.eye as f64 - g.eye as f64).abs() / c.eye as f64;
+    assert!(off <= 0.001, "{c:?} against {g:?}");
+    c
+}
+
+/// Asserts that an 8×6 scene with `image` in its `[image]` table is
+/// refused in one error that names bad.toml, `key` and `words`.
+pub fn assert_image_keys_refused(image: &str, key: &str, words: &str) {
+    let text = format!(
+        "[image]\nwidth = 8\nheight = 6\n{image}\
+         [camera]\neye = [0.0, 0.0, 5.0]\nlook_at = [0.0, 0.0, 0.0]\nvfov = 40.0\n"
+    );
+    let msg = match parse(&text, Path::new("bad.toml"), &Overrides::default()) {
+        Ok(_) => panic!("accepted:\n{text}"),
+        Err(e) => e.to_string(),
+    };
+    assert!(msg.starts_with("bad.toml:"), "{msg}");
+    assert!(msg.contains(key), "expected {key}: {msg}");
+    assert!(msg.contains(words), "expected {words:?}: {msg}");
 }
 
 /// Whether `image` is within the default tolerance of `reference`.
