@@ -71,26 +71,20 @@ impl Variant {
         }
         let present = self.light_types();
         let _ = writeln!(s, "\nconst bool ONE_LIGHT_TYPE = {};", present.len() == 1);
-        s += &list(
-            "LIGHTS_PRESENT",
-            present.iter().map(|t| (t.upper(), t.name)),
-        );
-        s += &list(
-            "LIGHTS_CONE",
-            present
-                .iter()
-                .filter(|t| t.cone)
-                .map(|t| (t.upper(), t.name)),
-        );
+        let args = |t: &&LightTypeInfo| format!("{}, {}", t.upper(), t.name);
+        s += &x_list("LIGHTS_PRESENT", present.iter().map(args));
+        s += &x_list("LIGHTS_CONE", present.iter().filter(|t| t.cone).map(args));
         s
     }
 }
 
-/// `#define <name>(X)` calling `X(UPPER, name)` for each of `entries`.
-fn list(name: &str, entries: impl Iterator<Item = (String, &'static str)>) -> String {
+/// `#define <name>(X)` calling `X(<args>)` for each of `entries`' argument
+/// lists: the lists of a table's entries that the real shader files run
+/// over (scans.glsl, light_dispatch.glsl, texture_dispatch.glsl).
+pub(super) fn x_list(name: &str, entries: impl IntoIterator<Item = String>) -> String {
     let mut s = format!("#define {name}(X)");
-    for (upper, lower) in entries {
-        let _ = write!(s, " X({upper}, {lower})");
+    for args in entries {
+        let _ = write!(s, " X({args})");
     }
     s + "\n"
 }
@@ -122,9 +116,9 @@ pub fn textures() -> String {
         PATTERNS
             .iter()
             .filter(move |p| (p.needs == Needs::Uv) == uv)
-            .map(|p| (p.upper(), p.name))
+            .map(|p| format!("{}, {}", p.upper(), p.name))
     };
-    s += &list("PATTERNS_UV", entries(true));
-    s += &list("PATTERNS_OTHER", entries(false));
+    s += &x_list("PATTERNS_UV", entries(true));
+    s += &x_list("PATTERNS_OTHER", entries(false));
     s
 }

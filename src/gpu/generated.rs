@@ -185,11 +185,10 @@ impl Variant {
             ("UV", on(|k| k.uv)),
         ];
         for (list, kinds) in lists {
-            let _ = write!(s, "#define KINDS_{list}(X)");
-            for k in kinds {
-                let _ = write!(s, " X({}, {}, {})", k.upper(), k.struct_name, k.name);
-            }
-            s += "\n";
+            let args = kinds
+                .iter()
+                .map(|k| format!("{}, {}, {}", k.upper(), k.struct_name, k.name));
+            s += &super::entities::x_list(&format!("KINDS_{list}"), args);
         }
         s
     }
