@@ -39,14 +39,14 @@ vec3r shade(vec3r p, vec3r n, vec3r v, Material m, uint from) {
         vec3r l;
         real dist;
         real att;
-        light_toward(light, p, l, dist, att);
+        light_toward(light, p, n, l, dist, att);
         vec3r ambient = light.ambient.rgb * m.ambient.rgb;
         // A light exactly at p has no direction: it adds its ambient term only.
         if (dist == 0.0) {
             local += ambient * att;
             continue;
         }
-        real cone = light_cone(light, l);
+        real cone = light_cone(light, p, n, l);
         vec3r contribution = ambient;
         real n_dot_l = dot(n, l);
         // No shadow ray where the direct term would be zero anyway: facing

@@ -271,8 +271,14 @@ fn defaults_follow_the_spec() {
     assert_eq!(s.background, glam::DVec3::ZERO);
     let m = &s.materials[0];
     assert_eq!((m.shininess, m.reflectivity), (1.0, 0.0));
-    assert_eq!(s.lights[0].attenuation, glam::DVec3::new(1.0, 0.0, 0.0));
-    assert_eq!(s.lights[0].exponent, 0.0);
+    // A spot light's own numbers (src/scene/light/spot.rs): its attenuation,
+    // [1, 0, 0] by default, then the cosine of its cutoff and its exponent, 0.
+    let cos_cutoff = 30f64.to_radians().cos();
+    assert_eq!(
+        s.lights[0].own,
+        [1.0, 0.0, 0.0, 0.0, cos_cutoff, 0.0, 0.0, 0.0]
+    );
+    assert!(!s.lights[0].attenuated());
 }
 
 #[test]

@@ -30,14 +30,14 @@ pub fn shade<R: Real, T: Tally>(
 ) -> Vec3<R> {
     let mut local = Vec3::zero();
     for (index, light) in w.lights.iter().enumerate() {
-        let (l, dist, att) = light.kind.toward(light, p);
+        let (l, dist, att) = light.kind.toward(light, p, n);
         let ambient = light.ambient * m.ambient;
         // A light exactly at p has no direction: it adds its ambient term only.
         if dist == R::zero() {
             local += ambient * att;
             continue;
         }
-        let cone = light.kind.cone(light, l);
+        let cone = light.kind.cone(light, p, n, l);
         let mut contribution = ambient;
         let n_dot_l = n.dot(l);
         // No shadow ray where the direct term would be zero anyway: facing

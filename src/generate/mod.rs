@@ -291,11 +291,13 @@ impl Spec {
                         let flat = DVec3::new(d.x, 0.02 * d.length(), d.z);
                         t.0 = (center + flat).to_array();
                     };
-                    if let Some(pos) = f.position.as_mut() {
-                        tilt(pos);
-                    } else if let Some(dir) = f.direction.as_mut() {
+                    if let Some(mut pos) = f.triple("position") {
+                        tilt(&mut pos);
+                        f.set_triple("position", pos);
+                    } else if let Some(mut dir) = f.triple("direction") {
                         let d = DVec3::from_array(dir.0);
                         dir.0 = DVec3::new(d.x, -0.02, d.z).normalize().to_array();
+                        f.set_triple("direction", dir);
                     }
                 }
                 let intensity = if l.dark { 0.0 } else { 1.0 };

@@ -220,9 +220,7 @@ impl Features {
                 .iter()
                 .map(|t| scene.lights.iter().any(|l| l.kind == t.kind))
                 .collect(),
-            attenuation: scene.lights.iter().any(|l| {
-                l.position().is_some() && l.attenuation != glam::DVec3::new(1.0, 0.0, 0.0)
-            }),
+            attenuation: scene.lights.iter().any(|l| l.attenuated()),
             shadows: scene.shadows && objects && lights > 0,
             transmits: transmits && scene.max_depth > 1,
             spd_rays: scene.spd_rays,

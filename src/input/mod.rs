@@ -6,6 +6,7 @@
 
 pub(crate) mod error;
 pub(crate) mod field;
+pub(crate) mod keys;
 pub(crate) mod locate;
 mod read;
 pub(crate) mod triangles;

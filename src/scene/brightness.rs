@@ -57,7 +57,7 @@ impl Scene {
         self.lights
             .iter()
             .map(|l| {
-                let c = l.position().map_or(1.0, |_| l.attenuation.x);
+                let c = l.peak_divisor();
                 (max(l.ambient) * ka + max(l.diffuse) * kd + max(l.specular) * ks) / c
             })
             .collect()

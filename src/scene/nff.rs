@@ -12,6 +12,7 @@ use glam::DVec3;
 
 use super::camera::CameraFile;
 use super::file::{ImageFile, RenderFile, SceneFile};
+use super::light::point::{Point, PointFile};
 use super::light::LightFile;
 use super::material::MaterialFile;
 use super::sampling::Sampling;
@@ -402,15 +403,13 @@ impl<'a> Reader<'a> {
                     Triple([intensity; 3])
                 };
                 LightFile {
-                    kind: "point".into(),
-                    position: Some(Self::triple(l)),
-                    direction: None,
                     ambient: Triple::default(),
                     diffuse: colour,
                     specular: colour,
-                    attenuation: None,
-                    cutoff: None,
-                    exponent: None,
+                    ..LightFile::of::<Point>(&PointFile {
+                        position: Some(Self::triple(l)),
+                        attenuation: None,
+                    })
                 }
             })
             .collect();

@@ -3,21 +3,51 @@
 
 use glam::DVec3;
 
-use super::{Light, LightFile, LightKind, LIGHT_TYPES};
+use super::{Light, LightFile, LightKind, LightType, LIGHT_TYPES};
 use crate::input::error::SceneError;
 use crate::input::field::{Check, Triple};
+use crate::input::keys::{keys_of, read_table};
 use crate::input::locate::KeyPath;
 
 /// One light's table being checked: where it is, and what it holds.
 pub struct LightAt<'a> {
     check: &'a Check<'a>,
     path: &'a KeyPath,
-    pub(super) file: &'a LightFile,
+    file: &'a LightFile,
 }
 
 impl LightAt<'_> {
+    /// The table's own keys, read as type `T`'s: a key of another type is
+    /// refused by name, any other as unknown.
+    pub(super) fn own<T: LightType>(&self) -> Result<T::File, SceneError> {
+        let keys = keys_of::<T::File>();
+        for key in self.file.own.keys() {
+            if keys.contains(&key.as_str()) {
+                continue;
+            }
+            let message = if LIGHT_TYPES
+                .iter()
+                .any(|t| (t.keys)().contains(&key.as_str()))
+            {
+                format!("does not apply to a {} light", T::NAME)
+            } else {
+                let known = ["type", "ambient", "diffuse", "specular"]
+                    .iter()
+                    .chain(keys);
+                let known: Vec<String> = known.map(|k| format!("`{k}`")).collect();
+                format!(
+                    "unknown field `{key}`, expected one of {}",
+                    known.join(", ")
+                )
+            };
+            return self.err(Some(key), message);
+        }
+        read_table(&self.file.own, self.path)
+            .or_else(|(path, message)| self.check.err(&path, message))
+    }
+
     /// The light's own key `key`, required.
-    pub(super) fn required(&self, key: &str, v: Option<Triple>) -> Result<Triple, SceneError> {
+    fn required(&self, key: &str, v: Option<Triple>) -> Result<Triple, SceneError> {
         match v {
             Some(v) => Ok(v),
             None => self.check.err(
@@ -30,25 +60,24 @@ impl LightAt<'_> {
         }
     }
 
-    /// `position`, required.
-    pub(super) fn position(&self) -> Result<DVec3, SceneError> {
-        let v = self.required("position", self.file.position)?;
+    /// `position` (`v`), required.
+    pub(super) fn position(&self, v: Option<Triple>) -> Result<DVec3, SceneError> {
+        let v = self.required("position", v)?;
         self.check.position(&self.path.key("position"), v)
     }
 
-    /// `direction`, required, at unit length.
-    pub(super) fn direction(&self) -> Result<DVec3, SceneError> {
-        let v = self.required("direction", self.file.direction)?;
+    /// `direction` (`v`), required, at unit length.
+    pub(super) fn direction(&self, v: Option<Triple>) -> Result<DVec3, SceneError> {
+        let v = self.required("direction", v)?;
         self.check.direction(&self.path.key("direction"), v)
     }
 
-    /// `attenuation`, [1, 0, 0] by default, its constant term > 0.
-    pub(super) fn attenuation(&self) -> Result<DVec3, SceneError> {
+    /// `attenuation` (`v`), [1, 0, 0] by default, its constant term > 0.
+    pub(super) fn attenuation(&self, v: Option<Triple>) -> Result<DVec3, SceneError> {
         let path = self.path.key("attenuation");
-        let a = self.check.colour(
-            &path,
-            self.file.attenuation.unwrap_or(Triple([1.0, 0.0, 0.0])),
-        )?;
+        let a = self
+            .check
+            .colour(&path, v.unwrap_or(Triple([1.0, 0.0, 0.0])))?;
         if a.x <= 0.0 {
             return self.check.err(
                 &path.index(0),
@@ -94,15 +123,6 @@ impl Check<'_> {
                 ),
             );
         };
-        // Keys that another light type uses are errors here, not silently ignored.
-        for (key, present) in l.typed_keys() {
-            if present && !kind.info().keys.contains(&key) {
-                return self.err(
-                    &path.key(key),
-                    format!("does not apply to a {} light", l.kind),
-                );
-            }
-        }
         let placed = kind.check(&LightAt {
             check: self,
             path,
@@ -115,9 +135,7 @@ impl Check<'_> {
             ambient: self.colour(&path.key("ambient"), l.ambient)?,
             diffuse: self.colour(&path.key("diffuse"), l.diffuse)?,
             specular: self.colour(&path.key("specular"), l.specular)?,
-            attenuation: placed.attenuation,
-            cos_cutoff: placed.cos_cutoff,
-            exponent: placed.exponent,
+            own: placed.own,
         })
     }
 }

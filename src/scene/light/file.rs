@@ -1,22 +1,21 @@
-//! A light's table in the scene file, as read: every type's keys on one
-//! flat table, which the light's type then checks (check.rs).
+//! A light's table in the scene file, as read: its `type` and the colours
+//! every light has, and the rest of its keys kept aside for its type, which
+//! reads them into its own struct (`LightType::File`) when it is checked
+//! (check.rs).
 
 use serde::{Deserialize, Serialize};
 
+use super::LightType;
 use crate::input::field::Triple;
 
-/// One flat table for every light type: `check` takes the keys of the
-/// light's type alone and refuses the others by name.
+/// A `[[lights]]` table: what every type shares, and the type's own keys.
+/// (serde's `flatten`, which takes the own keys, cannot sit beside
+/// `deny_unknown_fields`; the type's struct denies unknown keys instead.)
 #[derive(Debug, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
 pub struct LightFile {
     /// `type`: a name of the table of light types.
     #[serde(rename = "type")]
     pub kind: String,
-    /// Where a positioned light is.
-    pub position: Option<Triple>,
-    /// The way a directional light travels; a cone's axis.
-    pub direction: Option<Triple>,
     /// Its ambient intensity (default 0).
     #[serde(default)]
     pub ambient: Triple,
@@ -26,44 +25,32 @@ pub struct LightFile {
     /// Its specular intensity (default 0).
     #[serde(default)]
     pub specular: Triple,
-    /// A positioned light's [c, l, q] (default [1, 0, 0]).
-    pub attenuation: Option<Triple>,
-    /// A cone's half-angle, in degrees.
-    pub cutoff: Option<f64>,
-    /// A cone's falloff exponent (default 0).
-    pub exponent: Option<f64>,
+    /// The keys of its type, as TOML.
+    #[serde(flatten)]
+    pub own: toml::Table,
 }
 
 impl LightFile {
-    /// A light of type `kind` at `position` or along `direction`, white,
-    /// with a little ambient, and its other keys left out.
-    pub(crate) fn placed(
-        kind: &str,
-        position: Option<[f64; 3]>,
-        direction: Option<[f64; 3]>,
-    ) -> Self {
+    /// A light of type `T` with its own keys `own`, white, with a little
+    /// ambient.
+    pub(crate) fn of<T: LightType>(own: &T::File) -> Self {
         LightFile {
-            kind: kind.to_owned(),
-            position: position.map(Triple),
-            direction: direction.map(Triple),
+            kind: T::NAME.to_owned(),
             ambient: Triple([0.1; 3]),
             diffuse: Triple([1.0; 3]),
             specular: Triple([0.5; 3]),
-            attenuation: None,
-            cutoff: None,
-            exponent: None,
+            own: toml::Table::try_from(own).expect("a light type's table is a TOML table"),
         }
     }
 
-    /// The keys a type may take (beside `type` and the three colours),
-    /// each with whether this table has it.
-    pub(super) fn typed_keys(&self) -> [(&'static str, bool); 5] {
-        [
-            ("position", self.position.is_some()),
-            ("direction", self.direction.is_some()),
-            ("attenuation", self.attenuation.is_some()),
-            ("cutoff", self.cutoff.is_some()),
-            ("exponent", self.exponent.is_some()),
-        ]
+    /// Its own key `key`, where it is three numbers.
+    pub fn triple(&self, key: &str) -> Option<Triple> {
+        self.own.get(key).cloned()?.try_into().ok()
+    }
+
+    /// Sets its own key `key` to three numbers.
+    pub fn set_triple(&mut self, key: &str, t: Triple) {
+        let value = toml::Value::try_from(t).expect("three numbers are TOML");
+        self.own.insert(key.to_owned(), value);
     }
 }

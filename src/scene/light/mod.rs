@@ -14,11 +14,8 @@
 //! Adding a light type: its module, its include, and one line of the table.
 
 mod check;
-mod directional;
 mod file;
 mod model;
-mod point;
-mod spot;
 mod unit;
 
 #[cfg(test)]
@@ -28,14 +25,15 @@ pub use check::LightAt;
 pub use file::LightFile;
 #[cfg(feature = "gpu")]
 pub(crate) use model::gpu;
-pub use model::{Light, LightR, Placement, Toward};
+pub use model::{Light, LightR, Own, Placement, Toward, OWN};
 pub use unit::{LightType, LightTypeInfo};
 
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
 
-/// The table of light types: each type's variant of [`LightKind`] and its
-/// module's type. A type's code in the shader is its place here.
+/// The table of light types: each type's variant of [`LightKind`], its
+/// module (a file of this folder, declared by the table) and the module's
+/// type. A type's code in the shader is its place here.
 macro_rules! with_light_types {
     ($then:ident) => {
         $then! {
@@ -47,7 +45,10 @@ macro_rules! with_light_types {
 }
 
 macro_rules! light_types {
-    ($($variant:ident : $ty:ty),* $(,)?) => {
+    ($($variant:ident : $module:ident :: $ty:ident),* $(,)?) => {
+        $(pub(crate) mod $module;)*
+        $(use $module::$ty;)*
+
         /// A light's type: its place in the table.
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
         pub enum LightKind {
@@ -61,21 +62,34 @@ macro_rules! light_types {
         impl LightKind {
             pub(super) fn check(self, at: &LightAt) -> Result<Placement, SceneError> {
                 match self {
-                    $(LightKind::$variant => <$ty>::check(at),)*
+                    $(LightKind::$variant => <$ty>::check(at.own::<$ty>()?, at),)*
                 }
             }
 
-            /// How light `l` of this type reaches `p`.
-            pub fn toward<R: Real>(self, l: &LightR<R>, p: Vec3<R>) -> Toward<R> {
+            /// How light `l` of this type reaches the point `p` of normal `n`.
+            pub fn toward<R: Real>(self, l: &LightR<R>, p: Vec3<R>, n: Vec3<R>) -> Toward<R> {
                 match self {
-                    $(LightKind::$variant => <$ty>::toward(l, p),)*
+                    $(LightKind::$variant => <$ty>::toward(l, p, n),)*
                 }
             }
 
-            /// The share of light `l` of this type in direction `to`.
-            pub fn cone<R: Real>(self, l: &LightR<R>, to: Vec3<R>) -> R {
+            /// The share of light `l` of this type at `p` (normal `n`) in
+            /// direction `to`.
+            pub fn cone<R: Real>(self, l: &LightR<R>, p: Vec3<R>, n: Vec3<R>, to: Vec3<R>) -> R {
                 match self {
-                    $(LightKind::$variant => <$ty>::cone(l, to),)*
+                    $(LightKind::$variant => <$ty>::cone(l, p, n, to),)*
+                }
+            }
+
+            fn attenuated(self, l: &Light) -> bool {
+                match self {
+                    $(LightKind::$variant => <$ty>::attenuated(l),)*
+                }
+            }
+
+            fn peak_divisor(self, l: &Light) -> f64 {
+                match self {
+                    $(LightKind::$variant => <$ty>::peak_divisor(l),)*
                 }
             }
         }

@@ -22,39 +22,27 @@ pub struct Light {
     pub diffuse: DVec3,
     /// Its specular intensity, per channel.
     pub specular: DVec3,
-    /// [c, l, q]: 1 / (c + l d + q d²); [1, 0, 0] where it has none.
-    pub attenuation: DVec3,
-    /// The cosine of a cone's half-angle; -1 without a cone.
-    pub cos_cutoff: f64,
-    /// A cone's falloff towards its edge: cos(angle)^exponent.
-    pub exponent: f64,
+    /// Its type's own numbers (a point light's attenuation, a cone's
+    /// cutoff), laid out by its type's module; 0 where it has none.
+    pub own: Own,
 }
 
+/// A light type's own numbers: its record in the shader (`own0`, `own1`)
+/// and in the CPU reference (`LightR::own`). Its module names the places.
+pub type Own = [f64; OWN];
+
+/// How many numbers a light type may keep of its own.
+pub const OWN: usize = 8;
+
 /// What a type's check gives: everything of a light but its colours.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Placement {
     /// `Light::position`.
     pub position: DVec3,
     /// `Light::direction`.
     pub direction: DVec3,
-    /// `Light::attenuation`.
-    pub attenuation: DVec3,
-    /// `Light::cos_cutoff`.
-    pub cos_cutoff: f64,
-    /// `Light::exponent`.
-    pub exponent: f64,
-}
-
-impl Default for Placement {
-    fn default() -> Self {
-        Self {
-            position: DVec3::ZERO,
-            direction: DVec3::ZERO,
-            attenuation: DVec3::X,
-            cos_cutoff: -1.0,
-            exponent: 0.0,
-        }
-    }
+    /// `Light::own`.
+    pub own: Own,
 }
 
 impl Light {
@@ -62,6 +50,16 @@ impl Light {
     /// towards a light without one could change nothing.
     pub fn has_direct_term(&self) -> bool {
         self.diffuse != DVec3::ZERO || self.specular != DVec3::ZERO
+    }
+
+    /// Whether its intensity falls with distance (its type says).
+    pub fn attenuated(&self) -> bool {
+        self.kind.attenuated(self)
+    }
+
+    /// What its intensity is divided by at its brightest (its type says).
+    pub fn peak_divisor(&self) -> f64 {
+        self.kind.peak_divisor(self)
     }
 
     /// Its position, where its type has one.
@@ -79,8 +77,8 @@ impl Light {
             ambient: xyz(self.ambient),
             diffuse: xyz(self.diffuse),
             specular: xyz(self.specular),
-            attenuation: xyz(self.attenuation),
-            cone: [self.cos_cutoff, self.exponent, 0.0, 0.0],
+            own0: [self.own[0], self.own[1], self.own[2], self.own[3]],
+            own1: [self.own[4], self.own[5], self.own[6], self.own[7]],
             meta: [self.kind as u32, u32::from(self.has_direct_term()), 0, 0],
         }
     }
@@ -94,9 +92,7 @@ impl Light {
             ambient: Vec3::of(self.ambient),
             diffuse: Vec3::of(self.diffuse),
             specular: Vec3::of(self.specular),
-            attenuation: Vec3::of(self.attenuation),
-            cos_cutoff: R::of(self.cos_cutoff),
-            exponent: R::of(self.exponent),
+            own: self.own.map(R::of),
             direct: self.has_direct_term(),
         }
     }
@@ -114,10 +110,10 @@ crate::base::interface::gpu_struct!(
         diffuse: real4,
         /// rgb Is
         specular: real4,
-        /// xyz = c, l, q
-        attenuation: real4,
-        /// x cos(cutoff), y exponent of a cone
-        cone: real4,
+        /// its type's own numbers 0 to 3 (`Own`)
+        own0: real4,
+        /// its type's own numbers 4 to 7
+        own1: real4,
         /// x LIGHT_* (its type), y 1 if it has a diffuse or specular term,
         /// z its light buffer's first grid + 1 (0: none), w the buffer's
         /// reach (f32 bits)
@@ -141,12 +137,8 @@ pub struct LightR<R> {
     pub diffuse: Vec3<R>,
     /// `Light::specular`.
     pub specular: Vec3<R>,
-    /// `Light::attenuation`.
-    pub attenuation: Vec3<R>,
-    /// `Light::cos_cutoff`.
-    pub cos_cutoff: R,
-    /// `Light::exponent`.
-    pub exponent: R,
+    /// `Light::own`.
+    pub own: [R; OWN],
     /// Whether it has a diffuse or specular term.
     pub direct: bool,
 }

@@ -1,27 +1,56 @@
 //! A spot light: a point light within a cone about its axis, falling off
 //! towards the cone's edge; mirrors shaders/light/spot.glsl.
 
+use serde::{Deserialize, Serialize};
+
 use super::point::Point;
-use super::{LightAt, LightR, LightType, Placement, Toward};
+use super::{Light, LightAt, LightR, LightType, Placement, Toward};
 use crate::base::real::{spec_pow, Real, Vec3};
 use crate::input::error::SceneError;
+use crate::input::field::Triple;
 use crate::rng::Place;
 
 pub struct Spot;
 
+/// A spot light's keys.
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpotFile {
+    /// Where it is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub position: Option<Triple>,
+    /// Its cone's axis.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub direction: Option<Triple>,
+    /// As a point light's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub attenuation: Option<Triple>,
+    /// Its cone's half-angle, in degrees.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cutoff: Option<f64>,
+    /// Its falloff towards the cone's edge (default 0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub exponent: Option<f64>,
+}
+
+/// Its own numbers (`Light::own`): a point light's in 0 to 3, then the
+/// cosine of its cutoff and its exponent (`own1.xy` in the shader).
+const COS_CUTOFF: usize = 4;
+const EXPONENT: usize = 5;
+
 impl LightType for Spot {
+    type File = SpotFile;
     const NAME: &'static str = "spot";
     const GLSL: &'static str = include_str!("../../../shaders/light/spot.glsl");
-    const KEYS: &'static [&'static str] =
-        &["position", "direction", "attenuation", "cutoff", "exponent"];
     const POSITIONED: bool = true;
     const CONE: bool = true;
 
-    fn check(at: &LightAt) -> Result<Placement, SceneError> {
-        let position = at.position()?;
-        let direction = at.direction()?;
-        let attenuation = at.attenuation()?;
-        let cutoff = match at.file.cutoff {
+    fn check(file: SpotFile, at: &LightAt) -> Result<Placement, SceneError> {
+        let position = at.position(file.position)?;
+        let direction = at.direction(file.direction)?;
+        let mut own = [0.0; super::OWN];
+        own[..3].copy_from_slice(&Point::own(at, file.attenuation)?);
+        let cutoff = match file.cutoff {
             Some(c) => at.number("cutoff", c)?,
             None => return at.err(None, "missing key `cutoff` (required for a spot light)"),
         };
@@ -31,53 +60,62 @@ impl LightType for Spot {
                 format!("must be in (0, 90] degrees, got {cutoff}"),
             );
         }
-        let exponent = at.number("exponent", at.file.exponent.unwrap_or(0.0))?;
+        let exponent = at.number("exponent", file.exponent.unwrap_or(0.0))?;
         if exponent < 0.0 {
             return at.err(Some("exponent"), format!("must be >= 0, got {exponent}"));
         }
+        own[COS_CUTOFF] = cutoff.to_radians().cos();
+        own[EXPONENT] = exponent;
         Ok(Placement {
             position,
             direction,
-            attenuation,
-            cos_cutoff: cutoff.to_radians().cos(),
-            exponent,
+            own,
         })
     }
 
-    fn toward<R: Real>(l: &LightR<R>, p: Vec3<R>) -> Toward<R> {
-        Point::toward(l, p)
+    fn toward<R: Real>(l: &LightR<R>, p: Vec3<R>, n: Vec3<R>) -> Toward<R> {
+        Point::toward(l, p, n)
     }
 
-    fn cone<R: Real>(l: &LightR<R>, to: Vec3<R>) -> R {
+    fn cone<R: Real>(l: &LightR<R>, _p: Vec3<R>, _n: Vec3<R>, to: Vec3<R>) -> R {
         let cos_theta = (-to).dot(l.direction);
-        if cos_theta >= l.cos_cutoff {
-            spec_pow(cos_theta, l.exponent)
+        if cos_theta >= l.own[COS_CUTOFF] {
+            spec_pow(cos_theta, l.own[EXPONENT])
         } else {
             R::zero()
         }
     }
 
+    fn attenuated(l: &Light) -> bool {
+        Point::attenuated(l)
+    }
+
+    fn peak_divisor(l: &Light) -> f64 {
+        Point::peak_divisor(l)
+    }
+
     /// A spot above the place, aimed near its centre.
-    fn sample(p: &mut Place) -> super::LightFile {
+    fn sample(p: &mut Place) -> SpotFile {
         let at = p.center + p.upward() * (3.0 * p.size);
         let aim = p.center + p.unit() * (0.5 * p.size);
         let way = (aim - at).normalize();
-        let mut f = super::LightFile::placed(
-            Self::NAME,
-            Some(Place::triple(at)),
-            Some(Place::triple(way)),
-        );
-        f.cutoff = Some(p.uniform(15.0, 70.0));
-        f.exponent = Some([0.0, 1.0, p.uniform(0.0, 16.0)][p.pick(3)]);
-        f
+        SpotFile {
+            position: Some(Triple(Place::triple(at))),
+            direction: Some(Triple(Place::triple(way))),
+            attenuation: None,
+            cutoff: Some(p.uniform(15.0, 70.0)),
+            exponent: Some([0.0, 1.0, p.uniform(0.0, 16.0)][p.pick(3)]),
+        }
     }
 
     #[cfg(test)]
-    fn example() -> super::LightFile {
-        let mut f =
-            super::contract_tests::file("spot", Some([1.0, 2.0, 3.0]), Some([0.0, -1.0, 0.0]));
-        f.cutoff = Some(30.0);
-        f.exponent = Some(2.0);
-        f
+    fn example() -> SpotFile {
+        SpotFile {
+            position: Some(Triple([1.0, 2.0, 3.0])),
+            direction: Some(Triple([0.0, -1.0, 0.0])),
+            cutoff: Some(30.0),
+            exponent: Some(2.0),
+            ..SpotFile::default()
+        }
     }
 }
