@@ -26,6 +26,9 @@ fn checked(f: &LightFile) -> Result<Light, SceneError> {
     check.light(&crate::input::field::root().key("lights").index(0), f)
 }
 
+/// A key no light type takes.
+const NO_TYPES_KEY: &str = "no_light_type_takes_this";
+
 /// What type `T` (the table's `kind`) breaks of the contract.
 pub(super) fn problems<T: LightType>(kind: LightKind) -> Vec<String> {
     let name = T::NAME;
@@ -69,7 +72,7 @@ pub(super) fn problems<T: LightType>(kind: LightKind) -> Vec<String> {
         .filter(|k| !own.contains(k));
     for (key, refusal) in others
         .map(|k| (*k, format!("does not apply to a {name} light")))
-        .chain([("radius", "unknown field `radius`".to_owned())])
+        .chain([(NO_TYPES_KEY, format!("unknown field `{NO_TYPES_KEY}`"))])
     {
         let mut f = LightFile {
             kind: example.kind.clone(),
