@@ -172,57 +172,75 @@ fn setup_times_are_those_of_the_call() {
 /// here, and with the mixes that have nothing: no objects (and so no
 /// material used: the scene's two materials stay unused), no lights (the
 /// image is its background and black where objects are, since ambient
-/// comes from the lights; issue 57, defect 1). Lavapipe 22.3 crashed (a
-/// segmentation fault in a worker thread) on two of these mixes' uniform
-/// buffer variants; glint gives it none (src/gpu/variant.rs).
+/// comes from the lights; issue 57, defect 1). Then each pattern of the
+/// textures' table on every kind, lit by each light type. Lavapipe 22.3
+/// crashed (a segmentation fault in a worker thread) on two of these
+/// mixes' uniform buffer variants; glint gives it none (src/gpu/variant.rs).
 #[test]
 fn every_mix_of_kinds_and_lights_renders() {
     use glint::generate::space::{Point, MAX_KINDS};
+    use glint::scene::texture::PATTERNS;
     use glint::scene::LIGHT_TYPES;
     let mut gpu = renderer(false, Intersect::Robust, Precision::F32);
     let kinds = glint::generate::kind_keys().len();
-    for mask in 0..(1u32 << kinds) {
-        // None, then one light of each type.
-        for lights in 0..=LIGHT_TYPES.len() {
-            let mut counts = [0u8; MAX_KINDS];
-            for (k, c) in counts.iter_mut().enumerate().take(kinds) {
-                *c = u8::from(mask & (1 << k) != 0);
-            }
-            let point = Point {
-                counts,
-                lights,
-                reflect: true,
-                transmit: false,
-                texture: 0,
-                shadows: true,
-                sampling: 0,
-                deep: true,
-            };
-            let generated = point.spec(57, 32, 24).scene();
-            let scene = common::scene(&generated.text);
-            let text = &generated.text;
-            let reference = cpu::render::<f64>(&scene);
-            let image = gpu
-                .render(&scene, &|_| {})
-                .unwrap_or_else(|e| panic!("{text}\n{e}"))
-                .0;
-            for (who, image) in [("gpu", image), ("cpu f32", cpu::render::<f32>(&scene))] {
-                let f = figures(&image, &reference).unwrap();
-                assert!(
-                    Tolerance::default().violations(&f).is_empty(),
-                    "{who}\n{text}\n{f:?}"
-                );
-            }
-            if lights == 0 {
-                // Only the background's light is in such a scene: mirrors
-                // pass on a share of it, and nothing may add to it.
-                let bg = scene.background;
-                let lit = reference
-                    .pixels
-                    .iter()
-                    .any(|p| (0..3).any(|c| f64::from(p[c]) > bg[c] + 1e-6));
-                assert!(!lit, "no pixel is brighter than the background\n{text}");
-            }
+    let every_kind = (1u32 << kinds) - 1;
+    let mixes = (0..(1u32 << kinds))
+        .flat_map(|mask| (0..=LIGHT_TYPES.len()).map(move |lights| (mask, lights, 0)))
+        .chain(
+            (1..=PATTERNS.len())
+                .flat_map(|t| (1..=LIGHT_TYPES.len()).map(move |lights| (every_kind, lights, t))),
+        );
+    for (mask, lights, texture) in mixes {
+        let mut counts = [0u8; MAX_KINDS];
+        for (k, c) in counts.iter_mut().enumerate().take(kinds) {
+            *c = u8::from(mask & (1 << k) != 0);
+        }
+        let point = Point {
+            counts,
+            // None, then one light of each type.
+            lights,
+            reflect: true,
+            transmit: false,
+            texture,
+            shadows: true,
+            sampling: 0,
+            deep: true,
+        };
+        let generated = point.spec(57, 32, 24).scene();
+        let text = &generated.text;
+        // Written with its files: an image pattern names one.
+        let dir = tempfile::tempdir().unwrap();
+        let path = generated.write(dir.path(), "mix.toml").unwrap();
+        let scene = Scene::load(&path, &Overrides::default()).unwrap_or_else(|e| panic!("{e}"));
+        if texture > 0 {
+            let pattern = PATTERNS[texture - 1].pattern;
+            let used = scene.materials.iter().filter_map(|m| m.texture);
+            let found = used
+                .into_iter()
+                .any(|t| scene.textures[t as usize].pattern == pattern);
+            assert!(found, "no material takes a {pattern:?} in\n{text}");
+        }
+        let reference = cpu::render::<f64>(&scene);
+        let image = gpu
+            .render(&scene, &|_| {})
+            .unwrap_or_else(|e| panic!("{text}\n{e}"))
+            .0;
+        for (who, image) in [("gpu", image), ("cpu f32", cpu::render::<f32>(&scene))] {
+            let f = figures(&image, &reference).unwrap();
+            assert!(
+                Tolerance::default().violations(&f).is_empty(),
+                "{who}\n{text}\n{f:?}"
+            );
+        }
+        if lights == 0 {
+            // Only the background's light is in such a scene: mirrors
+            // pass on a share of it, and nothing may add to it.
+            let bg = scene.background;
+            let lit = reference
+                .pixels
+                .iter()
+                .any(|p| (0..3).any(|c| f64::from(p[c]) > bg[c] + 1e-6));
+            assert!(!lit, "no pixel is brighter than the background\n{text}");
         }
     }
 }
