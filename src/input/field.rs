@@ -44,7 +44,7 @@ impl<'de> Deserialize<'de> for Triple {
 /// Where one table of the file is, for a primitive kind's checks
 /// (`crate::prim::Kind::check`): its fields are checked and named from here.
 pub struct At<'a> {
-    pub(crate) check: &'a Check<'a>,
+    pub(crate) check: &'a Validator<'a>,
     /// The materials' names, sorted.
     pub(crate) names: &'a [&'a String],
     pub(crate) path: KeyPath,
@@ -156,17 +156,18 @@ pub(crate) fn root() -> KeyPath {
     KeyPath::default()
 }
 
-/// One input file being checked: where its values are written, for the
-/// errors that name them. Each layer adds the checks of its own tables
-/// (`crate::scene`'s validation: the scene file's).
-pub(crate) struct Check<'a> {
+/// The validation of one input file: where its values are written, for
+/// the errors that name them, and the checks of single values. Each layer
+/// adds the checks of its own tables (`crate::scene`'s validation: the
+/// scene file's).
+pub(crate) struct Validator<'a> {
     /// The file, as messages name it.
     pub(crate) file: &'a Path,
     /// Where each key path was written.
     pub(crate) located: &'a dyn Locate,
 }
 
-impl Check<'_> {
+impl Validator<'_> {
     pub(crate) fn err<T>(&self, path: &KeyPath, message: impl Into<String>) -> Result<T> {
         let at = self.located.find(path);
         Err(SceneError::Invalid {

@@ -5,7 +5,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::input::error::SceneError;
-use crate::input::field::{Check, Triple};
+use crate::input::field::{Triple, Validator};
 use crate::input::locate::KeyPath;
 
 type Result<T> = std::result::Result<T, SceneError>;
@@ -45,7 +45,7 @@ pub struct Camera {
     pub screen_up: DVec3,
 }
 
-impl Check<'_> {
+impl Validator<'_> {
     /// The camera at `path`, either form, as an eye and a screen of
     /// `aspect` (width over height).
     pub(crate) fn camera(&self, path: &KeyPath, c: &CameraFile, aspect: f64) -> Result<Camera> {

@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use crate::base::real::{Real, Vec3};
 use crate::base::tally::tree_word;
 use crate::input::error::SceneError;
-use crate::input::field::{Check, Triple};
+use crate::input::field::{Triple, Validator};
 use crate::input::locate::KeyPath;
 use crate::raster::region::Region;
 
@@ -349,7 +349,7 @@ pub fn refine_levels<R: Real, E>(
     Ok(out)
 }
 
-impl Check<'_> {
+impl Validator<'_> {
     /// `[image]`'s contrast sampling: its thresholds (default Mitchell's
     /// 0.4, 0.3, 0.6, each ≥ 0), its `max_samples` (default 33, 4..=256)
     /// and `compare_trees` (default true); the keys are refused for

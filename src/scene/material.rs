@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
-use crate::input::field::{Check, Triple};
+use crate::input::field::{Triple, Validator};
 use crate::input::locate::KeyPath;
 
 type Result<T> = std::result::Result<T, SceneError>;
@@ -189,7 +189,7 @@ const MAX_IOR: f64 = 1e6;
 /// The smallest.
 const MIN_IOR: f64 = 1e-6;
 
-impl Check<'_> {
+impl Validator<'_> {
     /// The material `name` at `path`; `textures` are the names of the
     /// scene's textures, sorted.
     pub(crate) fn material(

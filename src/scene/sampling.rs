@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
-use crate::input::field::Check;
+use crate::input::field::Validator;
 use crate::input::locate::KeyPath;
 
 /// Where a pixel's eye rays go (docs/scene-format.md, Rays).
@@ -85,7 +85,7 @@ impl Adaptive {
     }
 }
 
-impl Check<'_> {
+impl Validator<'_> {
     /// Refuses the first of `given`, `[image]`'s keys that only `sampling
     /// = "<sampling>"` takes, that the file gives: for another sampling.
     pub(crate) fn none_given(

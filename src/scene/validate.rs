@@ -11,7 +11,7 @@ use super::images::Images;
 use super::texture::Texture;
 use super::{Sampling, Scene, SceneError, MAX_DEPTH, MAX_SAMPLES, MAX_SIZE};
 use crate::input::field::MAX_COORDINATE;
-use crate::input::field::{root, At, Check};
+use crate::input::field::{root, At, Validator};
 use crate::input::locate::Locate;
 use crate::prim::mesh::Cache as MeshCache;
 use crate::prim::Prims;
@@ -38,7 +38,7 @@ pub(super) fn resolve(
     overrides: &Overrides,
     meshes: Option<&MeshCache>,
 ) -> Result<Scene> {
-    let check = Check { file, located };
+    let check = Validator { file, located };
     let mut scene = check.scene(raw, overrides, meshes)?;
     apply_overrides(&mut scene, overrides)?;
     check.brightness(&scene)?;
@@ -65,7 +65,7 @@ type Result<T> = std::result::Result<T, SceneError>;
 /// 1/`MAX_COORDINATE`, so that its square (1e-36) is a normal f32.
 pub const MIN_REACH: f64 = 1.0 / MAX_COORDINATE;
 
-impl Check<'_> {
+impl Validator<'_> {
     /// Refuses a scene whose objects all lie within `MIN_REACH` of the eye:
     /// camera-relative, its squared lengths would underflow f32, and the
     /// GPU's f32 render would be flat ambient without a word (issue 31,

@@ -5,13 +5,13 @@ use glam::DVec3;
 
 use super::{Light, LightFile, LightKind, LightType, LIGHT_TYPES};
 use crate::input::error::SceneError;
-use crate::input::field::{Check, Triple};
+use crate::input::field::{Triple, Validator};
 use crate::input::keys::{keys_of, read_table};
 use crate::input::locate::KeyPath;
 
 /// One light's table being checked: where it is, and what it holds.
 pub struct LightAt<'a> {
-    check: &'a Check<'a>,
+    check: &'a Validator<'a>,
     path: &'a KeyPath,
     file: &'a LightFile,
 }
@@ -104,7 +104,7 @@ impl LightAt<'_> {
     }
 }
 
-impl Check<'_> {
+impl Validator<'_> {
     /// The light at `path`: its type, its type's keys alone, its placement
     /// and its colours.
     pub(crate) fn light(&self, path: &KeyPath, l: &LightFile) -> Result<Light, SceneError> {

@@ -14,12 +14,12 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::*;
-use crate::input::field::Check;
+use crate::input::field::Validator;
 use crate::input::locate::Located;
 
 fn checked(f: &LightFile) -> Result<Light, SceneError> {
     let located = Located::new("");
-    let check = Check {
+    let check = Validator {
         file: Path::new("t.toml"),
         located: &located,
     };

@@ -7,7 +7,7 @@ use glam::DVec3;
 
 use super::{PatternInfo, Texture, TextureFile, PATTERNS};
 use crate::input::error::SceneError;
-use crate::input::field::{Check, MAX_COORDINATE};
+use crate::input::field::{Validator, MAX_COORDINATE};
 use crate::input::locate::KeyPath;
 use crate::scene::images::Images;
 
@@ -31,7 +31,7 @@ fn whats(key: &str, taking: bool) -> String {
     either(&w)
 }
 
-impl Check<'_> {
+impl Validator<'_> {
     /// The pattern a texture's table names: by `pattern`, or its file's.
     fn pattern(&self, path: &KeyPath, t: &TextureFile) -> Result<&'static PatternInfo> {
         let named: Vec<&str> = PATTERNS

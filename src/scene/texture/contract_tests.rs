@@ -15,7 +15,7 @@ use std::path::Path;
 
 use super::*;
 use crate::input::error::SceneError;
-use crate::input::field::{root, Check};
+use crate::input::field::{root, Validator};
 use crate::input::locate::Located;
 use crate::scene::images::Images;
 
@@ -34,7 +34,7 @@ fn table<P: PatternType>() -> TextureFile {
 
 fn checked(t: &TextureFile) -> Result<Texture, SceneError> {
     let located = Located::new("");
-    let check = Check {
+    let check = Validator {
         file: Path::new("t.toml"),
         located: &located,
     };

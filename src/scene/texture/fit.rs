@@ -3,7 +3,7 @@
 
 use super::{Needs, Texture, PATTERNS};
 use crate::input::error::SceneError;
-use crate::input::field::{root, Check};
+use crate::input::field::{root, Validator};
 use crate::prim::{KindInfo, Prims, KINDS};
 use crate::scene::Material;
 
@@ -17,7 +17,7 @@ fn wanted(needs: Needs) -> (&'static str, fn(&KindInfo) -> bool) {
     }
 }
 
-impl Check<'_> {
+impl Validator<'_> {
     /// Refuses a texture on a primitive without what its pattern reads (a
     /// frame: spheres and cylinders lack one; uvs: cylinders, triangles
     /// without uvs and meshes without vt), naming the primitive, or the mesh
