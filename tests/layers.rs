@@ -528,30 +528,34 @@ fn read_all(src: &Path) -> Vec<(String, String)> {
     files
 }
 
-/// The loops of imports among the sibling files of each folder (a
-/// folder's mod.rs, which declares and re-exports its files, is not one
-/// of them): each as `src/<folder>: a.rs -> b.rs -> a.rs`, once.
+/// The loops of imports among the files of each folder, its mod.rs among
+/// them: each as `src/<folder>: a.rs -> b.rs -> a.rs`, once. A name a
+/// mod.rs re-exports from one of its files (`pub use unit::Kind;`) is
+/// that file's, so a loop that runs through a re-export is seen; a
+/// mod.rs's declarations and re-exports are not uses of its files.
 fn circles(sources: &[(String, String)]) -> Vec<String> {
     let modules: BTreeMap<Vec<String>, &str> = sources
         .iter()
         .map(|(rel, _)| (module_of(rel), rel.as_str()))
         .collect();
-    let sibling = |rel: &str| !rel.ends_with("mod.rs");
-    // The file a path lands in: the longest prefix that is a file's module.
+    let reexported = reexports(sources, &modules);
+    // The file a path lands in, through the re-exports: the longest prefix
+    // that is a file's module.
     let file_of = |path: &[String]| {
+        let path = through(&reexported, path);
         (1..=path.len())
             .rev()
             .find_map(|n| modules.get(&path[..n]).copied())
     };
     let mut graph: BTreeMap<&str, std::collections::BTreeSet<&str>> = BTreeMap::new();
-    for (rel, text) in sources.iter().filter(|(r, _)| sibling(r)) {
+    for (rel, text) in sources {
         let base = module_of(rel);
         for (_, path, module) in paths(&strip(text), &base) {
             let Some(to) = resolve(&path, &module).and_then(|p| file_of(&p)) else {
                 continue;
             };
             let same_folder = Path::new(to).parent() == Path::new(rel.as_str()).parent();
-            if to != rel && sibling(to) && same_folder {
+            if to != rel && same_folder {
                 graph.entry(rel.as_str()).or_default().insert(to);
             }
         }
@@ -580,4 +584,78 @@ fn circles(sources: &[(String, String)]) -> Vec<String> {
     }
     found.sort();
     found
+}
+
+/// What each mod.rs re-exports from its own files: the name it gives
+/// (`gpu::Form`) and the path it stands for (`gpu::blocks::Form`).
+fn reexports(
+    sources: &[(String, String)],
+    modules: &BTreeMap<Vec<String>, &str>,
+) -> BTreeMap<Vec<String>, Vec<String>> {
+    let mut out = BTreeMap::new();
+    for (rel, text) in sources.iter().filter(|(r, _)| r.ends_with("mod.rs")) {
+        let base = module_of(rel);
+        let code = strip(text);
+        for statement in code.split(';') {
+            let statement = statement.trim();
+            let Some(tree) = ["pub use ", "pub(crate) use ", "pub(super) use "]
+                .iter()
+                .find_map(|p| statement.strip_prefix(p))
+            else {
+                continue;
+            };
+            for path in use_tree(tree) {
+                let mut target = base.clone();
+                target.extend(path.iter().cloned());
+                let child = base.iter().chain(path.first()).cloned().collect::<Vec<_>>();
+                if path.len() > 1 && modules.contains_key(&child) {
+                    let mut name = base.clone();
+                    name.push(path.last().unwrap().clone());
+                    out.insert(name, target);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// `path` with its longest re-exported prefix replaced by what it stands
+/// for.
+fn through(reexported: &BTreeMap<Vec<String>, Vec<String>>, path: &[String]) -> Vec<String> {
+    for n in (1..=path.len()).rev() {
+        if let Some(target) = reexported.get(&path[..n]) {
+            let mut p = target.clone();
+            p.extend(path[n..].iter().cloned());
+            return p;
+        }
+    }
+    path.to_vec()
+}
+
+#[test]
+fn a_circle_through_a_reexport_or_a_mod_rs_fails() {
+    let sources = [
+        (
+            "prim/mod.rs",
+            "mod sphere;\nmod unit;\npub use unit::Kind;\nfn t() { crate::prim::sphere::f(); }\n",
+        ),
+        ("prim/sphere.rs", "use super::Kind;\npub fn f() {}\n"),
+        (
+            "prim/unit.rs",
+            "pub trait Kind {}\nfn g() { super::sphere::f(); }\n",
+        ),
+        (
+            "gpu/mod.rs",
+            "mod a;\npub struct S;\nfn t() { crate::gpu::a::f(); }\n",
+        ),
+        ("gpu/a.rs", "use super::S;\npub fn f() {}\n"),
+    ]
+    .map(|(f, t)| (f.to_owned(), t.to_owned()));
+    assert_eq!(
+        circles(&sources),
+        vec![
+            "src/gpu: a.rs -> mod.rs -> a.rs".to_owned(),
+            "src/prim: sphere.rs -> unit.rs -> sphere.rs".to_owned(),
+        ]
+    );
 }

@@ -5,14 +5,12 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use super::GpuError;
-#[cfg(doc)]
-use super::Renderer;
 use crate::accel::Accel;
 use crate::base::Precision;
 use crate::settings::{Intersect, Schedule};
 
-/// How a [`Renderer`] is made: the device, validation, the shader files and
-/// defines, the caches, and the settings of [`Renderer::render`].
+/// How a [`Renderer`](super::Renderer) is made: the device, validation, the shader files and
+/// defines, the caches, and the settings of [`Renderer::render`](super::Renderer::render).
 #[derive(Debug, Clone, Default)]
 pub struct GpuOptions {
     /// Pick the first device whose name contains this.
@@ -135,8 +133,8 @@ impl GpuOptions {
     }
 }
 
-/// How a scene is rendered: what [`Renderer::prepare`] compiles it and lays
-/// it out for. [`Renderer::render`] takes the renderer's own
+/// How a scene is rendered: what [`Renderer::prepare`](super::Renderer::prepare) compiles it and lays
+/// it out for. [`Renderer::render`](super::Renderer::render) takes the renderer's own
 /// (`GpuOptions::settings`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
 pub struct RenderSettings {

@@ -1,5 +1,5 @@
 //! A scene prepared for the GPU: laid out, compiled and uploaded once by
-//! [`Renderer::prepare`], then rendered region by region as a list of
+//! [`Renderer::prepare`](super::Renderer::prepare), then rendered region by region as a list of
 //! passes (megakernel or wavefront tiles; adaptive sampling's refinement
 //! after the corners), each run by the executor under its watchdog.
 
@@ -21,8 +21,6 @@ use super::vk::buffer::Buffer;
 use super::vk::command::Completed;
 use super::vk::descriptor::{DescriptorSet, Resource};
 use super::work::{PixelWork, COMPILE_TIMEOUT};
-#[cfg(doc)]
-use super::Renderer;
 use super::{GpuError, Precision};
 use crate::accel::refit::Shape;
 use crate::base::aov::{self, Aov};

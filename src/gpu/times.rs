@@ -1,8 +1,5 @@
 //! What preparing and rendering a scene cost, in seconds.
 
-#[cfg(doc)]
-use super::Prepared;
-
 /// One-time costs, apart from any render: opening the device, and compiling
 /// the scene's shader variant (or reading it from the SPIR-V cache) and
 /// creating its pipeline; zero when the variant was already built.
@@ -23,7 +20,7 @@ pub struct SetupTimes {
     pub driver_compile_s: f64,
 }
 
-/// The cost of one render. The first render of a [`Prepared`] scene also
+/// The cost of one render. The first render of a [`Prepared`](super::Prepared) scene also
 /// carries what preparing it cost (its setup, BVH and upload); later
 /// renders of it carry none of that.
 #[derive(Debug, Clone, Copy, Default, serde::Serialize)]

@@ -24,6 +24,8 @@
 use glam::DVec3;
 
 use super::*;
+use crate::base::interface::GpuStruct;
+use crate::base::real::Vec3;
 
 /// What `K` breaks of the contract, each naming the kind.
 fn problems<K: Kind>() -> Vec<String> {

@@ -14,6 +14,7 @@ use super::camera::CameraFile;
 use super::file::{ImageFile, RenderFile, SceneFile};
 use super::light::point::{Point, PointFile};
 use super::light::LightFile;
+use super::light::LightType;
 use super::material::MaterialFile;
 use super::sampling::Sampling;
 use super::SceneError;
@@ -406,10 +407,13 @@ impl<'a> Reader<'a> {
                     ambient: Triple::default(),
                     diffuse: colour,
                     specular: colour,
-                    ..LightFile::of::<Point>(&PointFile {
-                        position: Some(Self::triple(l)),
-                        attenuation: None,
-                    })
+                    ..LightFile::new(
+                        Point::NAME,
+                        &PointFile {
+                            position: Some(Self::triple(l)),
+                            attenuation: None,
+                        },
+                    )
                 }
             })
             .collect();

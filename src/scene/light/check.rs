@@ -3,7 +3,9 @@
 
 use glam::DVec3;
 
-use super::{Light, LightFile, LightKind, LightType, LIGHT_TYPES};
+use serde::de::DeserializeOwned;
+
+use super::{Light, LightFile, LightKind, LIGHT_TYPES};
 use crate::input::error::SceneError;
 use crate::input::field::{Triple, Validator};
 use crate::input::keys::{keys_of, read_table};
@@ -17,10 +19,11 @@ pub struct LightAt<'a> {
 }
 
 impl LightAt<'_> {
-    /// The table's own keys, read as type `T`'s: a key of another type is
-    /// refused by name, any other as unknown.
-    pub(super) fn own<T: LightType>(&self) -> Result<T::File, SceneError> {
-        let keys = keys_of::<T::File>();
+    /// The table's own keys, read as `F`, the keys of the type named
+    /// `name`: a key of another type is refused by name, any other as
+    /// unknown.
+    pub(super) fn own<F: DeserializeOwned>(&self, name: &str) -> Result<F, SceneError> {
+        let keys = keys_of::<F>();
         for key in self.file.own.keys() {
             if keys.contains(&key.as_str()) {
                 continue;
@@ -29,7 +32,7 @@ impl LightAt<'_> {
                 .iter()
                 .any(|t| (t.keys)().contains(&key.as_str()))
             {
-                format!("does not apply to a {} light", T::NAME)
+                format!("does not apply to a {name} light")
             } else {
                 let known = ["type", "ambient", "diffuse", "specular"]
                     .iter()

@@ -51,7 +51,7 @@ pub(super) fn problems<T: LightType>(kind: LightKind) -> Vec<String> {
     // its table's is found below.
     let example = LightFile {
         kind: kind.info().name.to_owned(),
-        ..LightFile::of::<T>(&T::example())
+        ..LightFile::new(T::NAME, &T::example())
     };
     let light = match checked(&example) {
         Ok(l) => l,
@@ -77,7 +77,7 @@ pub(super) fn problems<T: LightType>(kind: LightKind) -> Vec<String> {
         let mut f = LightFile {
             kind: example.kind.clone(),
             own: example.own.clone(),
-            ..LightFile::of::<T>(&T::example())
+            ..LightFile::new(T::NAME, &T::example())
         };
         f.own.insert(key.to_owned(), toml::Value::Float(1.0));
         match checked(&f) {

@@ -5,7 +5,6 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::LightType;
 use crate::input::field::Triple;
 
 /// A `[[lights]]` table: what every type shares, and the type's own keys.
@@ -31,11 +30,11 @@ pub struct LightFile {
 }
 
 impl LightFile {
-    /// A light of type `T` with its own keys `own`, white, with a little
-    /// ambient.
-    pub(crate) fn of<T: LightType>(own: &T::File) -> Self {
+    /// A light of the type named `kind` with its own keys `own` (its
+    /// type's `LightType::File`), white, with a little ambient.
+    pub(crate) fn new(kind: &str, own: &impl Serialize) -> Self {
         LightFile {
-            kind: T::NAME.to_owned(),
+            kind: kind.to_owned(),
             ambient: Triple([0.1; 3]),
             diffuse: Triple([1.0; 3]),
             specular: Triple([0.5; 3]),

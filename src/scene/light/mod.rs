@@ -62,7 +62,7 @@ macro_rules! light_types {
         impl LightKind {
             pub(super) fn check(self, at: &LightAt) -> Result<Placement, SceneError> {
                 match self {
-                    $(LightKind::$variant => <$ty>::check(at.own::<$ty>()?, at),)*
+                    $(LightKind::$variant => <$ty>::check(at.own::<<$ty as LightType>::File>(<$ty>::NAME)?, at),)*
                 }
             }
 

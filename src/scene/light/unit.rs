@@ -104,5 +104,5 @@ impl LightTypeInfo {
 
 /// `T::sample` as a light's table.
 fn sample_file<T: LightType>(p: &mut Place) -> LightFile {
-    LightFile::of::<T>(&T::sample(p))
+    LightFile::new(T::NAME, &T::sample(p))
 }
