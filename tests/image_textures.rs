@@ -233,7 +233,7 @@ fn bad_images_and_missing_uvs_are_named() {
         ("image = \"negative.pfm\"", SPHERE.to_owned(), "texel (0, 0) has the value -1: texels must be finite and >= 0"),
         ("image = \"huge.pfm\"", SPHERE.to_owned(), "materials.m: its texture's brightest value, 1.000e38, makes the brightest pixel"),
         ("image = \"ok.png\"\npattern = \"checker\"", SPHERE.to_owned(), "a pattern or an image, not both"),
-        ("image = \"ok.png\"\ncolors = [[1, 1, 1], [0, 0, 0]]", SPHERE.to_owned(), "an image has no colors"),
+        ("image = \"ok.png\"\ncolors = [[1, 1, 1], [0, 0, 0]]", SPHERE.to_owned(), "an image takes no `colors`"),
         ("size = 1.0", SPHERE.to_owned(), "needs a pattern (checker, solid_checker) or an image"),
         (ok, triangle.to_owned(), "triangles[0].material: material \"m\" has the image texture \"t\", which needs uv coordinates: give this triangle uvs"),
         (ok, cylinder.to_owned(), "cylinders[0].material: material \"m\" has the image texture \"t\", which needs uv coordinates"),

@@ -5,9 +5,12 @@ use std::path::Path;
 
 use glam::DVec3;
 
+use serde::de::DeserializeOwned;
+
 use super::{PatternInfo, Texture, TextureFile, PATTERNS};
 use crate::input::error::SceneError;
-use crate::input::field::{Validator, MAX_COORDINATE};
+use crate::input::field::{Triple, Validator, MAX_COORDINATE};
+use crate::input::keys::{keys_of, read_table};
 use crate::input::locate::KeyPath;
 use crate::scene::images::Images;
 
@@ -25,7 +28,7 @@ fn either(whats: &[&str]) -> String {
 fn whats(key: &str, taking: bool) -> String {
     let w: Vec<&str> = PATTERNS
         .iter()
-        .filter(|p| p.keys.contains(&key) == taking)
+        .filter(|p| (p.keys)().contains(&key) == taking)
         .map(|p| p.what)
         .collect();
     either(&w)
@@ -80,63 +83,12 @@ impl Validator<'_> {
         images: &mut Images,
     ) -> Result<Texture> {
         let p = self.pattern(path, t)?;
-        let takes = |key: &str| p.keys.contains(&key);
-        let size = match (t.size, p.default_size) {
-            (Some(size), _) => self.finite(&path.key("size"), size)?,
-            (None, Some(size)) => size,
-            (None, None) => return self.err(path, "a pattern needs its size (size = ...)"),
-        };
-        // A point's coordinate over the size must stay finite in f32: from
-        // 1/MAX_COORDINATE up (issue 31, defect 17: 1e-40 made NaN).
-        let smallest = 1.0 / MAX_COORDINATE;
-        if !(smallest..=MAX_COORDINATE).contains(&size) {
-            return self.err(
-                &path.key("size"),
-                format!(
-                    "must be at least {smallest:e} and at most {MAX_COORDINATE:e}, so that a \
-                     coordinate over it stays finite in f32; got {size:e}"
-                ),
-            );
-        }
-        let colors = match t.colors {
-            Some(_) if !takes("colors") => {
-                return self.err(
-                    &path.key("colors"),
-                    format!("{} has no colors of its own", p.what),
-                )
-            }
-            Some(c) => [
-                self.colour(&path.key("colors").index(0), c[0])?,
-                self.colour(&path.key("colors").index(1), c[1])?,
-            ],
-            None if !takes("colors") => [DVec3::ONE; 2],
-            None => return self.err(path, "a pattern needs its two colors (colors = ...)"),
-        };
-        let mut rotation = [1.0, 0.0];
-        if let Some(angle) = t.angle {
-            if !takes("angle") {
-                return self.err(
-                    &path.key("angle"),
-                    format!("only {} is turned by an angle", whats("angle", true)),
-                );
-            }
-            let radians = self.finite(&path.key("angle"), angle)?.to_radians();
-            rotation = [radians.cos(), radians.sin()];
-        }
-        let mut origin = DVec3::ZERO;
-        if let Some(o) = t.origin {
-            if !takes("origin") {
-                return self.err(
-                    &path.key("origin"),
-                    format!(
-                        "only {} has an origin ({} starts at its surface's own)",
-                        whats("origin", true),
-                        whats("origin", false)
-                    ),
-                );
-            }
-            origin = self.position(&path.key("origin"), o)?;
-        }
+        let look = p.pattern.check(&PatternAt {
+            check: self,
+            path,
+            file: t,
+            info: p,
+        })?;
         let texels = match &t.image {
             Some(file) => Some(
                 images
@@ -147,10 +99,11 @@ impl Validator<'_> {
         };
         Ok(Texture {
             pattern: p.pattern,
-            size,
-            colors,
-            rotation,
-            origin,
+            size: look.size,
+            colors: look.colors,
+            rotation: look.rotation,
+            origin: look.origin,
+            own: look.own,
             texels,
         })
     }
@@ -179,6 +132,110 @@ impl Validator<'_> {
                     ),
                 )
             }
+        }
+    }
+}
+
+/// One texture's table being checked, as its pattern's: where it is, what
+/// it holds, and the pattern it names.
+pub struct PatternAt<'a> {
+    check: &'a Validator<'a>,
+    path: &'a KeyPath,
+    file: &'a TextureFile,
+    info: &'a PatternInfo,
+}
+
+impl PatternAt<'_> {
+    /// The table's own keys, read as `F`, the pattern's keys: a key of
+    /// another pattern is refused naming those that take it, any other as
+    /// unknown; the first in the file's order (the kept table is sorted).
+    pub(super) fn own<F: DeserializeOwned>(&self) -> Result<F> {
+        let keys = keys_of::<F>();
+        let place = |key: &String| {
+            let at = self.check.located.find(&self.path.key(key));
+            at.map(|a| (a.line, a.column))
+        };
+        let stray = self.file.own.keys().filter(|k| !keys.contains(&k.as_str()));
+        if let Some(key) = stray.min_by_key(|k| place(k)) {
+            let message = if PATTERNS.iter().any(|p| (p.keys)().contains(&key.as_str())) {
+                format!(
+                    "{} takes no `{key}` (only {} does)",
+                    self.info.what,
+                    whats(key, true)
+                )
+            } else {
+                let known = ["pattern", "image"].iter().chain(keys);
+                let known: Vec<String> = known.map(|k| format!("`{k}`")).collect();
+                format!(
+                    "unknown field `{key}`, expected one of {}",
+                    known.join(", ")
+                )
+            };
+            return self.check.err(&self.path.key(key), message);
+        }
+        read_table(&self.file.own, self.path)
+            .or_else(|(path, message)| self.check.err(&path, message))
+    }
+
+    /// `size` (`v`; `default` where it is left out, else required): from
+    /// 1/MAX_COORDINATE to MAX_COORDINATE.
+    pub(super) fn size(&self, v: Option<f64>, default: Option<f64>) -> Result<f64> {
+        let path = self.path.key("size");
+        let size = match (v, default) {
+            (Some(size), _) => self.check.finite(&path, size)?,
+            (None, Some(size)) => size,
+            (None, None) => {
+                return self
+                    .check
+                    .err(self.path, "a pattern needs its size (size = ...)")
+            }
+        };
+        // A point's coordinate over the size must stay finite in f32: from
+        // 1/MAX_COORDINATE up (issue 31, defect 17: 1e-40 made NaN).
+        let smallest = 1.0 / MAX_COORDINATE;
+        if !(smallest..=MAX_COORDINATE).contains(&size) {
+            return self.check.err(
+                &path,
+                format!(
+                    "must be at least {smallest:e} and at most {MAX_COORDINATE:e}, so that a \
+                     coordinate over it stays finite in f32; got {size:e}"
+                ),
+            );
+        }
+        Ok(size)
+    }
+
+    /// `colors` (`v`), required.
+    pub(super) fn colors(&self, v: Option<[Triple; 2]>) -> Result<[DVec3; 2]> {
+        let Some(c) = v else {
+            return self
+                .check
+                .err(self.path, "a pattern needs its two colors (colors = ...)");
+        };
+        let path = self.path.key("colors");
+        Ok([
+            self.check.colour(&path.index(0), c[0])?,
+            self.check.colour(&path.index(1), c[1])?,
+        ])
+    }
+
+    /// The cosine and sine of `angle` (`v`, degrees; 0 where left out).
+    pub(super) fn rotation(&self, v: Option<f64>) -> Result<[f64; 2]> {
+        let Some(angle) = v else {
+            return Ok([1.0, 0.0]);
+        };
+        let radians = self
+            .check
+            .finite(&self.path.key("angle"), angle)?
+            .to_radians();
+        Ok([radians.cos(), radians.sin()])
+    }
+
+    /// `origin` (`v`), a position; 0 where left out.
+    pub(super) fn origin(&self, v: Option<Triple>) -> Result<DVec3> {
+        match v {
+            Some(o) => self.check.position(&self.path.key("origin"), o),
+            None => Ok(DVec3::ZERO),
         }
     }
 }

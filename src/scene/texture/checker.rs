@@ -1,8 +1,12 @@
 //! The checkers: squares in a surface's own coordinates, and cubes in the
 //! scene's; mirrors shaders/texture/checker.glsl.
 
-use super::{sample_colors, Needs, PatternType, TextureFile, TextureR};
+use serde::{Deserialize, Serialize};
+
+use super::{sample_colors, Look, Needs, PatternAt, PatternType, TextureFile, TextureR};
 use crate::base::real::{Real, Vec3};
+use crate::input::error::SceneError;
+use crate::input::field::Triple;
 use crate::prim::Shape;
 use crate::rng::Place;
 
@@ -16,13 +20,37 @@ fn pick<R: Real>(t: &TextureR<R>, cells: R) -> Vec3<R> {
 /// angle.
 pub struct Checker;
 
+/// A checker's keys.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CheckerFile {
+    /// The side of a square, > 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub size: Option<f64>,
+    /// Its two colours, the first at the origin's square.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub colors: Option<[Triple; 2]>,
+    /// Turned by this many degrees about the normal, from the surface's u.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub angle: Option<f64>,
+}
+
 impl PatternType for Checker {
     const NAME: &'static str = "checker";
     const WHAT: &'static str = "a \"checker\"";
     const GLSL: &'static str = include_str!("../../../shaders/texture/checker.glsl");
     const INCLUDE: &'static str = "checker";
-    const KEYS: &'static [&'static str] = &["size", "colors", "angle"];
+    type File = CheckerFile;
     const NEEDS: Needs = Needs::Frame;
+
+    fn check(file: CheckerFile, at: &PatternAt) -> Result<Look, SceneError> {
+        Ok(Look {
+            size: at.size(file.size, None)?,
+            colors: at.colors(file.colors)?,
+            rotation: at.rotation(file.angle)?,
+            ..Look::default()
+        })
+    }
 
     fn colour<R: Real>(
         t: &TextureR<R>,
@@ -42,13 +70,12 @@ impl PatternType for Checker {
     }
 
     fn sample(p: &mut Place) -> TextureFile {
-        TextureFile {
-            pattern: Some(Self::NAME.to_owned()),
+        let own = CheckerFile {
             size: Some(p.size * p.uniform(0.2, 0.7)),
             colors: Some(sample_colors(p)),
             angle: Some(p.uniform(0.0, 90.0)),
-            ..TextureFile::default()
-        }
+        };
+        TextureFile::of::<Self>(None, &own)
     }
 }
 
@@ -56,13 +83,37 @@ impl PatternType for Checker {
 /// `origin`, on any surface.
 pub struct SolidChecker;
 
+/// A solid checker's keys.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolidCheckerFile {
+    /// The side of a cube, > 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub size: Option<f64>,
+    /// Its two colours, the first at the origin's cube.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub colors: Option<[Triple; 2]>,
+    /// A corner of its cubes (default the scene's origin).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub origin: Option<Triple>,
+}
+
 impl PatternType for SolidChecker {
     const NAME: &'static str = "solid_checker";
     const WHAT: &'static str = "a \"solid_checker\"";
     const GLSL: &'static str = Checker::GLSL;
     const INCLUDE: &'static str = "checker";
-    const KEYS: &'static [&'static str] = &["size", "colors", "origin"];
+    type File = SolidCheckerFile;
     const NEEDS: Needs = Needs::Nothing;
+
+    fn check(file: SolidCheckerFile, at: &PatternAt) -> Result<Look, SceneError> {
+        Ok(Look {
+            size: at.size(file.size, None)?,
+            colors: at.colors(file.colors)?,
+            origin: at.origin(file.origin)?,
+            ..Look::default()
+        })
+    }
 
     fn colour<R: Real>(t: &TextureR<R>, _: &[[f32; 3]], _: &dyn Shape<R>, p: Vec3<R>) -> Vec3<R> {
         let q = p - t.origin;
@@ -74,12 +125,11 @@ impl PatternType for SolidChecker {
 
     fn sample(p: &mut Place) -> TextureFile {
         let corner = p.center + p.unit() * p.size;
-        TextureFile {
-            pattern: Some(Self::NAME.to_owned()),
+        let own = SolidCheckerFile {
             size: Some(p.size * p.uniform(0.2, 0.7)),
             colors: Some(sample_colors(p)),
-            origin: Some(crate::input::field::Triple(Place::triple(corner))),
-            ..TextureFile::default()
-        }
+            origin: Some(Triple(Place::triple(corner))),
+        };
+        TextureFile::of::<Self>(None, &own)
     }
 }

@@ -16,19 +16,19 @@ use std::path::Path;
 use super::*;
 use crate::input::error::SceneError;
 use crate::input::field::{root, Validator};
+use crate::input::keys::keys_of;
 use crate::input::locate::Located;
 use crate::scene::images::Images;
 
-/// A table of `P` with each of its keys (and, read from a file, none).
+/// A table of `P` with every key of its sample (and, read from a file,
+/// no file).
 fn table<P: PatternType>() -> TextureFile {
-    let has = |k: &str| P::KEYS.contains(&k);
+    let mut files = Vec::new();
+    let mut rng = crate::rng::Xorshift(7);
+    let mut place = crate::rng::Place::new(DVec3::ZERO, 1.0, "", &mut files, &mut rng);
     TextureFile {
-        pattern: (!P::FILE).then(|| P::NAME.to_owned()),
         image: None,
-        size: has("size").then_some(0.5),
-        colors: has("colors").then_some([Triple([1.0, 0.0, 0.0]), Triple([0.0, 0.0, 1.0])]),
-        angle: has("angle").then_some(30.0),
-        origin: has("origin").then_some(Triple([0.1, 0.2, 0.3])),
+        ..P::sample(&mut place)
     }
 }
 
@@ -46,17 +46,8 @@ fn checked(t: &TextureFile) -> Result<Texture, SceneError> {
     )
 }
 
-impl TextureFile {
-    /// The keys a pattern may take, each with whether this table has it.
-    fn typed_keys(&self) -> [(&'static str, bool); 4] {
-        [
-            ("size", self.size.is_some()),
-            ("colors", self.colors.is_some()),
-            ("angle", self.angle.is_some()),
-            ("origin", self.origin.is_some()),
-        ]
-    }
-}
+/// A key no pattern takes.
+const NO_PATTERNS_KEY: &str = "no_pattern_takes_this";
 
 /// What pattern `P` (the table's `pattern`) breaks of the contract.
 pub(super) fn problems<P: PatternType>(pattern: Pattern) -> Vec<String> {
@@ -75,12 +66,11 @@ pub(super) fn problems<P: PatternType>(pattern: Pattern) -> Vec<String> {
             P::INCLUDE
         ));
     }
-    let keys: Vec<&str> = table::<P>().typed_keys().iter().map(|(k, _)| *k).collect();
-    for key in P::KEYS {
-        if !keys.contains(key) {
-            out.push(format!(
-                "{name}: its key `{key}` is none of the texture table's {keys:?}"
-            ));
+    let own = keys_of::<P::File>();
+    let sample = table::<P>();
+    for key in own {
+        if !sample.own.contains_key(*key) {
+            out.push(format!("{name}: its sample lacks its key `{key}`"));
         }
     }
     if P::FILE {
@@ -97,23 +87,26 @@ pub(super) fn problems<P: PatternType>(pattern: Pattern) -> Vec<String> {
     if texture.pattern != pattern || pattern.info().name != name {
         out.push(format!("{name}: its table checks as {:?}", texture.pattern));
     }
-    for (key, _) in table::<P>().typed_keys() {
-        if P::KEYS.contains(&key) {
-            continue;
-        }
+    // A key of another pattern, added to its table, is refused naming the
+    // patterns that take it; a key of no pattern, as unknown.
+    let others = PATTERNS
+        .iter()
+        .flat_map(|p| (p.keys)())
+        .filter(|k| !own.contains(k));
+    for (key, refusal) in others
+        .map(|k| (*k, format!("{} takes no `{k}` (only ", P::WHAT)))
+        .chain([(
+            NO_PATTERNS_KEY,
+            format!("unknown field `{NO_PATTERNS_KEY}`"),
+        )])
+    {
         let mut t = table::<P>();
-        match key {
-            "size" => t.size = Some(1.0),
-            "colors" => t.colors = Some([Triple([1.0; 3]); 2]),
-            "angle" => t.angle = Some(1.0),
-            "origin" => t.origin = Some(Triple([0.0; 3])),
-            other => {
-                out.push(format!("{name}: the contract cannot set `{other}`"));
-                continue;
-            }
-        }
-        if checked(&t).is_ok() {
-            out.push(format!("{name}: `{key}` is not refused"));
+        t.own.insert(key.to_owned(), toml::Value::Float(1.0));
+        match checked(&t) {
+            Err(e)
+                if e.to_string()
+                    .contains(&format!("textures.t.{key}: {refusal}")) => {}
+            other => out.push(format!("{name}: `{key}` is not refused: {other:?}")),
         }
     }
     // On a plane through (0, 0, 1): a frame and uvs.
@@ -153,13 +146,20 @@ fn every_pattern_keeps_the_contract() {
 #[test]
 fn a_pattern_without_its_function_is_named() {
     struct Broken;
+    #[derive(serde::Serialize, serde::Deserialize)]
+    struct BrokenFile {
+        tint: Option<f64>,
+    }
     impl PatternType for Broken {
         const NAME: &'static str = "broken";
         const WHAT: &'static str = "a \"broken\"";
         const GLSL: &'static str = "vec3r broken_color(Texture tx);\n";
         const INCLUDE: &'static str = "broken";
-        const KEYS: &'static [&'static str] = &["size", "colors", "tint"];
+        type File = BrokenFile;
         const NEEDS: Needs = Needs::Nothing;
+        fn check(_: BrokenFile, _: &PatternAt) -> Result<Look, SceneError> {
+            Ok(Look::default())
+        }
         fn colour<R: Real>(
             t: &TextureR<R>,
             _: &[[f32; 3]],
@@ -176,7 +176,7 @@ fn a_pattern_without_its_function_is_named() {
     for wanted in [
         "broken: its include lacks",
         "broken: no pattern of the include",
-        "broken: its key `tint`",
+        "broken: its sample lacks its key `tint`",
     ] {
         assert!(
             found.iter().any(|p| p.starts_with(wanted)),

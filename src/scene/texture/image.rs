@@ -1,13 +1,28 @@
 //! An image's texels at the surface's uv coordinates, filtered bilinearly
 //! and repeated; mirrors shaders/texture/image.glsl.
 
-use super::{Needs, PatternType, TextureFile, TextureR};
+use serde::{Deserialize, Serialize};
+
+use super::{Look, Needs, PatternAt, PatternType, TextureFile, TextureR};
 use crate::base::real::{Real, Vec3};
+use crate::input::error::SceneError;
 use crate::prim::Shape;
 use crate::rng::Place;
 
 /// An image file's texels.
 pub struct Image;
+
+/// An image's keys besides `image`.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImageFile {
+    /// The uv distance it repeats at (default 1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub size: Option<f64>,
+    /// Its uv coordinates turned by this many degrees.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub angle: Option<f64>,
+}
 
 impl PatternType for Image {
     const NAME: &'static str = "image";
@@ -15,9 +30,17 @@ impl PatternType for Image {
     const GLSL: &'static str = include_str!("../../../shaders/texture/image.glsl");
     const INCLUDE: &'static str = "image";
     const FILE: bool = true;
-    const KEYS: &'static [&'static str] = &["size", "angle"];
-    const DEFAULT_SIZE: Option<f64> = Some(1.0);
+    type File = ImageFile;
     const NEEDS: Needs = Needs::Uv;
+
+    /// Untinted (a scene file's image has no colors of its own).
+    fn check(file: ImageFile, at: &PatternAt) -> Result<Look, SceneError> {
+        Ok(Look {
+            size: at.size(file.size, Some(1.0))?,
+            rotation: at.rotation(file.angle)?,
+            ..Look::default()
+        })
+    }
 
     fn colour<R: Real>(
         t: &TextureR<R>,
@@ -47,12 +70,11 @@ impl PatternType for Image {
         // its own coordinates, and a texel a pixel's fraction wide is noise
         // no f32 renderer can match (`glint fuzz` found one at scale 1000);
         // a sphere's run 0 to 1 whatever its size.
-        TextureFile {
-            image: Some(name),
+        let own = ImageFile {
             size: Some(p.size.max(1.0) * p.uniform(0.3, 1.0)),
             angle: Some(p.uniform(0.0, 90.0)),
-            ..TextureFile::default()
-        }
+        };
+        TextureFile::of::<Self>(Some(name), &own)
     }
 }
 
@@ -107,6 +129,7 @@ mod tests {
             colors: [Vec3::new(1.0, 1.0, 1.0); 2],
             rotation: [1.0, 0.0],
             origin: Vec3::zero(),
+            own: [0.0; 4],
             texels: Some(Texels {
                 first: 0,
                 width: 3,

@@ -20,13 +20,17 @@ mod image;
 mod contract_tests;
 
 use glam::DVec3;
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use crate::base::real::{Real, Vec3};
+use crate::input::error::SceneError;
 use crate::input::field::Triple;
+use crate::input::keys::keys_of;
 use crate::prim::Shape;
 use crate::rng::Place;
 
+pub use check::PatternAt;
 pub use image::filtered;
 
 /// The table of patterns: each pattern's variant of [`Pattern`] and its
@@ -41,9 +45,12 @@ macro_rules! with_patterns {
     };
 }
 
-/// `[textures.NAME]` as written: a `pattern` or an `image`.
+/// `[textures.NAME]` as written: a `pattern` or an `image`, and the rest
+/// of its keys kept aside for its pattern, which reads them into its own
+/// struct (`PatternType::File`) when it is checked (check.rs). (serde's
+/// `flatten`, which takes them, cannot sit beside `deny_unknown_fields`;
+/// the pattern's struct denies unknown keys instead.)
 #[derive(Debug, Default, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
 pub struct TextureFile {
     /// A pattern's name (the table's patterns not read from a file).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -51,20 +58,21 @@ pub struct TextureFile {
     /// A PNG, EXR or PFM file, relative to the scene file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub image: Option<String>,
-    /// The side of a square (a cube for a solid pattern), > 0; for an
-    /// image, the uv distance it repeats at (default 1).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub size: Option<f64>,
-    /// A pattern's two colours, the first at the origin's square.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub colors: Option<[Triple; 2]>,
-    /// Turned by this many degrees about the surface's normal, from its
-    /// own u axis (the patterns that take it).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub angle: Option<f64>,
-    /// A corner of a solid pattern's cubes.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub origin: Option<Triple>,
+    /// The keys of its pattern, as TOML.
+    #[serde(flatten)]
+    pub own: toml::Table,
+}
+
+impl TextureFile {
+    /// A texture of pattern `P` (named, or read from `image`) with its own
+    /// keys `own`.
+    pub(crate) fn of<P: PatternType>(image: Option<String>, own: &P::File) -> Self {
+        TextureFile {
+            pattern: (!P::FILE).then(|| P::NAME.to_owned()),
+            image,
+            own: toml::Table::try_from(own).expect("a pattern's keys are a TOML table"),
+        }
+    }
 }
 
 /// What of the surface a pattern reads.
@@ -110,8 +118,40 @@ pub struct Texture {
     /// A corner of a solid pattern's cubes, in the coordinates the scene
     /// is traced in (moved with it by `Scene::camera_relative`).
     pub origin: DVec3,
+    /// Its pattern's own numbers, laid out by its module; 0 where it has
+    /// none (no pattern of the table has any yet).
+    pub own: [f64; 4],
     /// An image's texels.
     pub texels: Option<Texels>,
+}
+
+/// What a pattern's check gives: everything of a texture but its pattern
+/// and texels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Look {
+    /// `Texture::size`.
+    pub size: f64,
+    /// `Texture::colors`.
+    pub colors: [DVec3; 2],
+    /// `Texture::rotation`.
+    pub rotation: [f64; 2],
+    /// `Texture::origin`.
+    pub origin: DVec3,
+    /// `Texture::own`.
+    pub own: [f64; 4],
+}
+
+impl Default for Look {
+    /// Untinted, unturned, at the origin, of size 1.
+    fn default() -> Self {
+        Look {
+            size: 1.0,
+            colors: [DVec3::ONE; 2],
+            rotation: [1.0, 0.0],
+            origin: DVec3::ZERO,
+            own: [0.0; 4],
+        }
+    }
 }
 
 impl Texture {
@@ -123,6 +163,7 @@ impl Texture {
             colors: [DVec3::ONE; 2],
             rotation: [1.0, 0.0],
             origin: DVec3::ZERO,
+            own: [0.0; 4],
             texels: Some(texels),
         }
     }
@@ -146,6 +187,7 @@ impl Texture {
             color0: xyz(self.colors[0]),
             color1: xyz(self.colors[1]),
             rotation: [self.rotation[0], self.rotation[1], 0.0, 0.0],
+            own: self.own,
             meta: match self.texels {
                 Some(i) => [code, i.first, i.width, i.height],
                 None => [code, 0, 0, 0],
@@ -161,6 +203,7 @@ impl Texture {
             colors: self.colors.map(Vec3::of),
             rotation: self.rotation.map(R::of),
             origin: Vec3::of(self.origin - origin),
+            own: self.own.map(R::of),
             texels: self.texels,
         }
     }
@@ -176,6 +219,8 @@ crate::base::interface::gpu_struct!(
         color1: real4,
         /// x cos, y sin of the angle
         rotation: real4,
+        /// its pattern's own numbers (`Texture::own`)
+        own: real4,
         /// x the pattern (PATTERN_*); an image's y first texel, z width,
         /// w height (its colour0 is its tint)
         meta: uvec4,
@@ -196,6 +241,8 @@ pub struct TextureR<R> {
     pub rotation: [R; 2],
     /// `Texture::origin`, moved.
     pub origin: Vec3<R>,
+    /// `Texture::own`.
+    pub own: [R; 4],
     /// An image's texels in `Scene::texels`.
     pub texels: Option<Texels>,
 }
@@ -215,15 +262,16 @@ pub trait PatternType {
     /// Whether it is read from an image file (`image = "..."`) rather than
     /// named by `pattern`.
     const FILE: bool = false;
-    /// The keys of [`TextureFile`] it takes besides `pattern` and `image`:
-    /// `colors` is then required.
-    const KEYS: &'static [&'static str];
-    /// Its `size` where the table leaves it out; None: required.
-    const DEFAULT_SIZE: Option<f64> = None;
+    /// Its keys besides `pattern` and `image`, with serde's
+    /// `deny_unknown_fields`: a key of another pattern is refused naming
+    /// the patterns that take it, any other as unknown.
+    type File: DeserializeOwned + Serialize;
     /// What of the surface it reads: its include reads it where the variant
     /// has it (`HAS_TEXTURES` a frame, `HAS_IMAGES` uvs).
     const NEEDS: Needs;
 
+    /// Checks its keys (read from `at`'s table) into its look.
+    fn check(file: Self::File, at: &PatternAt) -> Result<Look, SceneError>;
     /// Its colour at `p` on `surface` (whose uv or frame it has, where it
     /// needs them); mirrors `<name>_colour`.
     fn colour<R: Real>(
@@ -279,10 +327,8 @@ pub struct PatternInfo {
     pub include: &'static str,
     /// `PatternType::FILE`.
     pub file: bool,
-    /// `PatternType::KEYS`.
-    pub keys: &'static [&'static str],
-    /// `PatternType::DEFAULT_SIZE`.
-    pub default_size: Option<f64>,
+    /// The keys of `PatternType::File`.
+    pub keys: fn() -> &'static [&'static str],
     /// `PatternType::NEEDS`.
     pub needs: Needs,
     /// `PatternType::sample`.
@@ -298,8 +344,7 @@ impl PatternInfo {
             glsl: P::GLSL,
             include: P::INCLUDE,
             file: P::FILE,
-            keys: P::KEYS,
-            default_size: P::DEFAULT_SIZE,
+            keys: keys_of::<P::File>,
             needs: P::NEEDS,
             sample: P::sample,
         }
@@ -329,6 +374,12 @@ macro_rules! patterns {
         pub const PATTERNS: &[PatternInfo] = &[$(PatternInfo::of::<$ty>(Pattern::$variant),)*];
 
         impl Pattern {
+            pub(crate) fn check(self, at: &PatternAt) -> Result<Look, SceneError> {
+                match self {
+                    $(Pattern::$variant => <$ty>::check(at.own::<<$ty as PatternType>::File>()?, at),)*
+                }
+            }
+
             /// Its colour at `p` on `surface`.
             pub fn colour<R: Real>(
                 self,
