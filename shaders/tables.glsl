@@ -4,19 +4,19 @@
 // `Tables::shadow` and `Tables::eye` there and the scans in
 // src/cpu/intersect.rs.
 //
-// The tables are one array of 16-byte words (table_at(i).w): the grids,
-// five words each, from word 0 (a0, b0, sa, sb; first cell, na, nb, form;
-// the three rows of its map); then the cells, two to a word (first entry,
-// count), from g.tables.x; then the entries, two to a word (primitive word,
-// key bits), from g.tables.y. The eye's grid is in the uniform block
-// (g.eye_*, where g.tables.z is 1); a light's meta.z is its first grid + 1
-// (0: none), meta.w its reach.
+// The tables are one array of 16-byte words (table_at(i).w): the grids'
+// records (TableGrid, TABLE_GRID_WORDS each, read whole with TABLE_GRID_AT
+// or a member with TABLE_GRID_<MEMBER>: generated from
+// `tables::grid_record`), from word 0; then the
+// cells, two to a word (first entry, count), from g.tables.x; then the
+// entries, two to a word (primitive word, key bits), from g.tables.y. The
+// eye's grid is in the uniform block (g.eye_*, where g.tables.z is 1); a
+// light's meta.z is its first grid + 1 (0: none), meta.w its reach. A
+// grid's form (TABLE_PARALLEL, TABLE_PERSPECTIVE: `tables::GridForm`):
+// rows that take a point (one grid, a light without a position) or a
+// direction (six, a cube around a light's position).
 
 const uint TABLE_WALK = 0xffffffffu;
-// A grid's form (`tables::Form`): rows that take a point (one grid, a light
-// without a position) or a direction (six, a cube around a light's position).
-const uint TABLE_PARALLEL = 0u;
-const uint TABLE_PERSPECTIVE = 1u;
 // The slack on a perspective key's bound (KEY_SLACK in src/accel/tables.rs).
 const real KEY_SLACK = 1.0 + 1.0 / 4096.0;
 
@@ -40,11 +40,6 @@ uvec2 table_cell(vec4 range, uvec4 cells, real a, real b) {
     return (c & 1u) != 0u ? w.zw : w.xy;
 }
 
-// A row of a grid's map: its first three words' floats.
-vec3r table_row(uint word) {
-    return vec3r(uintBitsToFloat(table_at(word).w.xyz));
-}
-
 #if HAS_SHADOWS
 // The list a shadow ray towards light l reads in its light buffer (meta.z
 // its first grid + 1), with the bound on the keys that ends its scan; the
@@ -57,12 +52,12 @@ uvec2 shadow_list(Ray r, real dist, Light l, out real bound) {
         return list;
     }
     COUNT_CELL();
-    uint first = 5u * (l.meta.z - 1u);
+    uint first = TABLE_GRID_WORDS * (l.meta.z - 1u);
     real reach = real(uintBitsToFloat(l.meta.w));
     // The light's first grid says the buffer's form; a variant compiles the
     // forms its lights' buffers take alone.
 #if HAS_POSITIONED && HAS_UNPOSITIONED
-    bool cube = table_at(first + 1u).w.w == TABLE_PERSPECTIVE;
+    bool cube = TABLE_GRID_CELLS(first).w == TABLE_PERSPECTIVE;
 #else
     bool cube = HAS_POSITIONED;
 #endif
@@ -76,8 +71,8 @@ uvec2 shadow_list(Ray r, real dist, Light l, out real bound) {
         uint face = 2u * axis + (d[axis] < 0.0 ? 1u : 0u);
         real lam = abs(d[axis]);
         if (lam > 0.0) {
-            uint at = first + 5u * face;
-            list = table_cell(uintBitsToFloat(table_at(at).w), table_at(at + 1u).w,
+            uint at = first + TABLE_GRID_WORDS * face;
+            list = table_cell(TABLE_GRID_RANGE(at), TABLE_GRID_CELLS(at),
                               d[(axis + 1u) % 3u] / lam, d[(axis + 2u) % 3u] / lam);
             bound = dist * KEY_SLACK;
         }
@@ -94,9 +89,10 @@ uvec2 shadow_list(Ray r, real dist, Light l, out real bound) {
     if (!cube) {
         vec3r a = abs(r.origin);
         if (max(a.x, max(a.y, a.z)) <= reach) {
-            list = table_cell(uintBitsToFloat(table_at(first).w), table_at(first + 1u).w,
-                              dot(table_row(first + 3u), r.origin), dot(table_row(first + 4u), r.origin));
-            bound = -dot(table_row(first + 2u), r.origin);
+            TableGrid grid = TABLE_GRID_AT(first);
+            list = table_cell(grid.range, grid.cells,
+                              dot(vec3r(grid.row1.xyz), r.origin), dot(vec3r(grid.row2.xyz), r.origin));
+            bound = -dot(vec3r(grid.row0.xyz), r.origin);
         }
     }
 #endif

@@ -109,6 +109,44 @@ pub struct Grid {
     pub form: GridForm,
 }
 
+impl GridForm {
+    /// Every form, with its name in the shader (`TABLE_<NAME>`).
+    pub const ALL: [(GridForm, &'static str); 2] = [
+        (GridForm::Parallel, "PARALLEL"),
+        (GridForm::Perspective, "PERSPECTIVE"),
+    ];
+}
+
+crate::base::interface::gpu_struct!(
+    /// A grid as the shader reads it, f32 in both precisions: the first
+    /// words of the tables' array, one record a grid (shaders/tables.glsl
+    /// reads one with the generated `TABLE_GRID_AT`).
+    pub mod grid_record: "TableGrid" {
+        /// a0, b0, sa, sb
+        range: float4,
+        /// the first cell, na, nb, and the form (`GridForm` as a number)
+        cells: uvec4,
+        /// the map's rows (a cube's face reads none of them)
+        row0: float4,
+        row1: float4,
+        row2: float4,
+    }
+);
+
+impl Grid {
+    /// Its record in the shader's tables.
+    pub fn gpu(&self) -> grid_record::Values {
+        let row = |r: [f32; 3]| [r[0], r[1], r[2], 0.0];
+        grid_record::Values {
+            range: [self.a0, self.b0, self.sa, self.sb],
+            cells: [self.first_cell, self.na, self.nb, self.form as u32],
+            row0: row(self.rows[0]),
+            row1: row(self.rows[1]),
+            row2: row(self.rows[2]),
+        }
+    }
+}
+
 /// A cell's list: where it starts in `Tables::entries` and how long it is
 /// (or `WALK`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -93,6 +93,7 @@ impl Variant {
         s += &declaration::<refine::Values>();
         s += &declaration::<packed::Values>();
         s += &declaration::<super::layout::table_word::Values>();
+        s += &super::layout::grid_record_glsl();
         for kind in KINDS {
             let _ = writeln!(
                 s,

@@ -7,7 +7,7 @@ use glam::UVec4;
 
 use super::Intersect;
 use crate::accel::refit::Shape;
-use crate::accel::tables::Tables;
+use crate::accel::tables::{grid_record, Tables};
 use crate::accel::{self, Accel};
 use crate::base::interface::{self, Array, GpuStruct};
 use crate::base::Precision;
@@ -38,7 +38,7 @@ crate::base::interface::gpu_struct!(
         tables: uvec4,
         /// The eye's grid (src/accel/tables.rs): a0, b0, sa, sb
         eye_range: float4,
-        /// its first cell, na, nb
+        /// its first cell, na, nb, its form (`GridForm::Perspective`)
         eye_cells: uvec4,
         /// the rows of its map from a direction to (λ, μ, ν)
         eye_r0: float4,
@@ -82,7 +82,10 @@ fn xyz(v: glam::DVec3) -> [f64; 4] {
 fn globals(scene: &Scene, origin: glam::DVec3, tables: Option<&Tables>) -> globals::Values {
     let cam = &scene.camera;
     let (eye, screen_center) = (cam.eye - origin, cam.screen_center - origin);
-    let eye_grid = tables.and_then(|t| Some(&t.grids[t.eye? as usize]));
+    // Its record, zero where eye rays read no grid.
+    let eye_grid = tables
+        .and_then(|t| Some(t.grids[t.eye? as usize].gpu()))
+        .unwrap_or_default();
     let mut kinds = [0u32; 8];
     for (n, c) in kinds.iter_mut().zip(scene.prims.counts()) {
         *n = c as u32;
@@ -106,37 +109,68 @@ fn globals(scene: &Scene, origin: glam::DVec3, tables: Option<&Tables>) -> globa
             let (cells, entries) = table_bases(t);
             [cells, entries, u32::from(t.eye.is_some()), 0]
         }),
-        eye_range: eye_grid.map_or([0.0; 4], |g| [g.a0, g.b0, g.sa, g.sb]),
-        eye_cells: eye_grid.map_or([0; 4], |g| [g.first_cell, g.na, g.nb, 0]),
-        eye_r0: eye_grid.map_or([0.0; 4], |g| row(g.rows[0])),
-        eye_r1: eye_grid.map_or([0.0; 4], |g| row(g.rows[1])),
-        eye_r2: eye_grid.map_or([0.0; 4], |g| row(g.rows[2])),
+        eye_range: eye_grid.range,
+        eye_cells: eye_grid.cells,
+        eye_r0: eye_grid.row0,
+        eye_r1: eye_grid.row1,
+        eye_r2: eye_grid.row2,
     }
-}
-
-fn row(r: [f32; 3]) -> [f32; 4] {
-    [r[0], r[1], r[2], 0.0]
 }
 
 /// The first words of the tables' cells and entries in their array.
 fn table_bases(t: &Tables) -> (u32, u32) {
-    let cells = 5 * t.grids.len();
+    let cells = GRID_WORDS * t.grids.len();
     (cells as u32, (cells + t.cells.len().div_ceil(2)) as u32)
 }
 
-/// The tables as the shader reads them: each grid in five words (its
-/// range; its cells and its form, `tables::GridForm` as a number; its three
-/// rows: a cube's face reads the first two alone), then the cells and the
-/// entries two to a word (shaders/tables.glsl).
+/// The 16-byte words of a grid's record (`grid_record`).
+pub(crate) const GRID_WORDS: usize = std::mem::size_of::<grid_record::F32>() / 16;
+
+/// The GLSL of the tables' grid record: its struct, its words, the forms'
+/// codes, `TABLE_GRID_AT(word)`, which reads a record from its first word
+/// of the tables' array, and `TABLE_GRID_<MEMBER>(word)`, which reads one
+/// member (macros: defined before `table_at`, expanded after).
+pub(crate) fn grid_record_glsl() -> String {
+    use crate::accel::tables::GridForm;
+    use crate::base::interface::{declaration, Member};
+    let mut s = declaration::<grid_record::Values>();
+    s += &format!("const uint TABLE_GRID_WORDS = {GRID_WORDS}u;\n");
+    for (form, name) in GridForm::ALL {
+        s += &format!("const uint TABLE_{name} = {}u;\n", form as u32);
+    }
+    // One macro a member, so that a reader of some members loads only
+    // their words (a load through a texel buffer is a call on lavapipe).
+    let mut members = Vec::new();
+    for (i, (name, member)) in <grid_record::Values as GpuStruct>::FIELDS
+        .iter()
+        .enumerate()
+    {
+        let word = format!("table_at((at) + {i}u).w");
+        let read = match member {
+            Member::Float4 => format!("uintBitsToFloat({word})"),
+            Member::Uvec4 => word,
+            other => unreachable!("a grid record holds no {other:?}"),
+        };
+        let upper = name.to_uppercase();
+        s += &format!("#define TABLE_GRID_{upper}(at) {read}\n");
+        members.push(format!("TABLE_GRID_{upper}(at)"));
+    }
+    s += &format!(
+        "#define TABLE_GRID_AT(at) TableGrid({})\n",
+        members.join(", ")
+    );
+    s
+}
+
+/// The tables as the shader reads them: each grid's record
+/// (`tables::grid_record`), then the cells and the entries two to a word
+/// (shaders/tables.glsl).
 fn table_words(t: &Tables) -> Vec<table_word::Values> {
     let mut words = Vec::with_capacity(crate::accel::tables::device_bytes(t) / 16);
     let f = |x: f32| x.to_bits();
     for gr in &t.grids {
-        words.push([f(gr.a0), f(gr.b0), f(gr.sa), f(gr.sb)]);
-        words.push([gr.first_cell, gr.na, gr.nb, gr.form as u32]);
-        for r in gr.rows {
-            words.push([f(r[0]), f(r[1]), f(r[2]), 0]);
-        }
+        let record = [gr.gpu().f32()];
+        words.extend(bytemuck::cast_slice::<_, [u32; 4]>(&record));
     }
     for pair in t.cells.chunks(2) {
         let b = pair.get(1).copied().unwrap_or_default();
@@ -278,22 +312,14 @@ impl<'a> Uploads<'a> {
             Vec::new()
         };
         let uvs = interface::array(uvs.into_iter(), precision);
-        let lights = scene.lights.iter().map(|l| l.gpu(origin));
-        // Each light's first grid + 1 and its reach, where it has a table.
-        let light_tables: Vec<[u32; 2]> = (0..scene.lights.len())
-            .map(|i| {
-                tables
-                    .as_ref()
-                    .map_or([0, 0], |t| match t.lights.get(i).copied().flatten() {
-                        Some(g) => [g + 1, t.grids[g as usize].reach.to_bits()],
-                        None => [0, 0],
-                    })
-            })
-            .collect();
-        let lights = lights.zip(light_tables).map(|(mut l, [table, reach])| {
-            l.meta[2] = table;
-            l.meta[3] = reach;
-            l
+        // Each light with its light buffer (its first grid and reach),
+        // where it has one.
+        let lights = scene.lights.iter().enumerate().map(|(i, l)| {
+            let buffer = tables.as_ref().and_then(|t| {
+                let first = t.lights.get(i).copied().flatten()?;
+                Some((first, t.grids[first as usize].reach))
+            });
+            l.gpu(origin, buffer)
         });
         Uploads {
             globals,
@@ -462,6 +488,7 @@ pub(super) mod tests {
             ("Refine", <refine::Values as GpuStruct>::FIELDS),
             ("PackedNode", <packed::Values as GpuStruct>::FIELDS),
             ("TableWord", <table_word::Values as GpuStruct>::FIELDS),
+            ("TableGrid", <grid_record::Values as GpuStruct>::FIELDS),
             (
                 "TriangleUv",
                 <crate::prim::triangle::uvs::Values as GpuStruct>::FIELDS,

@@ -68,8 +68,10 @@ impl Light {
     }
 
     /// Its struct in the shader's buffers, in coordinates moved by
-    /// `-origin`; meta's z and w (its light buffer) are the tables'.
-    pub(crate) fn gpu(&self, origin: DVec3) -> gpu::Values {
+    /// `-origin`, with its light buffer's first grid and reach where it has
+    /// one (`crate::accel::tables`).
+    pub(crate) fn gpu(&self, origin: DVec3, buffer: Option<(u32, f32)>) -> gpu::Values {
+        let (table, reach) = buffer.map_or((0, 0), |(first, reach)| (first + 1, reach.to_bits()));
         let xyz = |v: DVec3| [v.x, v.y, v.z, 0.0];
         gpu::Values {
             position: xyz(self.position - origin),
@@ -79,7 +81,12 @@ impl Light {
             specular: xyz(self.specular),
             own0: [self.own[0], self.own[1], self.own[2], self.own[3]],
             own1: [self.own[4], self.own[5], self.own[6], self.own[7]],
-            meta: [self.kind as u32, u32::from(self.has_direct_term()), 0, 0],
+            meta: [
+                self.kind as u32,
+                u32::from(self.has_direct_term()),
+                table,
+                reach,
+            ],
         }
     }
 
