@@ -9,7 +9,9 @@ mod corners;
 mod file;
 pub mod images;
 pub mod light;
+mod load;
 pub mod material;
+mod model;
 pub mod nff;
 mod rebase;
 pub mod refine;
@@ -20,11 +22,6 @@ pub mod texture;
 mod toml;
 mod validate;
 
-use std::path::{Path, PathBuf};
-use std::sync::Arc;
-
-use glam::DVec3;
-
 pub use crate::input::error::SceneError;
 pub use crate::input::field::{Triple, MAX_COORDINATE};
 pub use crate::prim::mesh::{Arrays as MeshArrays, Cache as MeshCache};
@@ -34,6 +31,7 @@ pub use contrast::Contrast;
 pub use file::object_arrays;
 pub use light::{Light, LightKind, LIGHT_TYPES};
 pub use material::{Material, MaterialR};
+pub use model::{is_nff, is_scene, Scene, MAX_DEPTH, MAX_SAMPLES, MAX_SIZE};
 pub use nff::parse_nff;
 pub use sampling::{Adaptive, Sampling};
 pub use toml::{parse, parse_cached};
@@ -44,165 +42,3 @@ pub use crate::prim::plane::Plane;
 pub use crate::prim::sphere::Sphere;
 pub use crate::prim::triangle::Triangle;
 pub use crate::prim::Prims;
-
-/// The largest width or height, in pixels.
-pub const MAX_SIZE: u32 = 16384;
-/// The most samples a side of a pixel.
-pub const MAX_SAMPLES: u32 = 16;
-/// The deepest ray tree.
-pub const MAX_DEPTH: u32 = 64;
-
-/// A scene as both renderers consume it: validated, materials by index,
-/// normals of unit length, the camera as an eye and a virtual screen.
-///
-/// ```
-/// use glint::scene::{Overrides, Scene};
-///
-/// let small = Overrides { width: Some(64), height: Some(48), ..Overrides::default() };
-/// let mut scene = Scene::load("scenes/seed-fig5.toml".as_ref(), &small)?;
-/// scene.prims.spheres[0].radius *= 1.01; // a perturbed copy, for a test that must fail
-/// # Ok::<(), glint::scene::SceneError>(())
-/// ```
-#[derive(Debug, Clone, PartialEq)]
-pub struct Scene {
-    /// The image's width in pixels.
-    pub width: u32,
-    /// The image's height in pixels.
-    pub height: u32,
-    /// Samples a side of each pixel: `samples²` eye rays a pixel.
-    pub samples: u32,
-    /// Where in a pixel its samples lie.
-    pub sampling: Sampling,
-    /// Where `sampling` is adaptive: its threshold and levels.
-    pub adaptive: Option<Adaptive>,
-    /// Where `sampling` is contrast: its thresholds and samples.
-    pub contrast: Option<Contrast>,
-    /// Whether a PNG is written sRGB-encoded.
-    pub srgb: bool,
-    /// The ray tree's depth: 1 is eye rays alone.
-    pub max_depth: u32,
-    /// Whether shadow rays are cast.
-    pub shadows: bool,
-    /// Whether the ray tree is the SPD's testing procedure's: a reflection
-    /// ray wherever a surface reflects or transmits and a refraction ray
-    /// wherever it transmits, also where the path's weight or the ray's own
-    /// is 0 (docs/spd.md). Such rays change no pixel; they are traced and
-    /// counted. NFF scenes set it.
-    pub spd_rays: bool,
-    /// The colour of a ray that meets nothing.
-    pub background: DVec3,
-    /// The eye and the virtual screen.
-    pub camera: Camera,
-    /// The materials, which primitives name by index.
-    pub materials: Vec<Material>,
-    /// The textures, which materials name by index (`[textures]`, sorted
-    /// by name).
-    pub textures: Vec<texture::Texture>,
-    /// Every primitive, a list for each kind (`crate::prim`).
-    pub prims: Prims,
-    /// The lights.
-    pub lights: Vec<Light>,
-    /// The files read besides the scene file: the OBJ and MTL files of the
-    /// `[[meshes]]` and the textures' images. Inputs of the run, which no
-    /// output may replace.
-    pub input_files: Vec<PathBuf>,
-    /// The image textures' texels, rows top to bottom, image after image
-    /// (`texture::Texels` says where each lies); linear RGB.
-    pub texels: Arc<Vec<[f32; 3]>>,
-}
-
-impl Scene {
-    /// Whether a material has an image texture.
-    pub fn has_image_textures(&self) -> bool {
-        let image = |t: Option<u32>| {
-            t.is_some_and(|t| self.textures[t as usize].pattern == texture::Pattern::Image)
-        };
-        self.materials
-            .iter()
-            .any(|m| image(m.texture) || image(m.ambient_texture))
-    }
-
-    /// The adaptive sampling the renderers follow: where `sampling` is
-    /// adaptive, `adaptive` (or the defaults, 0.1 and 2 levels, where a
-    /// scene made in code left it out); else none.
-    pub fn adaptive_sampling(&self) -> Option<Adaptive> {
-        (self.sampling == Sampling::Adaptive).then(|| {
-            self.adaptive.unwrap_or(Adaptive {
-                threshold: 0.1,
-                levels: 2,
-            })
-        })
-    }
-
-    /// The contrast sampling the renderers follow: where `sampling` is
-    /// contrast, `contrast` (or the defaults, where a scene made in code
-    /// left it out); else none.
-    pub fn contrast_sampling(&self) -> Option<Contrast> {
-        (self.sampling == Sampling::Contrast).then(|| self.contrast.unwrap_or_default())
-    }
-
-    /// How a pixel is sampled, in a few words: `4 spp`, `corners`,
-    /// `adaptive to 2 levels`, `contrast, 1 to 33 spp`.
-    pub fn sampling_summary(&self) -> String {
-        match self.sampling {
-            Sampling::Centers => format!("{} spp", self.samples * self.samples),
-            Sampling::Corners => "corners".to_owned(),
-            Sampling::Adaptive => {
-                let levels = self.adaptive_sampling().map_or(0, |a| a.levels);
-                format!("adaptive to {levels} levels")
-            }
-            Sampling::Contrast => {
-                let most = self.contrast_sampling().map_or(0, |c| c.max_samples);
-                format!("contrast, 1 to {most} spp")
-            }
-        }
-    }
-}
-
-/// Whether `path` names an NFF file (by its extension, `.nff` in any case).
-pub fn is_nff(path: &Path) -> bool {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("nff"))
-}
-
-/// Whether `path` names a scene file: TOML, or NFF by its extension.
-pub fn is_scene(path: &Path) -> bool {
-    path.extension().is_some_and(|e| e == "toml") || is_nff(path)
-}
-
-impl Scene {
-    /// Reads and validates a scene file, then applies command-line overrides.
-    pub fn load(path: &Path, overrides: &Overrides) -> Result<Scene, SceneError> {
-        Self::load_with_text(path, overrides).map(|(scene, _)| scene)
-    }
-
-    /// As [`Scene::load`], with the file's text (TOML, or NFF by the
-    /// extension), which the Python module's `Scene.to_dict` gives back.
-    pub fn load_with_text(
-        path: &Path,
-        overrides: &Overrides,
-    ) -> Result<(Scene, String), SceneError> {
-        let text = crate::input::read_text(path, crate::input::ReadAs::Scene).map_err(|cause| {
-            SceneError::Read {
-                path: path.to_owned(),
-                cause,
-            }
-        })?;
-        let scene = if is_nff(path) {
-            nff::parse_nff(&text, path, overrides)
-        } else {
-            parse(&text, path, overrides)
-        }?;
-        Ok((scene, text))
-    }
-
-    /// The image's pixels.
-    pub fn pixel_count(&self) -> u64 {
-        u64::from(self.width) * u64::from(self.height)
-    }
-
-    /// Primary rays per image.
-    pub fn ray_count(&self) -> u64 {
-        self.pixel_count() * u64::from(self.samples * self.samples)
-    }
-}
