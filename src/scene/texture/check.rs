@@ -7,7 +7,7 @@ use glam::DVec3;
 
 use serde::de::DeserializeOwned;
 
-use super::{PatternInfo, Texture, TextureFile, PATTERNS};
+use super::{Pattern, Texture, TextureFile, PATTERNS};
 use crate::input::error::SceneError;
 use crate::input::field::{Triple, Validator, MAX_COORDINATE};
 use crate::input::keys::{keys_of, read_table};
@@ -36,7 +36,7 @@ fn whats(key: &str, taking: bool) -> String {
 
 impl Validator<'_> {
     /// The pattern a texture's table names: by `pattern`, or its file's.
-    fn pattern(&self, path: &KeyPath, t: &TextureFile) -> Result<&'static PatternInfo> {
+    fn pattern(&self, path: &KeyPath, t: &TextureFile) -> Result<Pattern> {
         let named: Vec<&str> = PATTERNS
             .iter()
             .filter(|p| !p.file)
@@ -58,9 +58,9 @@ impl Validator<'_> {
                     named.join(", ")
                 ),
             ),
-            (None, Some(_)) => Ok(file),
+            (None, Some(_)) => Ok(file.pattern),
             (Some(name), None) => match PATTERNS.iter().find(|p| !p.file && p.name == name) {
-                Some(p) => Ok(p),
+                Some(p) => Ok(p.pattern),
                 None => self.err(
                     &path.key("pattern"),
                     format!(
@@ -83,11 +83,11 @@ impl Validator<'_> {
         images: &mut Images,
     ) -> Result<Texture> {
         let p = self.pattern(path, t)?;
-        let look = p.pattern.check(&PatternAt {
+        let look = p.check(&PatternAt {
             check: self,
             path,
             file: t,
-            info: p,
+            pattern: p,
         })?;
         let texels = match &t.image {
             Some(file) => Some(
@@ -98,7 +98,7 @@ impl Validator<'_> {
             None => None,
         };
         Ok(Texture {
-            pattern: p.pattern,
+            pattern: p,
             size: look.size,
             colors: look.colors,
             rotation: look.rotation,
@@ -142,7 +142,7 @@ pub struct PatternAt<'a> {
     check: &'a Validator<'a>,
     path: &'a KeyPath,
     file: &'a TextureFile,
-    info: &'a PatternInfo,
+    pattern: Pattern,
 }
 
 impl PatternAt<'_> {
@@ -160,7 +160,7 @@ impl PatternAt<'_> {
             let message = if PATTERNS.iter().any(|p| (p.keys)().contains(&key.as_str())) {
                 format!(
                     "{} takes no `{key}` (only {} does)",
-                    self.info.what,
+                    self.pattern.info().what,
                     whats(key, true)
                 )
             } else {

@@ -75,7 +75,7 @@ impl PatternType for Checker {
             colors: Some(sample_colors(p)),
             angle: Some(p.uniform(0.0, 90.0)),
         };
-        TextureFile::of::<Self>(None, &own)
+        TextureFile::new(Some(Self::NAME), None, &own)
     }
 }
 
@@ -130,6 +130,6 @@ impl PatternType for SolidChecker {
             colors: Some(sample_colors(p)),
             origin: Some(Triple(Place::triple(corner))),
         };
-        TextureFile::of::<Self>(None, &own)
+        TextureFile::new(Some(Self::NAME), None, &own)
     }
 }

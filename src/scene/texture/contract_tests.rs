@@ -13,6 +13,8 @@
 
 use std::path::Path;
 
+use glam::DVec3;
+
 use super::*;
 use crate::input::error::SceneError;
 use crate::input::field::{root, Validator};

@@ -74,7 +74,7 @@ impl PatternType for Image {
             size: Some(p.size.max(1.0) * p.uniform(0.3, 1.0)),
             angle: Some(p.uniform(0.0, 90.0)),
         };
-        TextureFile::of::<Self>(Some(name), &own)
+        TextureFile::new(None, Some(name), &own)
     }
 }
 
