@@ -7,6 +7,7 @@
 
 use serde::de::{self, DeserializeOwned, Visitor};
 
+use super::field::Validator;
 use super::locate::KeyPath;
 
 /// The keys of struct `T` as its derive declares them (renames applied).
@@ -41,6 +42,28 @@ impl<'de> de::Deserializer<'de> for &mut KeysOf {
         bool i8 i16 i32 i64 i128 u8 u16 u32 u64 u128 f32 f64 char str string
         bytes byte_buf option unit unit_struct newtype_struct seq tuple
         tuple_struct map enum identifier ignored_any
+    }
+}
+
+impl Validator<'_> {
+    /// The first key of `table` (the table at `path`) that `keys` lacks, in
+    /// the file's order: a kept table holds its keys sorted.
+    pub(crate) fn first_stray<'t>(
+        &self,
+        path: &KeyPath,
+        table: &'t toml::Table,
+        keys: &[&str],
+    ) -> Option<&'t str> {
+        let place = |key: &str| {
+            self.located
+                .find(&path.key(key))
+                .map(|a| (a.line, a.column))
+        };
+        table
+            .keys()
+            .map(String::as_str)
+            .filter(|k| !keys.contains(k))
+            .min_by_key(|k| place(k))
     }
 }
 

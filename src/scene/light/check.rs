@@ -24,18 +24,8 @@ impl LightAt<'_> {
     /// unknown.
     pub(super) fn own<F: DeserializeOwned>(&self, name: &str) -> Result<F, SceneError> {
         let keys = keys_of::<F>();
-        // The first key the type does not take, in the file's order (the
-        // table holds them sorted).
-        let place = |key: &String| {
-            let at = self.check.located.find(&self.path.key(key));
-            at.map(|a| (a.line, a.column))
-        };
-        let stray = self.file.own.keys().filter(|k| !keys.contains(&k.as_str()));
-        if let Some(key) = stray.min_by_key(|k| place(k)) {
-            let message = if LIGHT_TYPES
-                .iter()
-                .any(|t| (t.keys)().contains(&key.as_str()))
-            {
+        if let Some(key) = self.check.first_stray(self.path, &self.file.own, keys) {
+            let message = if LIGHT_TYPES.iter().any(|t| (t.keys)().contains(&key)) {
                 format!("does not apply to a {name} light")
             } else {
                 let known = ["type", "ambient", "diffuse", "specular"]

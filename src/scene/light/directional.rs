@@ -16,7 +16,6 @@ pub struct Directional;
 #[serde(deny_unknown_fields)]
 pub struct DirectionalFile {
     /// The way its light travels.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub direction: Option<Triple>,
 }
 

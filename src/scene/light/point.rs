@@ -16,10 +16,8 @@ pub struct Point;
 #[serde(deny_unknown_fields)]
 pub struct PointFile {
     /// Where it is.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub position: Option<Triple>,
     /// [c, l, q]: 1 / (c + l d + q d²) (default [1, 0, 0]).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub attenuation: Option<Triple>,
 }
 

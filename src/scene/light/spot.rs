@@ -17,19 +17,14 @@ pub struct Spot;
 #[serde(deny_unknown_fields)]
 pub struct SpotFile {
     /// Where it is.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub position: Option<Triple>,
     /// Its cone's axis.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub direction: Option<Triple>,
     /// As a point light's.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub attenuation: Option<Triple>,
     /// Its cone's half-angle, in degrees.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub cutoff: Option<f64>,
     /// Its falloff towards the cone's edge (default 0).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub exponent: Option<f64>,
 }
 

@@ -14,7 +14,8 @@ use crate::rng::Place;
 pub trait LightType {
     /// Its keys in the scene file besides `type` and the colours, with
     /// serde's `deny_unknown_fields`: a key of another type is refused by
-    /// name, any other as unknown.
+    /// name, any other as unknown. (TOML leaves a key that is `None` out
+    /// when it writes one.)
     type File: DeserializeOwned + Serialize;
     /// Its `type` in the scene file, and the stem of its GLSL names:
     /// `<name>_toward` and, with a cone, `<name>_cone` in

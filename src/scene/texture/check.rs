@@ -151,13 +151,8 @@ impl PatternAt<'_> {
     /// unknown; the first in the file's order (the kept table is sorted).
     pub(super) fn own<F: DeserializeOwned>(&self) -> Result<F> {
         let keys = keys_of::<F>();
-        let place = |key: &String| {
-            let at = self.check.located.find(&self.path.key(key));
-            at.map(|a| (a.line, a.column))
-        };
-        let stray = self.file.own.keys().filter(|k| !keys.contains(&k.as_str()));
-        if let Some(key) = stray.min_by_key(|k| place(k)) {
-            let message = if PATTERNS.iter().any(|p| (p.keys)().contains(&key.as_str())) {
+        if let Some(key) = self.check.first_stray(self.path, &self.file.own, keys) {
+            let message = if PATTERNS.iter().any(|p| (p.keys)().contains(&key)) {
                 format!(
                     "{} takes no `{key}` (only {} does)",
                     self.pattern.info().what,

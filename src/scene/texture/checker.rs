@@ -25,13 +25,10 @@ pub struct Checker;
 #[serde(deny_unknown_fields)]
 pub struct CheckerFile {
     /// The side of a square, > 0.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub size: Option<f64>,
     /// Its two colours, the first at the origin's square.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub colors: Option<[Triple; 2]>,
     /// Turned by this many degrees about the normal, from the surface's u.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub angle: Option<f64>,
 }
 
@@ -88,13 +85,10 @@ pub struct SolidChecker;
 #[serde(deny_unknown_fields)]
 pub struct SolidCheckerFile {
     /// The side of a cube, > 0.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub size: Option<f64>,
     /// Its two colours, the first at the origin's cube.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub colors: Option<[Triple; 2]>,
     /// A corner of its cubes (default the scene's origin).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub origin: Option<Triple>,
 }
 

@@ -17,10 +17,8 @@ pub struct Image;
 #[serde(deny_unknown_fields)]
 pub struct ImageFile {
     /// The uv distance it repeats at (default 1).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub size: Option<f64>,
     /// Its uv coordinates turned by this many degrees.
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub angle: Option<f64>,
 }
 

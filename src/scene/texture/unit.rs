@@ -29,7 +29,8 @@ pub trait PatternType {
     const FILE: bool = false;
     /// Its keys besides `pattern` and `image`, with serde's
     /// `deny_unknown_fields`: a key of another pattern is refused naming
-    /// the patterns that take it, any other as unknown.
+    /// the patterns that take it, any other as unknown. (TOML leaves a key
+    /// that is `None` out when it writes one.)
     type File: DeserializeOwned + Serialize;
     /// What of the surface it reads: its include reads it where the variant
     /// has it (`HAS_TEXTURES` a frame, `HAS_IMAGES` uvs).
