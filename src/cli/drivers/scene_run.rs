@@ -9,10 +9,13 @@ use std::time::{Duration, Instant};
 use glint::raster::Image;
 use glint::scene::Scene;
 
+use super::folder::folder;
+use super::identify::Driver;
 use super::probe::{self, Identity, Job};
 use super::repro::{self, Size};
+use super::rows::{reference, scene_name};
 use super::verdict::{self, Verdict};
-use super::{folder, reference, scene_name, shrink, Driver, Run};
+use super::{shrink, Run};
 
 impl Run<'_> {
     /// Whether the run's --budget has run out: no driver's run starts.
