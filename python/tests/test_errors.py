@@ -113,3 +113,36 @@ def test_a_panic_is_a_glint_error_and_the_interpreter_goes_on(on_render_thread):
     with pytest.raises(glint.Error, match="internal error .*a test's panic"):
         glint._glint._test_panic(on_render_thread)
     assert glint.render(small("seed-fig4.toml", 8, 6), backend="cpu").shape == (6, 8, 3)
+
+
+@gpu
+def test_an_open_given_up_does_not_hang_the_interpreters_exit(tmp_path):
+    """A driver library that is a FIFO holds the dynamic loader's lock for
+    ever inside dlopen. The Renderer gives the open up at its limit (20 s),
+    and the interpreter's exit, whose C library takes that lock, hung for
+    ever after it; it now ends with the script's own status."""
+    import subprocess
+    import sys
+
+    fifo = tmp_path / "libfifo.so"
+    os.mkfifo(fifo)
+    manifest = tmp_path / "fifo.json"
+    manifest.write_text(
+        '{"file_format_version": "1.0.0", '
+        f'"ICD": {{"library_path": "{fifo}", "api_version": "1.3.0"}}}}'
+    )
+    child = """
+import sys, glint
+try:
+    glint.Renderer()
+    print("opened")
+except glint.DeviceError as e:
+    print("refused:", "did not finish within" in str(e), flush=True)
+sys.exit(3)
+"""
+    env = dict(os.environ, VK_DRIVER_FILES=str(manifest))
+    out = subprocess.run(
+        [sys.executable, "-c", child], capture_output=True, text=True, env=env, timeout=90
+    )
+    assert out.stdout.strip() == "refused: True", (out.stdout, out.stderr)
+    assert out.returncode == 3, (out.returncode, out.stderr)

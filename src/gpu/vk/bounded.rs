@@ -93,10 +93,47 @@ impl<T: Send + 'static> Opening<T> {
             .wait_timeout_while(slot, limit, |s| s.is_none())
             .unwrap_or_else(PoisonError::into_inner);
         slot.take().unwrap_or_else(|| {
+            exit_past_a_stuck_open();
             Err(GpuError::OpenTimeout {
                 seconds: limit.as_secs_f64(),
             })
         })
+    }
+}
+
+/// Once an open is given up, the process's exit must not wait for ever on
+/// the loader's lock that its thread may hold: glibc's `exit` runs the
+/// handlers registered with it, the latest first, and only then
+/// `_dl_fini`, which takes that lock. So a handler registered here ends
+/// the process with `_exit` and the exit's own status while an open is
+/// unfinished, after flushing C's streams. The command line ends that way
+/// already (src/main.rs); this is for every other caller, such as the
+/// Python module, whose interpreter hung at exit after an open it gave up.
+fn exit_past_a_stuck_open() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        extern "C" {
+            fn on_exit(
+                handler: extern "C" fn(libc::c_int, *mut libc::c_void),
+                arg: *mut libc::c_void,
+            ) -> libc::c_int;
+        }
+        extern "C" fn leave(status: libc::c_int, _: *mut libc::c_void) {
+            if open_unfinished() {
+                // SAFETY: fflush(NULL) and _exit may be called at any time;
+                // _exit does not return.
+                unsafe {
+                    libc::fflush(std::ptr::null_mut());
+                    libc::_exit(status);
+                }
+            }
+        }
+        static REGISTERED: std::sync::Once = std::sync::Once::new();
+        // SAFETY: `leave` is a plain function that lives as long as the
+        // process; glibc keeps the pointer and calls it once, from `exit`.
+        REGISTERED.call_once(|| unsafe {
+            on_exit(leave, std::ptr::null_mut());
+        });
     }
 }
 
