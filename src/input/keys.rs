@@ -7,6 +7,7 @@
 
 use serde::de::{self, DeserializeOwned, Visitor};
 
+use super::error::SceneError;
 use super::field::Validator;
 use super::locate::KeyPath;
 
@@ -46,30 +47,51 @@ impl<'de> de::Deserializer<'de> for &mut KeysOf {
 }
 
 impl Validator<'_> {
-    /// The first key of `table` (the table at `path`) that `keys` lacks, in
-    /// the file's order: a kept table holds its keys sorted.
-    pub(crate) fn first_stray<'t>(
+    /// `table`, the kept keys of the table at `path`, read as a unit's own
+    /// struct `F`. A key `F` lacks is refused, the first in the file's
+    /// order (a kept table holds its keys sorted): with `elsewhere`'s
+    /// message where another unit takes it, else as an unknown field that
+    /// lists `shared` (the keys every unit's table has) and `F`'s. A wrong
+    /// value is named by its key path.
+    pub(crate) fn read_own<F: DeserializeOwned>(
         &self,
         path: &KeyPath,
-        table: &'t toml::Table,
-        keys: &[&str],
-    ) -> Option<&'t str> {
+        table: &toml::Table,
+        shared: &[&str],
+        elsewhere: impl FnOnce(&str) -> Option<String>,
+    ) -> Result<F, SceneError> {
+        let keys = keys_of::<F>();
         let place = |key: &str| {
             self.located
                 .find(&path.key(key))
                 .map(|a| (a.line, a.column))
         };
-        table
+        let stray = table
             .keys()
             .map(String::as_str)
             .filter(|k| !keys.contains(k))
-            .min_by_key(|k| place(k))
+            .min_by_key(|k| place(k));
+        if let Some(key) = stray {
+            let message = elsewhere(key).unwrap_or_else(|| {
+                let known: Vec<String> = shared
+                    .iter()
+                    .chain(keys)
+                    .map(|k| format!("`{k}`"))
+                    .collect();
+                format!(
+                    "unknown field `{key}`, expected one of {}",
+                    known.join(", ")
+                )
+            });
+            return self.err(&path.key(key), message);
+        }
+        read_table(table, path).or_else(|(at, message)| self.err(&at, message))
     }
 }
 
 /// `table` read as a `T`; an error gives the path below `at` of the value
 /// that is wrong (`at` itself where none is named) and serde's message.
-pub fn read_table<T: DeserializeOwned>(
+fn read_table<T: DeserializeOwned>(
     table: &toml::Table,
     at: &KeyPath,
 ) -> Result<T, (KeyPath, String)> {

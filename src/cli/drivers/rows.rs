@@ -13,7 +13,7 @@ use super::repro::Size;
 use super::table::{Cell, Row};
 use super::verdict::Verdict;
 use super::Run;
-use crate::cli::progress;
+use crate::cli::{progress, scene_name};
 
 impl Run<'_> {
     /// Each scene (of `paths`) on each driver: its row of cells.
@@ -110,11 +110,6 @@ impl Run<'_> {
 /// The CPU f64 reference of `scene`.
 pub(super) fn reference(scene: &Scene, accel: glint::accel::Accel) -> anyhow::Result<Image> {
     Ok(cpu::reference(scene, accel)?)
-}
-
-/// The scene's name: its file's stem.
-pub(super) fn scene_name(path: &Path) -> String {
-    crate::cli::scene_name(path)
 }
 
 /// Each scene's row: its stem, or the path as given where two scenes share

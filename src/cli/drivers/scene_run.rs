@@ -13,9 +13,10 @@ use super::folder::folder;
 use super::identify::Driver;
 use super::probe::{self, Identity, Job};
 use super::repro::{self, Size};
-use super::rows::{reference, scene_name};
+use super::rows::reference;
 use super::verdict::{self, Verdict};
 use super::{shrink, Run};
+use crate::cli::scene_name;
 
 impl Run<'_> {
     /// Whether the run's --budget has run out: no driver's run starts.

@@ -8,7 +8,6 @@ use serde::de::DeserializeOwned;
 use super::{Light, LightFile, LightKind, LIGHT_TYPES};
 use crate::input::error::SceneError;
 use crate::input::field::{Triple, Validator};
-use crate::input::keys::{keys_of, read_table};
 use crate::input::locate::KeyPath;
 
 /// One light's table being checked: where it is, and what it holds.
@@ -23,24 +22,12 @@ impl LightAt<'_> {
     /// `name`: a key of another type is refused by name, any other as
     /// unknown.
     pub(super) fn own<F: DeserializeOwned>(&self, name: &str) -> Result<F, SceneError> {
-        let keys = keys_of::<F>();
-        if let Some(key) = self.check.first_stray(self.path, &self.file.own, keys) {
-            let message = if LIGHT_TYPES.iter().any(|t| (t.keys)().contains(&key)) {
-                format!("does not apply to a {name} light")
-            } else {
-                let known = ["type", "ambient", "diffuse", "specular"]
-                    .iter()
-                    .chain(keys);
-                let known: Vec<String> = known.map(|k| format!("`{k}`")).collect();
-                format!(
-                    "unknown field `{key}`, expected one of {}",
-                    known.join(", ")
-                )
-            };
-            return self.err(Some(key), message);
-        }
-        read_table(&self.file.own, self.path)
-            .or_else(|(path, message)| self.check.err(&path, message))
+        let shared = ["type", "ambient", "diffuse", "specular"];
+        self.check
+            .read_own(self.path, &self.file.own, &shared, |key| {
+                let taken = LIGHT_TYPES.iter().any(|t| (t.keys)().contains(&key));
+                taken.then(|| format!("does not apply to a {name} light"))
+            })
     }
 
     /// The light's own key `key`, required.

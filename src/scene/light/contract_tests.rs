@@ -74,11 +74,7 @@ pub(super) fn problems<T: LightType>(kind: LightKind) -> Vec<String> {
         .map(|k| (*k, format!("does not apply to a {name} light")))
         .chain([(NO_TYPES_KEY, format!("unknown field `{NO_TYPES_KEY}`"))])
     {
-        let mut f = LightFile {
-            kind: example.kind.clone(),
-            own: example.own.clone(),
-            ..LightFile::new(T::NAME, &T::example())
-        };
+        let mut f = example.clone();
         f.own.insert(key.to_owned(), toml::Value::Float(1.0));
         match checked(&f) {
             Err(e)

@@ -10,7 +10,7 @@ use crate::input::field::Triple;
 /// A `[[lights]]` table: what every type shares, and the type's own keys.
 /// (serde's `flatten`, which takes the own keys, cannot sit beside
 /// `deny_unknown_fields`; the type's struct denies unknown keys instead.)
-#[derive(Debug, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 pub struct LightFile {
     /// `type`: a name of the table of light types.
     #[serde(rename = "type")]

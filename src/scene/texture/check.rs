@@ -10,7 +10,6 @@ use serde::de::DeserializeOwned;
 use super::{Pattern, Texture, TextureFile, PATTERNS};
 use crate::input::error::SceneError;
 use crate::input::field::{Triple, Validator, MAX_COORDINATE};
-use crate::input::keys::{keys_of, read_table};
 use crate::input::locate::KeyPath;
 use crate::scene::images::Images;
 
@@ -150,26 +149,12 @@ impl PatternAt<'_> {
     /// another pattern is refused naming those that take it, any other as
     /// unknown; the first in the file's order (the kept table is sorted).
     pub(super) fn own<F: DeserializeOwned>(&self) -> Result<F> {
-        let keys = keys_of::<F>();
-        if let Some(key) = self.check.first_stray(self.path, &self.file.own, keys) {
-            let message = if PATTERNS.iter().any(|p| (p.keys)().contains(&key)) {
-                format!(
-                    "{} takes no `{key}` (only {} does)",
-                    self.pattern.info().what,
-                    whats(key, true)
-                )
-            } else {
-                let known = ["pattern", "image"].iter().chain(keys);
-                let known: Vec<String> = known.map(|k| format!("`{k}`")).collect();
-                format!(
-                    "unknown field `{key}`, expected one of {}",
-                    known.join(", ")
-                )
-            };
-            return self.check.err(&self.path.key(key), message);
-        }
-        read_table(&self.file.own, self.path)
-            .or_else(|(path, message)| self.check.err(&path, message))
+        let what = self.pattern.info().what;
+        self.check
+            .read_own(self.path, &self.file.own, &["pattern", "image"], |key| {
+                let taken = PATTERNS.iter().any(|p| (p.keys)().contains(&key));
+                taken.then(|| format!("{what} takes no `{key}` (only {} does)", whats(key, true)))
+            })
     }
 
     /// `size` (`v`; `default` where it is left out, else required): from
