@@ -290,3 +290,47 @@ fn look_at_camera_converts_to_a_screen_at_distance_one() {
     assert!((c.screen_up.length() - half).abs() < 1e-12);
     assert!((c.screen_right.length() - half * 8.0 / 6.0).abs() < 1e-12);
 }
+
+/// A light type's own keys are read by its type (src/scene/light): a wrong
+/// value is named by its key path at its own line, a number that is not
+/// finite is refused, a missing key is named, and a key no type takes is
+/// an unknown field at its line.
+#[test]
+fn a_light_types_own_keys_are_named_where_they_stand() {
+    let cases = [
+        (
+            "cutoff = 30.0",
+            "cutoff = \"x\"",
+            "lights[0].cutoff",
+            "invalid type",
+        ),
+        (
+            "position = [0.0, 5.0, 0.0]",
+            "position = [0.0, 5.0, \"a\"]",
+            "lights[0].position[2]",
+            "invalid type",
+        ),
+        (
+            "cutoff = 30.0",
+            "cutoff = nan",
+            "lights[0].cutoff",
+            "finite",
+        ),
+        (
+            "cutoff = 30.0",
+            "cutoff = 30.0\nbeam = 2.0",
+            "lights[0].beam",
+            "unknown field `beam`",
+        ),
+    ];
+    for (from, to, key, words) in cases {
+        let needle = to.lines().last().unwrap();
+        check(&with(from, to), needle, key, words);
+    }
+    let t = with("cutoff = 30.0", "");
+    let msg = error_of(&t);
+    assert!(
+        msg.contains("lights[0]: missing key `cutoff` (required for a spot light)"),
+        "{msg}"
+    );
+}

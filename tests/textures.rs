@@ -222,6 +222,14 @@ fn bad_textures_are_named() {
             "textures.tiles",
             "unknown field `scale`",
         ),
+        // A pattern reads its own keys: a wrong value is named by its path.
+        (
+            "origin = [0.1, 0.05, 0.0]",
+            "origin = [0.1, \"x\", 0.0]",
+            "origin = [0.1, \"x\", 0.0]",
+            "textures.cubes.origin[1]",
+            "invalid type",
+        ),
         (
             "colors = [[0.9, 0.9, 0.9], [0.1, 0.2, 0.8]]",
             "colors = [[0.9, 0.9, 0.9], [0.1, -0.2, 0.8]]",
