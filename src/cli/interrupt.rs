@@ -9,75 +9,106 @@
 #![cfg_attr(not(feature = "gpu"), allow(dead_code))]
 
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
+use std::sync::{Mutex, MutexGuard};
 
-/// The children to kill, and whether the run is stopping: one lock, so
-/// that a child is either started and listed before the clean-up looks,
-/// or not started at all (issue 57, defect 11: a probe spawned while the
-/// signal thread cleaned up outlived glint and wrote its folder back).
-static CHILDREN: Mutex<(Vec<u32>, bool)> = Mutex::new((Vec::new(), false));
-static FOLDERS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// What an interrupted run removes, and whether the run is stopping: one
+/// lock, so that a child or a folder is either made and listed before the
+/// clean-up looks, or not made at all (issue 57, defect 11: a probe
+/// spawned while the signal thread cleaned up outlived glint and wrote its
+/// folder back; issue 59: a temporary folder made while the signal thread
+/// exited stayed).
+struct Listed {
+    children: Vec<u32>,
+    folders: Vec<PathBuf>,
+    stopping: bool,
+}
 
-/// Starts `c` and lists it for an interrupted run to kill; refused once the
-/// run is stopping.
-pub fn spawn(c: &mut std::process::Command) -> std::io::Result<std::process::Child> {
-    let mut guard = CHILDREN.lock().unwrap_or_else(|e| e.into_inner());
-    if guard.1 {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::Interrupted,
-            "the run is stopping",
-        ));
+static LISTED: Mutex<Listed> = Mutex::new(Listed {
+    children: Vec::new(),
+    folders: Vec::new(),
+    stopping: false,
+});
+
+/// The list, even where a thread panicked holding it: the clean-up must
+/// still run.
+fn listed() -> MutexGuard<'static, Listed> {
+    LISTED.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// The list, to add to. Once the run is stopping, the signal thread is
+/// ending the process: the caller waits for that rather than make what no
+/// clean-up would remove, or print a second error line.
+fn listed_to_add_to() -> MutexGuard<'static, Listed> {
+    let listed = listed();
+    if listed.stopping {
+        drop(listed);
+        loop {
+            std::thread::park();
+        }
     }
+    listed
+}
+
+/// Starts `c` and lists it for an interrupted run to kill; once the run is
+/// stopping, never returns.
+pub fn spawn(c: &mut std::process::Command) -> std::io::Result<std::process::Child> {
+    let mut listed = listed_to_add_to();
     let child = c.spawn()?;
-    guard.0.push(child.id());
+    listed.children.push(child.id());
     Ok(child)
 }
 
 /// The child `pid` was waited for: it is no longer this run's to kill.
 pub fn child_ended(pid: u32) {
-    if let Ok(mut v) = CHILDREN.lock() {
-        v.0.retain(|p| *p != pid);
-    }
+    listed().children.retain(|p| *p != pid);
 }
 
-/// A folder that an interrupted run removes, with what is in it.
-pub fn folder_made(path: &Path) {
-    if let Ok(mut v) = FOLDERS.lock() {
-        v.push(path.to_owned());
-    }
+/// Makes a folder (`make` returns it) and lists it for an interrupted run
+/// to remove, with what is in it; once the run is stopping, never returns.
+pub fn make_folder<T: AsRef<Path>>(
+    make: impl FnOnce() -> std::io::Result<T>,
+) -> std::io::Result<T> {
+    let mut listed = listed_to_add_to();
+    let folder = make()?;
+    listed.folders.push(folder.as_ref().to_owned());
+    Ok(folder)
+}
+
+/// Creates `dir` and the folders above it that are missing, inside a
+/// listed folder: before the clean-up removes that folder, or not at all
+/// (a probe's folder made after it made the temporary folder again, and
+/// it stayed); once the run is stopping, never returns.
+pub fn create_dir_all(dir: &Path) -> std::io::Result<()> {
+    let _listed = listed_to_add_to();
+    std::fs::create_dir_all(dir)
 }
 
 /// The folder was removed, or is now an output: it stays.
 pub fn folder_kept(path: &Path) {
-    if let Ok(mut v) = FOLDERS.lock() {
-        v.retain(|p| p != path);
-    }
+    listed().folders.retain(|p| p != path);
 }
 
-/// Stops new children, kills and reaps the listed ones, then removes the
-/// listed folders (the children first, so that none writes into a folder
-/// being removed). Runs on the signal handler's thread (cli/signals.rs, outside
-/// the signal context); once it has run, `spawn` starts no child.
+/// Stops new children and folders, kills and reaps the listed children,
+/// then removes the listed folders (the children first, so that none
+/// writes into a folder being removed). Runs on the signal handler's
+/// thread (cli/signals.rs, outside the signal context); once it has run,
+/// `spawn` and `make_folder` make nothing.
 pub fn clean_up() {
-    let mut guard = CHILDREN.lock().unwrap_or_else(|e| e.into_inner());
-    guard.1 = true;
-    {
-        for &pid in guard.0.iter() {
-            let Ok(pid) = libc::pid_t::try_from(pid) else {
-                continue;
-            };
-            // SAFETY: signals a process this run started and has not yet
-            // reaped (its pid cannot have been reused), then reaps it.
-            unsafe {
-                libc::kill(pid, libc::SIGKILL);
-                libc::waitpid(pid, std::ptr::null_mut(), 0);
-            }
+    let mut listed = listed();
+    listed.stopping = true;
+    for &pid in listed.children.iter() {
+        let Ok(pid) = libc::pid_t::try_from(pid) else {
+            continue;
+        };
+        // SAFETY: signals a process this run started and has not yet
+        // reaped (its pid cannot have been reused), then reaps it.
+        unsafe {
+            libc::kill(pid, libc::SIGKILL);
+            libc::waitpid(pid, std::ptr::null_mut(), 0);
         }
-        guard.0.clear();
     }
-    if let Ok(v) = FOLDERS.lock() {
-        for f in v.iter() {
-            let _ = std::fs::remove_dir_all(f);
-        }
+    listed.children.clear();
+    for f in listed.folders.drain(..) {
+        let _ = std::fs::remove_dir_all(f);
     }
 }

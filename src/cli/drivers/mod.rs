@@ -114,11 +114,12 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
         }
     }
     staging::remove_stale_work();
-    let work = tempfile::Builder::new()
-        .prefix(&staging::work_prefix())
-        .tempdir()
-        .context("cannot make a temporary folder")?;
-    crate::cli::interrupt::folder_made(work.path());
+    let work = crate::cli::interrupt::make_folder(|| {
+        tempfile::Builder::new()
+            .prefix(&staging::work_prefix())
+            .tempdir()
+    })
+    .context("cannot make a temporary folder")?;
     staging::room(work.path())?;
     let run = Run {
         args: a,

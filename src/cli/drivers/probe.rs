@@ -276,7 +276,7 @@ impl Job<'_> {
 
     /// Runs the probe and waits for it, at most `deadline`.
     pub fn run(&self) -> anyhow::Result<Ended> {
-        std::fs::create_dir_all(&self.out)
+        crate::cli::interrupt::create_dir_all(&self.out)
             .with_context(|| format!("cannot create {}", self.out.display()))?;
         let report = self.out.join(REPORT);
         let _ = std::fs::remove_file(&report);

@@ -149,7 +149,8 @@ pub fn write(
 /// crashed or hung as the loader opened it): its manifest, its last words
 /// and the command, in `dir`.
 pub fn write_load(icd: &Path, verdict: &Verdict, stderr: &Path, dir: &Path) -> anyhow::Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    crate::cli::interrupt::create_dir_all(dir)
+        .with_context(|| format!("cannot create {}", dir.display()))?;
     let manifest = manifest_text(icd);
     let driver = serde_json::json!({ "icd": icd, "icd_manifest": manifest });
     std::fs::write(
@@ -176,7 +177,8 @@ pub fn write_load(icd: &Path, verdict: &Verdict, stderr: &Path, dir: &Path) -> a
 /// Copies the scene and the files it reads into `dir`, each at its path
 /// relative to the scene's folder where it is below it; the copy's path.
 pub fn copy_scene(path: &Path, scene: &Scene, dir: &Path) -> anyhow::Result<PathBuf> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    crate::cli::interrupt::create_dir_all(dir)
+        .with_context(|| format!("cannot create {}", dir.display()))?;
     let name = path.file_name().context("the scene has no file name")?;
     let copy = dir.join(name);
     std::fs::copy(path, &copy).with_context(|| format!("cannot copy {}", path.display()))?;
@@ -189,7 +191,7 @@ pub fn copy_scene(path: &Path, scene: &Scene, dir: &Path) -> anyhow::Result<Path
         if let Ok(rel) = resolved(input).strip_prefix(&home) {
             let to = dir.join(rel);
             if let Some(parent) = to.parent() {
-                std::fs::create_dir_all(parent)?;
+                crate::cli::interrupt::create_dir_all(parent)?;
             }
             let _ = std::fs::copy(input, to);
         }

@@ -119,9 +119,8 @@ impl Staging {
     pub(super) fn new(output: &Path) -> anyhow::Result<Self> {
         remove_stale(output);
         let dir = output.join(format!(".glint-drivers-{}.new", std::process::id()));
-        std::fs::create_dir_all(&dir)
+        crate::cli::interrupt::make_folder(|| std::fs::create_dir_all(&dir).map(|()| &dir))
             .with_context(|| format!("cannot create {}", glint::printable::path(&dir)))?;
-        crate::cli::interrupt::folder_made(&dir);
         std::fs::write(
             dir.join(MARK),
             "reproducers written by glint drivers; replaced by its next run\n",
