@@ -63,6 +63,7 @@ pub use base::aov;
 pub mod bench;
 pub mod condition;
 pub mod cpu;
+pub mod drivers;
 pub mod explain;
 pub mod files;
 pub mod fnv;

@@ -22,7 +22,7 @@ fn run() -> ExitCode {
     // cannot be installed only loses that clean-up.
     let _ = cli::signals::set_handler(|| {
         glint::output::remove_in_progress();
-        cli::interrupt::clean_up();
+        glint::output::interrupt::clean_up();
         cli::console::last_words(format_args!("error: interrupted\n"));
         cli::console::exit_interrupted();
     });

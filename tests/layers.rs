@@ -24,8 +24,9 @@ const LAYERS: &[&[&str]] = &[
     // What is built on both renderers.
     &["stability", "tiles", "bench"],
     &["condition", "report"],
-    // One pixel's trees on every renderer, bounded by the conditioning.
-    &["explain"],
+    // One pixel's trees on every renderer, bounded by the conditioning;
+    // the drivers' verdicts, held to the conditioning too.
+    &["explain", "drivers"],
     // The oracle over generated scenes, held by every layer below.
     &["fuzz"],
 ];

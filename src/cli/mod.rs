@@ -18,7 +18,6 @@ mod explain;
 mod fuzz;
 #[cfg(feature = "gpu")]
 mod info;
-pub mod interrupt;
 mod progress;
 mod render;
 #[cfg(feature = "gpu")]

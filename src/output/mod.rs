@@ -11,6 +11,7 @@
 //! refused. Every rule applies to the file a chain of symbolic links ends
 //! at.
 
+pub mod interrupt;
 pub(crate) mod partial;
 
 use std::fs::{File, Metadata};

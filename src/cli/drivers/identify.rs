@@ -4,10 +4,11 @@
 use std::path::{Path, PathBuf};
 
 use super::folder::folder;
-use super::probe::{Ended, Identity, Job};
+use super::probe::Job;
 use super::staging::Staging;
-use super::verdict::{self, Verdict};
-use super::{icd, repro, Run};
+use super::{icd, Run};
+use glint::drivers::verdict::{self, Verdict};
+use glint::drivers::{repro, Ended, Identity};
 
 /// A driver of the matrix: its ICD file, a short name, and the device it
 /// gave (or how naming it ended).

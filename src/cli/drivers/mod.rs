@@ -11,13 +11,10 @@ mod memory;
 mod outcome;
 mod plan;
 pub mod probe;
-mod repro;
 mod rows;
 mod scene_run;
-mod shrink;
 mod staging;
 mod table;
-mod verdict;
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
@@ -114,7 +111,7 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
         }
     }
     staging::remove_stale_work();
-    let work = crate::cli::interrupt::make_folder(|| {
+    let work = glint::output::interrupt::make_folder(|| {
         tempfile::Builder::new()
             .prefix(&staging::work_prefix())
             .tempdir()

@@ -10,9 +10,9 @@ use glint::scene::Overrides;
 use super::identify::Driver;
 use super::staging::Staging;
 use super::table::{self, Column, Matrix, Row};
-use super::verdict::Verdict;
 use super::{probe, DriversArgs};
 use crate::cli::console::{out, outln};
+use glint::drivers::Verdict;
 
 /// The matrix of `rows` over the tested `drivers`, with the `absent` ones
 /// named beside it.

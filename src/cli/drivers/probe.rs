@@ -10,8 +10,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::Context;
 use clap::Args;
-use serde::{Deserialize, Serialize};
-
+use glint::drivers::{Ended, Identity, Probe, Seen, IMAGE};
 use glint::gpu::{GpuError, Renderer};
 use glint::raster::io;
 
@@ -34,59 +33,6 @@ pub struct ProbeArgs {
     device: DeviceArgs,
 }
 
-/// A device as the driver names it.
-#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
-pub struct Identity {
-    /// The device's name (`llvmpipe (LLVM 15.0.6, 256 bits)`).
-    pub name: String,
-    /// CPU, discrete GPU, ...
-    pub kind: String,
-    /// The driver's name and version.
-    pub driver: String,
-    /// The Vulkan version the device offers.
-    pub api_version: String,
-}
-
-/// How one probe ended, as the child saw it.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(tag = "outcome", rename_all = "snake_case")]
-pub enum Seen {
-    /// The device was opened (and the scene rendered, unless identifying).
-    Rendered {
-        /// The scene's shader variant.
-        variant: Option<String>,
-        /// Upload, dispatch and readback of the render, seconds.
-        seconds: f64,
-        /// The driver's compile of the variant, seconds.
-        driver_compile_s: f64,
-    },
-    /// This ICD gives no device that glint can use.
-    NoDevice { message: String },
-    /// The driver or device cannot render this scene as it is: a limit
-    /// glint knows (the loop budget, no f64, a buffer too large).
-    Refused { message: String },
-    /// glint's own watchdog gave up waiting on the device.
-    Hung { message: String },
-    /// The validation layer spoke.
-    Validation { messages: Vec<String> },
-    /// The driver did what no correct driver does: lost the device, left
-    /// the image unwritten or garbled, or returned an error that is not a
-    /// limit (issue 42, defect 8).
-    Fault { message: String },
-    /// Anything else went wrong.
-    Error { message: String },
-}
-
-/// What the child writes: the device, and how the probe ended.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct Probe {
-    pub device: Option<Identity>,
-    #[serde(flatten)]
-    pub seen: Seen,
-}
-
-/// The image a probe writes beside its probe.json.
-pub const IMAGE: &str = "gpu.pfm";
 const REPORT: &str = "probe.json";
 
 /// The child's side: runs the probe and writes probe.json; its exit status
@@ -236,20 +182,6 @@ fn seen_of(e: GpuError) -> Seen {
     }
 }
 
-/// How a child process ended, as the parent sees it.
-pub enum Ended {
-    /// It wrote its probe.json.
-    Wrote(Probe),
-    /// It died of a signal (its number), or exited without a report.
-    Crashed {
-        signal: Option<i32>,
-        status: String,
-        stderr: String,
-    },
-    /// It ran past the parent's deadline and was killed.
-    Hung { seconds: f64 },
-}
-
 /// A probe to run in a child: the ICD file, the scene's arguments and the
 /// device arguments, as words of a command line.
 pub struct Job<'a> {
@@ -276,7 +208,7 @@ impl Job<'_> {
 
     /// Runs the probe and waits for it, at most `deadline`.
     pub fn run(&self) -> anyhow::Result<Ended> {
-        crate::cli::interrupt::create_dir_all(&self.out)
+        glint::output::interrupt::create_dir_all(&self.out)
             .with_context(|| format!("cannot create {}", self.out.display()))?;
         let report = self.out.join(REPORT);
         let _ = std::fs::remove_file(&report);
@@ -331,7 +263,7 @@ pub fn bounded(
     let file = std::fs::File::create(stderr)
         .with_context(|| format!("cannot create {}", stderr.display()))?;
     let mut child =
-        crate::cli::interrupt::spawn(c.stderr(file)).context("cannot start a child glint")?;
+        glint::output::interrupt::spawn(c.stderr(file)).context("cannot start a child glint")?;
     wait(&mut child, limit)
 }
 
@@ -341,7 +273,7 @@ pub fn bounded(
 fn wait(child: &mut Child, limit: Duration) -> anyhow::Result<Option<ExitStatus>> {
     let pid = child.id();
     let status = wait_for(child, limit);
-    crate::cli::interrupt::child_ended(pid);
+    glint::output::interrupt::child_ended(pid);
     status
 }
 

@@ -9,11 +9,11 @@ use glint::scene::Scene;
 
 use super::folder::folder;
 use super::identify::Driver;
-use super::repro::Size;
 use super::table::{Cell, Row};
-use super::verdict::Verdict;
 use super::Run;
 use crate::cli::{progress, scene_name};
+use glint::drivers::repro::Size;
+use glint::drivers::Verdict;
 
 impl Run<'_> {
     /// Each scene (of `paths`) on each driver: its row of cells.

@@ -11,12 +11,14 @@ use glint::scene::Scene;
 
 use super::folder::folder;
 use super::identify::Driver;
-use super::probe::{self, Identity, Job};
-use super::repro::{self, Size};
+use super::probe::{self, Job};
+
 use super::rows::reference;
-use super::verdict::{self, Verdict};
-use super::{shrink, Run};
+use super::Run;
 use crate::cli::scene_name;
+use glint::drivers::repro::{self, Size};
+use glint::drivers::verdict::{self, Verdict};
+use glint::drivers::{shrink, Identity};
 
 impl Run<'_> {
     /// Whether the run's --budget has run out: no driver's run starts.
@@ -120,7 +122,7 @@ impl Run<'_> {
             None
         } else {
             let mut run = 0;
-            shrink::objects(&copy, &mut |candidate| {
+            shrink::objects::<anyhow::Error>(&copy, &mut |candidate| {
                 run += 1;
                 let Some(deadline) = try_deadline() else {
                     return Ok(false);

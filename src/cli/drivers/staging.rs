@@ -119,7 +119,7 @@ impl Staging {
     pub(super) fn new(output: &Path) -> anyhow::Result<Self> {
         remove_stale(output);
         let dir = output.join(format!(".glint-drivers-{}.new", std::process::id()));
-        crate::cli::interrupt::make_folder(|| std::fs::create_dir_all(&dir).map(|()| &dir))
+        glint::output::interrupt::make_folder(|| std::fs::create_dir_all(&dir).map(|()| &dir))
             .with_context(|| format!("cannot create {}", glint::printable::path(&dir)))?;
         std::fs::write(
             dir.join(MARK),
@@ -141,7 +141,7 @@ impl Staging {
         if root.exists() && exchange(&self.dir, root) {
             // The last run's reproducers are where this run's were.
             self.replaced = true;
-            crate::cli::interrupt::folder_kept(&self.dir);
+            glint::output::interrupt::folder_kept(&self.dir);
             std::fs::remove_dir_all(&self.dir)
                 .with_context(|| format!("cannot remove {}", glint::printable::path(&self.dir)))?;
             return Ok(());
@@ -153,7 +153,7 @@ impl Staging {
         std::fs::rename(&self.dir, root)
             .with_context(|| format!("cannot make {}", glint::printable::path(root)))?;
         self.replaced = true;
-        crate::cli::interrupt::folder_kept(&self.dir);
+        glint::output::interrupt::folder_kept(&self.dir);
         if old.exists() {
             std::fs::remove_dir_all(&old)
                 .with_context(|| format!("cannot remove {}", glint::printable::path(&old)))?;
@@ -194,7 +194,7 @@ impl Drop for Staging {
     fn drop(&mut self) {
         if !self.replaced {
             let _ = std::fs::remove_dir_all(&self.dir);
-            crate::cli::interrupt::folder_kept(&self.dir);
+            glint::output::interrupt::folder_kept(&self.dir);
         }
     }
 }

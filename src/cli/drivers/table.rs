@@ -10,8 +10,8 @@ use serde::Serialize;
 use glint::output::{self, Outputs};
 use glint::report::escape;
 
-use super::probe::Identity;
-use super::verdict::{Verdict, WORDS};
+use glint::drivers::verdict::{Verdict, WORDS};
+use glint::drivers::Identity;
 
 /// A driver's column.
 #[derive(Serialize)]

@@ -4,10 +4,6 @@
 //! temporary folder stayed). A command lists them here while they exist;
 //! the binary's signal handler calls `clean_up` before it exits.
 
-// Only `glint drivers` (a GPU command) lists anything yet; the handler
-// calls `clean_up` in every build.
-#![cfg_attr(not(feature = "gpu"), allow(dead_code))]
-
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard};
 

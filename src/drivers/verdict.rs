@@ -6,11 +6,11 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use glint::accel::Accel;
-use glint::condition;
-use glint::raster::diff::{ErrorFigures, Tolerance};
-use glint::raster::{io, Image};
-use glint::scene::Scene;
+use crate::accel::Accel;
+use crate::condition;
+use crate::raster::diff::{ErrorFigures, Tolerance};
+use crate::raster::{io, Image};
+use crate::scene::Scene;
 
 use super::probe::{Ended, Seen, IMAGE};
 
@@ -21,42 +21,75 @@ pub enum Verdict {
     /// Within `compare`'s tolerance (over the well-conditioned pixels where
     /// the whole image is not).
     Pass {
+        /// The image's error figures against the reference.
         error: ErrorFigures,
+        /// How long it ran, seconds.
         seconds: f64,
+        /// The scene's shader variant.
         variant: String,
     },
     /// Over it: a wrong image.
     Fail {
+        /// The image's error figures against the reference.
         error: ErrorFigures,
+        /// The tolerance's limits the image breaks.
         violations: Vec<String>,
+        /// How long it ran, seconds.
         seconds: f64,
+        /// The scene's shader variant.
         variant: String,
     },
     /// Within the tolerance over the well-conditioned pixels, but these are
     /// too few to hold the image to (`condition::MAX_ILL`): the scene is
     /// not well-conditioned at f32, on any renderer.
     IllConditioned {
+        /// The image's error figures against the reference.
         error: ErrorFigures,
         /// The share of ill-conditioned pixels.
         ill: f64,
+        /// How long it ran, seconds.
         seconds: f64,
+        /// The scene's shader variant.
         variant: String,
     },
     /// A limit glint knows refused the scene on this driver.
-    Refused { reason: String },
+    Refused {
+        /// Why.
+        reason: String,
+    },
     /// The child died: a signal, or an exit with no report.
-    Crashed { how: String, stderr: String },
+    Crashed {
+        /// How it died: the signal, or the exit status.
+        how: String,
+        /// The last of what it wrote on stderr.
+        stderr: String,
+    },
     /// glint's watchdog, or the parent's deadline, ran out.
-    Hung { message: String },
+    Hung {
+        /// What glint or the driver said.
+        message: String,
+    },
     /// The validation layer spoke.
-    Validation { messages: Vec<String> },
+    Validation {
+        /// The layer's messages.
+        messages: Vec<String>,
+    },
     /// The driver did what no correct driver does (`probe::Seen::Fault`):
     /// a failure like a wrong image, and counted as one ("FAIL").
-    Fault { message: String },
+    Fault {
+        /// What glint or the driver said.
+        message: String,
+    },
     /// glint could not run the scene there for another reason.
-    Error { message: String },
+    Error {
+        /// What glint or the driver said.
+        message: String,
+    },
     /// Not run: the run's --budget ran out first (issue 42, defect 10).
-    NotRun { reason: String },
+    NotRun {
+        /// Why.
+        reason: String,
+    },
 }
 
 /// Every cell's word (`Verdict::word`), in the order a summary counts them.

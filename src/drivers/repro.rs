@@ -5,11 +5,10 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::Context;
+use crate::raster::{diff, io, Image};
+use crate::scene::{Overrides, Scene};
 
-use glint::raster::{diff, io, Image};
-use glint::scene::{Overrides, Scene};
-
+use super::error::{write as write_file, DriversError};
 use super::probe::Identity;
 use super::verdict::Verdict;
 
@@ -17,12 +16,16 @@ use super::verdict::Verdict;
 /// them (None: the scene's own sampling, adaptive or uniform).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct Size {
+    /// Pixels across.
     pub width: u32,
+    /// Pixels down.
     pub height: u32,
+    /// Samples a pixel side, where shrinking set them.
     pub samples: Option<u32>,
 }
 
 impl Size {
+    /// The scene's own size and sampling.
     pub fn of(scene: &Scene) -> Self {
         Self {
             width: scene.width,
@@ -85,14 +88,21 @@ impl Size {
 
 /// What one reproducer holds.
 pub struct Failure<'a> {
+    /// The scene as the run named it.
     pub scene_path: &'a Path,
+    /// The driver's ICD file.
     pub icd: &'a Path,
+    /// The device the driver named.
     pub identity: &'a Identity,
+    /// What was wrong.
     pub verdict: &'a Verdict,
+    /// The size it fails at (after shrinking).
     pub size: Size,
     /// The run's own device options, as words (`DeviceArgs::forward`).
     pub device_args: &'a [std::ffi::OsString],
+    /// The driver's image, where it made one.
     pub gpu: Option<&'a Image>,
+    /// The CPU f64 image.
     pub reference: &'a Image,
     /// The child's stderr, where it crashed or hung.
     pub stderr: Option<&'a Path>,
@@ -111,7 +121,7 @@ pub fn write(
     dir: &Path,
     scene_copy: &Path,
     shader_dump: &dyn Fn(&Path, &Path) -> Result<(), String>,
-) -> anyhow::Result<()> {
+) -> Result<(), DriversError> {
     let shader_dir = dir.join("shader");
     let shader = shader_dump(scene_copy, &shader_dir);
     if let Some(img) = f.gpu {
@@ -132,29 +142,33 @@ pub fn write(
         "icd_manifest": manifest,
         "device": f.identity,
     });
-    std::fs::write(
-        dir.join("driver.json"),
+    write_file(
+        &dir.join("driver.json"),
         serde_json::to_string_pretty(&driver)?,
     )?;
     let command = command_line(f, scene_copy);
-    std::fs::write(
-        dir.join("command.sh"),
+    write_file(
+        &dir.join("command.sh"),
         format!("#!/bin/sh\n# Run from this folder.\n{command}\n"),
     )?;
-    std::fs::write(dir.join("README.md"), readme(f, &command, shader.err()))?;
+    write_file(&dir.join("README.md"), readme(f, &command, shader.err()))?;
     Ok(())
 }
 
 /// The reproducer of a driver that failed before it named a device (it
 /// crashed or hung as the loader opened it): its manifest, its last words
 /// and the command, in `dir`.
-pub fn write_load(icd: &Path, verdict: &Verdict, stderr: &Path, dir: &Path) -> anyhow::Result<()> {
-    crate::cli::interrupt::create_dir_all(dir)
-        .with_context(|| format!("cannot create {}", dir.display()))?;
+pub fn write_load(
+    icd: &Path,
+    verdict: &Verdict,
+    stderr: &Path,
+    dir: &Path,
+) -> Result<(), DriversError> {
+    crate::output::interrupt::create_dir_all(dir).map_err(DriversError::file("create", dir))?;
     let manifest = manifest_text(icd);
     let driver = serde_json::json!({ "icd": icd, "icd_manifest": manifest });
-    std::fs::write(
-        dir.join("driver.json"),
+    write_file(
+        &dir.join("driver.json"),
         serde_json::to_string_pretty(&driver)?,
     )?;
     let _ = std::fs::copy(stderr, dir.join("stderr.txt"));
@@ -163,35 +177,39 @@ pub fn write_load(icd: &Path, verdict: &Verdict, stderr: &Path, dir: &Path) -> a
         "VK_DRIVER_FILES={} glint info",
         quote(&absolute.to_string_lossy())
     );
-    std::fs::write(dir.join("command.sh"), format!("#!/bin/sh\n{command}\n"))?;
+    write_file(&dir.join("command.sh"), format!("#!/bin/sh\n{command}\n"))?;
     let readme = format!(
         "# {}: {} when loaded\n\n- What went wrong: {}, before the driver named a device; no scene was rendered on it.\n- Files: `driver.json` (the ICD file and its manifest), `stderr.txt` (the process's last words).\n\nTo see it again:\n\n```\n{command}\n```\n",
-        glint::printable::path(icd),
+        crate::printable::path(icd),
         verdict.word(),
-        glint::printable::one_line(&verdict.detail())
+        crate::printable::one_line(&verdict.detail())
     );
-    std::fs::write(dir.join("README.md"), readme)?;
+    write_file(&dir.join("README.md"), readme)?;
     Ok(())
 }
 
 /// Copies the scene and the files it reads into `dir`, each at its path
 /// relative to the scene's folder where it is below it; the copy's path.
-pub fn copy_scene(path: &Path, scene: &Scene, dir: &Path) -> anyhow::Result<PathBuf> {
-    crate::cli::interrupt::create_dir_all(dir)
-        .with_context(|| format!("cannot create {}", dir.display()))?;
-    let name = path.file_name().context("the scene has no file name")?;
-    let copy = dir.join(name);
-    std::fs::copy(path, &copy).with_context(|| format!("cannot copy {}", path.display()))?;
+pub fn copy_scene(path: &Path, scene: &Scene, dir: &Path) -> Result<PathBuf, DriversError> {
+    crate::output::interrupt::create_dir_all(dir).map_err(DriversError::file("create", dir))?;
+    // A scene is read from a file, so its path has a name.
+    let copy = dir.join(path.file_name().unwrap_or(path.as_os_str()));
+    std::fs::copy(path, &copy).map_err(DriversError::file("copy", path))?;
     // Compared resolved, as the scene's own paths and the scene's folder
     // may be spelt differently (issue 42, defect 9: "s.toml" is in ".",
     // and its "mesh.obj" did not start with "./", so it was not copied).
     let resolved = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_owned());
-    let home = resolved(&super::super::parent_dir(path));
+    let home = resolved(
+        path.parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new(".")),
+    );
     for input in &scene.input_files {
         if let Ok(rel) = resolved(input).strip_prefix(&home) {
             let to = dir.join(rel);
             if let Some(parent) = to.parent() {
-                crate::cli::interrupt::create_dir_all(parent)?;
+                crate::output::interrupt::create_dir_all(parent)
+                    .map_err(DriversError::file("create", parent))?;
             }
             let _ = std::fs::copy(input, to);
         }
@@ -237,7 +255,7 @@ fn quote(word: &str) -> String {
 /// A name or a driver's words as the README shows them: control
 /// characters escaped (issue 42, defect 14).
 fn shown(s: &str) -> String {
-    glint::printable::text(s)
+    crate::printable::text(s)
 }
 
 fn readme(f: &Failure, command: &str, shader_problem: Option<String>) -> String {
@@ -261,12 +279,12 @@ fn readme(f: &Failure, command: &str, shader_problem: Option<String>) -> String 
         shown(&f.identity.kind),
         shown(&f.identity.driver),
         shown(&f.identity.api_version),
-        glint::printable::path(f.icd)
+        crate::printable::path(f.icd)
     );
     let _ = writeln!(
         r,
         "- What went wrong: {}.",
-        glint::printable::one_line(&f.verdict.detail())
+        crate::printable::one_line(&f.verdict.detail())
     );
     if let Verdict::Fail { violations, .. } = f.verdict {
         let _ = writeln!(
@@ -306,7 +324,7 @@ fn readme(f: &Failure, command: &str, shader_problem: Option<String>) -> String 
 /// the loader's folders would block the run or fill its memory (issue 42,
 /// defect 11). What cannot be read is said in its place.
 fn manifest_text(icd: &Path) -> String {
-    glint::input::read_text(icd, glint::input::ReadAs::Manifest)
+    crate::input::read_text(icd, crate::input::ReadAs::Manifest)
         .unwrap_or_else(|e| format!("(not read: {e})"))
 }
 

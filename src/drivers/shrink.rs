@@ -5,24 +5,24 @@
 
 use std::path::Path;
 
-use anyhow::Context;
+use super::error::{write, DriversError};
 
 /// The most runs one scene's shrinking may take.
 pub const MAX_RUNS: usize = 12;
 
 /// Leaves out of the TOML scene at `path` (rewritten in place) every chunk
-/// of objects whose absence `still_fails` confirms. The objects before and
-/// after; None where the file is not TOML or has fewer than two objects.
-pub fn objects(
+/// of objects whose absence `still_fails` confirms (its errors are the
+/// caller's, `E`). The objects before and after; None where the file is
+/// not TOML or has fewer than two objects.
+pub fn objects<E: From<DriversError>>(
     path: &Path,
-    still_fails: &mut dyn FnMut(&Path) -> anyhow::Result<bool>,
-) -> anyhow::Result<Option<(usize, usize)>> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    still_fails: &mut dyn FnMut(&Path) -> Result<bool, E>,
+) -> Result<Option<(usize, usize)>, E> {
+    let text = std::fs::read_to_string(path).map_err(DriversError::file("read", path))?;
     let Ok(table) = text.parse::<toml::Table>() else {
         return Ok(None);
     };
-    let entries: Vec<(&str, usize)> = glint::scene::object_arrays()
+    let entries: Vec<(&str, usize)> = crate::scene::object_arrays()
         .iter()
         .flat_map(|&key| {
             let n = table
@@ -48,7 +48,7 @@ pub fn objects(
             let mut candidate = keep.clone();
             candidate[start..end].fill(false);
             if candidate != keep && candidate.contains(&true) {
-                std::fs::write(path, without(&table, &entries, &candidate)?)?;
+                write(path, without(&table, &entries, &candidate)?)?;
                 runs += 1;
                 if still_fails(path)? {
                     keep = candidate;
@@ -68,7 +68,7 @@ pub fn objects(
     } else {
         without(&table, &entries, &keep)?
     };
-    std::fs::write(path, last).with_context(|| format!("cannot write {}", path.display()))?;
+    write(path, last)?;
     Ok(Some((n, kept)))
 }
 
@@ -77,9 +77,9 @@ fn without(
     table: &toml::Table,
     entries: &[(&str, usize)],
     keep: &[bool],
-) -> anyhow::Result<String> {
+) -> Result<String, DriversError> {
     let mut t = table.clone();
-    for &key in glint::scene::object_arrays() {
+    for &key in crate::scene::object_arrays() {
         if let Some(toml::Value::Array(rows)) = t.get_mut(key) {
             let mut i = 0;
             rows.retain(|_| {
@@ -115,7 +115,7 @@ mod tests {
         text += "[[lights]]\ntype = \"point\"\n";
         std::fs::write(&path, &text).unwrap();
         let mut runs = 0;
-        let got = objects(&path, &mut |p| {
+        let got = objects::<DriversError>(&path, &mut |p| {
             runs += 1;
             let t = std::fs::read_to_string(p).unwrap();
             Ok(t.contains("\"b\"") && t.contains("\"d\""))
