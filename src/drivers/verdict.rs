@@ -66,23 +66,23 @@ pub enum Verdict {
     },
     /// glint's watchdog, or the parent's deadline, ran out.
     Hung {
-        /// What glint or the driver said.
+        /// How long it ran, and what gave up on it.
         message: String,
     },
     /// The validation layer spoke.
     Validation {
-        /// The layer's messages.
+        /// Each message the layer printed, in order.
         messages: Vec<String>,
     },
     /// The driver did what no correct driver does (`probe::Seen::Fault`):
     /// a failure like a wrong image, and counted as one ("FAIL").
     Fault {
-        /// What glint or the driver said.
+        /// The renderer's error that names the fault.
         message: String,
     },
     /// glint could not run the scene there for another reason.
     Error {
-        /// What glint or the driver said.
+        /// What stopped the run.
         message: String,
     },
     /// Not run: the run's --budget ran out first (issue 42, defect 10).
