@@ -12,14 +12,20 @@ fn crowd() -> Scene {
     Scene::load(&path, &Overrides::default()).unwrap()
 }
 
+/// The crowd's image without scene management, and a world of it with
+/// its BVH, to alter.
+fn crowd_and_its_tree() -> (Image, World<f64>) {
+    let scene = crowd();
+    let reference = render_rows::<f64>(&scene, Accel::None, &|_| {});
+    (reference, World::<f64>::new(&scene, Accel::Bvh))
+}
+
 /// The CPU check that images do not depend on the BVH (tests/accel.rs) can
 /// fail: a tree whose boxes miss part of what they
 /// hold, or whose tie rule is wrong, renders another image.
 #[test]
 fn a_broken_tree_changes_the_image() {
-    let scene = crowd();
-    let reference: Image = render_rows::<f64>(&scene, Accel::None, &|_| {});
-    let mut world = World::<f64>::new(&scene, Accel::Bvh);
+    let (reference, mut world) = crowd_and_its_tree();
     let tree = world.bvh.as_mut().unwrap();
     // Shrink every leaf's box to its lower half in y.
     for node in &mut tree.nodes {
@@ -36,9 +42,7 @@ fn a_broken_tree_changes_the_image() {
 /// reversing the primitives of every leaf keeps the image.
 #[test]
 fn leaf_order_does_not_matter() {
-    let scene = crowd();
-    let reference: Image = render_rows::<f64>(&scene, Accel::None, &|_| {});
-    let mut world = World::<f64>::new(&scene, Accel::Bvh);
+    let (reference, mut world) = crowd_and_its_tree();
     let tree = world.bvh.as_mut().unwrap();
     let leaves: Vec<_> = tree
         .nodes

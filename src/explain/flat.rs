@@ -106,7 +106,8 @@ pub fn entries(tree: &Tree) -> Vec<Entry> {
 
 fn ray_entries(n: usize, ray: &TreeRay, out: &mut Vec<Entry>) {
     let at = format!("ray {}", n + 1);
-    let mut push = |label: String, stage: Stage, value: Value| {
+    let mut push = |at: &str, what: &str, stage: Stage, value: Value| {
+        let label = format!("{at}: {what}");
         out.push(Entry {
             judged: !label.contains("shadow ray blocker"),
             label,
@@ -117,126 +118,115 @@ fn ray_entries(n: usize, ray: &TreeRay, out: &mut Vec<Entry>) {
     };
     let place = norm(&ray.origin);
     push(
-        format!("{at}: type"),
+        &at,
+        "type",
         Stage::Trace,
         Value::Exact(format!("{} depth {}", ray.kind, ray.depth)),
     );
+    push(&at, "origin", Stage::Ray, Value::num(&ray.origin, place));
     push(
-        format!("{at}: origin"),
-        Stage::Ray,
-        Value::num(&ray.origin, place),
-    );
-    push(
-        format!("{at}: direction"),
+        &at,
+        "direction",
         Stage::Ray,
         Value::num(&ray.direction, 1.0),
     );
-    push(
-        format!("{at}: weight"),
-        Stage::Trace,
-        Value::num(&[ray.weight], 1.0),
-    );
+    push(&at, "weight", Stage::Trace, Value::num(&[ray.weight], 1.0));
     let met = ray
         .hit
         .as_ref()
         .map_or("nothing".to_owned(), |h| h.primitive.to_string());
-    push(format!("{at}: hit"), Stage::Intersect, Value::Exact(met));
+    push(&at, "hit", Stage::Intersect, Value::Exact(met));
     if let Some(h) = &ray.hit {
         let scale = place.max(h.distance);
         push(
-            format!("{at}: distance"),
+            &at,
+            "distance",
             Stage::Intersect,
             Value::num(&[h.distance], scale),
         );
         push(
-            format!("{at}: point"),
+            &at,
+            "point",
             Stage::Intersect,
             Value::num(&h.point, scale.max(norm(&h.point))),
         );
+        push(&at, "normal", Stage::Intersect, Value::num(&h.normal, 1.0));
         push(
-            format!("{at}: normal"),
-            Stage::Intersect,
-            Value::num(&h.normal, 1.0),
-        );
-        push(
-            format!("{at}: shading_normal"),
+            &at,
+            "shading_normal",
             Stage::Intersect,
             Value::num(&h.shading_normal, 1.0),
         );
         if let Some(uv) = h.uv {
             push(
-                format!("{at}: uv"),
+                &at,
+                "uv",
                 Stage::Intersect,
                 Value::num(&uv, norm(&uv).max(1.0)),
             );
         }
         for l in &ray.lights {
             let at = format!("{at}, light {}", l.light);
-            push(
-                format!("{at}: n_dot_l"),
-                Stage::Shade,
-                Value::num(&[l.n_dot_l], 1.0),
-            );
-            push(
-                format!("{at}: cone"),
-                Stage::Shade,
-                Value::num(&[l.cone], 1.0),
-            );
+            push(&at, "n_dot_l", Stage::Shade, Value::num(&[l.n_dot_l], 1.0));
+            push(&at, "cone", Stage::Shade, Value::num(&[l.cone], 1.0));
             let cast = if l.shadow_ray.is_some() {
                 "cast"
             } else {
                 "not cast"
             };
             push(
-                format!("{at}: shadow ray cast"),
+                &at,
+                "shadow ray cast",
                 Stage::Shade,
                 Value::Exact(cast.to_owned()),
             );
             if let Some(s) = &l.shadow_ray {
                 let scale = norm(&s.origin).max(1e-300);
                 push(
-                    format!("{at}: shadow ray origin"),
+                    &at,
+                    "shadow ray origin",
                     Stage::Shade,
                     Value::num(&s.origin, scale),
                 );
                 push(
-                    format!("{at}: shadow ray direction"),
+                    &at,
+                    "shadow ray direction",
                     Stage::Shade,
                     Value::num(&s.direction, 1.0),
                 );
                 let blocked = if s.blocked { "blocked" } else { "clear" };
                 push(
-                    format!("{at}: shadow ray"),
+                    &at,
+                    "shadow ray",
                     Stage::Intersect,
                     Value::Exact(blocked.to_owned()),
                 );
                 if let Some(b) = s.blocker {
                     push(
-                        format!("{at}: shadow ray blocker"),
+                        &at,
+                        "shadow ray blocker",
                         Stage::Intersect,
                         Value::Exact(b.primitive.to_string()),
                     );
                 }
                 if let Some(b) = s.blocker {
                     push(
-                        format!("{at}: shadow ray blocker distance"),
+                        &at,
+                        "shadow ray blocker distance",
                         Stage::Intersect,
                         Value::num(&[b.distance], scale.max(b.distance)),
                     );
                 }
             }
-            push(
-                format!("{at}: lit"),
-                Stage::Shade,
-                Value::Exact(l.lit.to_string()),
-            );
+            push(&at, "lit", Stage::Shade, Value::Exact(l.lit.to_string()));
             for (name, term) in [
                 ("ambient", l.ambient),
                 ("diffuse", l.diffuse),
                 ("specular", l.specular),
             ] {
                 push(
-                    format!("{at}: {name}"),
+                    &at,
+                    name,
                     Stage::Shade,
                     Value::num(&term, norm(&term).max(1.0)),
                 );
@@ -244,24 +234,18 @@ fn ray_entries(n: usize, ray: &TreeRay, out: &mut Vec<Entry>) {
         }
     }
     push(
-        format!("{at}: local"),
+        &at,
+        "local",
         Stage::Shade,
         Value::num(&ray.local, norm(&ray.local).max(1.0)),
     );
     if let (Some(kr), Some(kt)) = (ray.reflectivity, ray.transmittance) {
-        push(
-            format!("{at}: reflectivity"),
-            Stage::Trace,
-            Value::num(&[kr], 1.0),
-        );
-        push(
-            format!("{at}: transmittance"),
-            Stage::Trace,
-            Value::num(&[kt], 1.0),
-        );
+        push(&at, "reflectivity", Stage::Trace, Value::num(&[kr], 1.0));
+        push(&at, "transmittance", Stage::Trace, Value::num(&[kt], 1.0));
     }
     push(
-        format!("{at}: color"),
+        &at,
+        "color",
         Stage::Trace,
         Value::num(&ray.color, norm(&ray.color).max(1.0)),
     );

@@ -116,26 +116,25 @@ impl Device for GpuOracle {
             Err(e) => Some((property, format!("{what}: the render failed: {e}"))),
         };
         let mut found = Vec::new();
-        if wanted(Property::GpuAccel) {
-            for accel in [Accel::None, Accel::Bvh, Accel::Tables] {
-                let s = RenderSettings { accel, ..plain };
-                found.extend(same(
-                    self,
-                    Property::GpuAccel,
-                    format!("--accel {accel:?}"),
-                    s,
-                ));
-            }
-        }
-        if wanted(Property::GpuSchedule) {
-            for schedule in [Schedule::Megakernel, Schedule::Wavefront] {
-                let s = RenderSettings { schedule, ..plain };
-                found.extend(same(
-                    self,
-                    Property::GpuSchedule,
-                    format!("--schedule {schedule:?}"),
-                    s,
-                ));
+        let accels = [Accel::None, Accel::Bvh, Accel::Tables].map(|accel| {
+            (
+                format!("--accel {accel:?}"),
+                RenderSettings { accel, ..plain },
+            )
+        });
+        let schedules = [Schedule::Megakernel, Schedule::Wavefront].map(|schedule| {
+            (
+                format!("--schedule {schedule:?}"),
+                RenderSettings { schedule, ..plain },
+            )
+        });
+        let runs: [(Property, &[(String, RenderSettings)]); 2] = [
+            (Property::GpuAccel, &accels),
+            (Property::GpuSchedule, &schedules),
+        ];
+        for (property, settings) in runs.into_iter().filter(|(p, _)| wanted(*p)) {
+            for (what, s) in settings {
+                found.extend(same(self, property, what.clone(), *s));
             }
         }
         if wanted(Property::GpuRegion) {

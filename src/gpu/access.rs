@@ -240,38 +240,47 @@ fn loader(
 mod tests {
     use super::*;
 
-    fn node() -> ArrayDecl {
+    /// A read-only array by its block's, array's, struct's and accessor's
+    /// names, of a struct with `fields`.
+    fn array(
+        [block, array, item, stem]: [&'static str; 4],
+        fields: &'static [(&'static str, Member)],
+    ) -> ArrayDecl {
         ArrayDecl {
-            block: "Nodes".to_owned(),
-            array: "nodes",
-            item: "Node",
-            stem: "node",
-            fields: &[
-                ("lo", Member::Float3),
-                ("skip", Member::Uint),
-                ("hi", Member::Float3),
-                ("leaf", Member::Uint),
-            ],
+            block: block.to_owned(),
+            array,
+            item,
+            stem,
+            fields,
             test: None,
+            by_words: false,
+        }
+    }
+
+    fn node() -> ArrayDecl {
+        let fields = &[
+            ("lo", Member::Float3),
+            ("skip", Member::Uint),
+            ("hi", Member::Float3),
+            ("leaf", Member::Uint),
+        ];
+        ArrayDecl {
             by_words: true,
+            ..array(["Nodes", "nodes", "Node", "node"], fields)
         }
     }
 
     /// A kind's struct as gpu_struct! lays it out (the reals first), with
     /// `c` read for shading alone.
     fn probe() -> ArrayDecl {
+        let fields = &[
+            ("a", Member::Real4),
+            ("c", Member::Real4),
+            ("meta", Member::Uvec4),
+        ];
         ArrayDecl {
-            block: "Probes".to_owned(),
-            array: "probes",
-            item: "Probe",
-            stem: "probe",
-            fields: &[
-                ("a", Member::Real4),
-                ("c", Member::Real4),
-                ("meta", Member::Uvec4),
-            ],
             test: Some(&["c"]),
-            by_words: false,
+            ..array(["Probes", "probes", "Probe", "probe"], fields)
         }
     }
 

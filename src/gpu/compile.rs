@@ -15,43 +15,38 @@ use glslang::{
 use super::error::GpuError;
 use crate::fnv::Fnv;
 
+/// The built-in shader files of `shaders/`, by the name `#include` uses.
+macro_rules! builtin_files {
+    ($($name:literal),* $(,)?) => {
+        &[$(($name, include_str!(concat!("../../shaders/", $name)))),*]
+    };
+}
+
 /// The built-in shader files, by the name `#include` uses.
-pub const BUILTIN: &[(&str, &str)] = &[
-    ("main.comp", include_str!("../../shaders/main.comp")),
-    ("bindings.glsl", include_str!("../../shaders/bindings.glsl")),
-    ("count.glsl", include_str!("../../shaders/count.glsl")),
-    ("record.glsl", include_str!("../../shaders/record.glsl")),
-    ("aov.glsl", include_str!("../../shaders/aov.glsl")),
-    ("ray.glsl", include_str!("../../shaders/ray.glsl")),
-    (
-        "intersect.glsl",
-        include_str!("../../shaders/intersect.glsl"),
-    ),
-    ("exact.glsl", include_str!("../../shaders/exact.glsl")),
-    ("scans.glsl", include_str!("../../shaders/scans.glsl")),
-    ("shade.glsl", include_str!("../../shaders/shade.glsl")),
-    ("specular.glsl", include_str!("../../shaders/specular.glsl")),
-    ("trace.glsl", include_str!("../../shaders/trace.glsl")),
-    ("texture.glsl", include_str!("../../shaders/texture.glsl")),
-    (
-        "texture_dispatch.glsl",
-        include_str!("../../shaders/texture_dispatch.glsl"),
-    ),
-    (
-        "light_dispatch.glsl",
-        include_str!("../../shaders/light_dispatch.glsl"),
-    ),
-    ("adaptive.glsl", include_str!("../../shaders/adaptive.glsl")),
-    ("contrast.glsl", include_str!("../../shaders/contrast.glsl")),
-    ("tree.glsl", include_str!("../../shaders/tree.glsl")),
-    ("bvh.glsl", include_str!("../../shaders/bvh.glsl")),
-    ("tables.glsl", include_str!("../../shaders/tables.glsl")),
-    ("budget.glsl", include_str!("../../shaders/budget.glsl")),
-    (
-        "wavefront.glsl",
-        include_str!("../../shaders/wavefront.glsl"),
-    ),
-    ("ceiling.comp", include_str!("../../shaders/ceiling.comp")),
+pub const BUILTIN: &[(&str, &str)] = builtin_files![
+    "main.comp",
+    "bindings.glsl",
+    "count.glsl",
+    "record.glsl",
+    "aov.glsl",
+    "ray.glsl",
+    "intersect.glsl",
+    "exact.glsl",
+    "scans.glsl",
+    "shade.glsl",
+    "specular.glsl",
+    "trace.glsl",
+    "texture.glsl",
+    "texture_dispatch.glsl",
+    "light_dispatch.glsl",
+    "adaptive.glsl",
+    "contrast.glsl",
+    "tree.glsl",
+    "bvh.glsl",
+    "tables.glsl",
+    "budget.glsl",
+    "wavefront.glsl",
+    "ceiling.comp",
 ];
 
 /// The built-in files with each kind's include (`prim/sphere.glsl`) and

@@ -250,51 +250,33 @@ impl Variant {
                 .enumerate()
                 .map(|(k, used)| (Block::Kind(k), *used, scene_type(Block::Kind(k)))),
         );
-        blocks.extend([
-            (Block::Materials, objects, scene_type(Block::Materials)),
-            (Block::Textures, textures, scene_type(Block::Textures)),
-            (Block::Texels, images, scene_type(Block::Texels)),
-            (Block::Uvs, uvs, scene_type(Block::Uvs)),
-            (Block::Lights, lights, scene_type(Block::Lights)),
-            (Block::Nodes, self.bvh_stack > 0, scene_type(Block::Nodes)),
-            (
-                Block::Tables,
-                self.bvh_stack > 0 && self.tables,
-                scene_type(Block::Tables),
-            ),
-            (
-                Block::Counts,
-                self.count,
-                vk::DescriptorType::STORAGE_BUFFER,
-            ),
-            (
-                Block::Record,
-                self.record,
-                vk::DescriptorType::STORAGE_BUFFER,
-            ),
-            (
-                Block::Refine,
-                self.refine,
-                vk::DescriptorType::STORAGE_BUFFER,
-            ),
-            (
-                Block::PathReals,
-                self.wavefront,
-                vk::DescriptorType::STORAGE_BUFFER,
-            ),
-            (
-                Block::PathWords,
-                self.wavefront,
-                vk::DescriptorType::STORAGE_BUFFER,
-            ),
-            (
-                Block::Queues,
-                self.wavefront,
-                vk::DescriptorType::STORAGE_BUFFER,
-            ),
-            (Block::Pixels, true, vk::DescriptorType::STORAGE_BUFFER),
-            (Block::Aovs, self.aovs, vk::DescriptorType::STORAGE_BUFFER),
-        ]);
+        blocks.extend(
+            [
+                (Block::Materials, objects),
+                (Block::Textures, textures),
+                (Block::Texels, images),
+                (Block::Uvs, uvs),
+                (Block::Lights, lights),
+                (Block::Nodes, self.bvh_stack > 0),
+                (Block::Tables, self.bvh_stack > 0 && self.tables),
+            ]
+            .map(|(block, used)| (block, used, scene_type(block))),
+        );
+        // The run's own buffers (counters, records, the wavefront's queues,
+        // the image), each a storage buffer.
+        blocks.extend(
+            [
+                (Block::Counts, self.count),
+                (Block::Record, self.record),
+                (Block::Refine, self.refine),
+                (Block::PathReals, self.wavefront),
+                (Block::PathWords, self.wavefront),
+                (Block::Queues, self.wavefront),
+                (Block::Pixels, true),
+                (Block::Aovs, self.aovs),
+            ]
+            .map(|(block, used)| (block, used, vk::DescriptorType::STORAGE_BUFFER)),
+        );
         blocks
             .into_iter()
             .filter(|(_, used, _)| *used)

@@ -50,14 +50,7 @@ pub fn run(a: &ProbeArgs) -> anyhow::Result<ExitCode> {
 fn probe(a: &ProbeArgs) -> Probe {
     let options = match a.device.options() {
         Ok(o) => o,
-        Err(e) => {
-            return failed(
-                None,
-                Seen::Error {
-                    message: format!("{e:#}"),
-                },
-            )
-        }
+        Err(e) => return errored(None, format!("{e:#}")),
     };
     let mut renderer = match Renderer::new(&options) {
         Ok(r) => r,
@@ -90,14 +83,7 @@ fn probe(a: &ProbeArgs) -> Probe {
     };
     let scene = match Scene::load(scene, &a.overrides.overrides()) {
         Ok(s) => s,
-        Err(e) => {
-            return failed(
-                device,
-                Seen::Error {
-                    message: format!("{e:#}"),
-                },
-            )
-        }
+        Err(e) => return errored(device, format!("{e:#}")),
     };
     let rendered = renderer
         .prepare(&scene, &options.settings)
@@ -108,12 +94,7 @@ fn probe(a: &ProbeArgs) -> Probe {
     match rendered {
         Ok((variant, r)) => {
             if let Err(e) = io::write(&a.out.join(IMAGE), &r.image, false) {
-                return failed(
-                    device,
-                    Seen::Error {
-                        message: e.to_string(),
-                    },
-                );
+                return errored(device, e.to_string());
             }
             Probe {
                 device,
@@ -126,6 +107,11 @@ fn probe(a: &ProbeArgs) -> Probe {
         }
         Err(e) => failed(device, seen_of(e)),
     }
+}
+
+/// A probe that went wrong for a reason of glint's or the input's.
+fn errored(device: Option<Identity>, message: String) -> Probe {
+    failed(device, Seen::Error { message })
 }
 
 fn failed(device: Option<Identity>, seen: Seen) -> Probe {
