@@ -75,15 +75,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     bar.finish_and_clear();
     let (gpu_err, conditioned, violations) =
         (judgement.error, judgement.conditioned, judgement.violations);
-    if let Some(path) = &a.diff_out {
-        io::stage(
-            &mut outputs,
-            path,
-            &diff::heat_map(&gpu_image, &reference)?,
-            false,
-        )?;
-        outputs.commit()?;
-    }
+    super::diff::write_heat_map(outputs, a.diff_out.as_deref(), &gpu_image, &reference)?;
     let explanations = match a.explain {
         Some(n) if !violations.is_empty() => {
             explain_worst(&mut renderer, &scene, &a.device, &gpu_image, &reference, n)?

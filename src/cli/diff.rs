@@ -1,12 +1,12 @@
 use crate::cli::console::outln;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Args;
 
 use glint::output::Outputs;
 use glint::raster::diff::ErrorFigures;
-use glint::raster::{diff, io};
+use glint::raster::{diff, io, Image};
 
 #[derive(Args)]
 pub struct DiffArgs {
@@ -42,15 +42,7 @@ pub fn run(a: &DiffArgs) -> anyhow::Result<ExitCode> {
     let img = super::progress::waiting("reading the first image", || io::read(&a.a))?;
     let reference = super::progress::waiting("reading the reference", || io::read(&a.b))?;
     let figures = diff::figures(&img, &reference)?;
-    if let Some(path) = &a.diff_out {
-        io::stage(
-            &mut outputs,
-            path,
-            &diff::heat_map(&img, &reference)?,
-            false,
-        )?;
-        outputs.commit()?;
-    }
+    write_heat_map(outputs, a.diff_out.as_deref(), &img, &reference)?;
     if a.json {
         outln!("{}", serde_json::to_string(&figures)?);
     } else {
@@ -75,4 +67,19 @@ pub fn format_figures(f: &ErrorFigures) -> String {
         100.0 * f.frac_over_1_255,
         f.nonfinite
     )
+}
+
+/// Writes the heat map of `img` against `reference` to `path` where one
+/// was asked for (`--diff-out`), through `outputs`, which holds it alone.
+pub(super) fn write_heat_map(
+    mut outputs: Outputs,
+    path: Option<&Path>,
+    img: &Image,
+    reference: &Image,
+) -> anyhow::Result<()> {
+    if let Some(path) = path {
+        io::stage(&mut outputs, path, &diff::heat_map(img, reference)?, false)?;
+        outputs.commit()?;
+    }
+    Ok(())
 }

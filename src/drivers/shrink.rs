@@ -106,23 +106,23 @@ mod tests {
     /// A failure that needs spheres b and d alone is shrunk to them.
     #[test]
     fn chunks_shrink_to_the_objects_the_failure_needs() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("s.toml");
+        let file = tempfile::Builder::new().suffix(".toml").tempfile().unwrap();
+        let path = file.path();
         let mut text = String::from("[image]\nwidth = 4\nheight = 3\n");
         for name in ["a", "b", "c", "d", "e"] {
             text += &format!("[[spheres]]\nmaterial = \"{name}\"\n");
         }
         text += "[[lights]]\ntype = \"point\"\n";
-        std::fs::write(&path, &text).unwrap();
+        std::fs::write(path, &text).unwrap();
         let mut runs = 0;
-        let got = objects::<DriversError>(&path, &mut |p| {
+        let got = objects::<DriversError>(path, &mut |p| {
             runs += 1;
             let t = std::fs::read_to_string(p).unwrap();
             Ok(t.contains("\"b\"") && t.contains("\"d\""))
         })
         .unwrap();
         assert_eq!(got, Some((6, 2)));
-        let left = std::fs::read_to_string(&path).unwrap();
+        let left = std::fs::read_to_string(path).unwrap();
         assert!(left.contains("\"b\"") && left.contains("\"d\"") && !left.contains("\"a\""));
         assert!(!left.contains("lights") && left.contains("width = 4"));
         assert!(runs <= MAX_RUNS);

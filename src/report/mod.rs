@@ -208,11 +208,7 @@ impl Measurement {
             }),
             format!("{:.2e}", e.max_abs),
             format!("{:.2e}", e.rmse),
-            if e.psnr_db.is_finite() {
-                format!("{:.1} dB", e.psnr_db)
-            } else {
-                "inf".to_owned()
-            },
+            psnr(e.psnr_db, 1, " dB"),
             format!("{:.4}%", 100.0 * e.frac_over_1_255),
             e.nonfinite.to_string(),
             format!("{:.2e}", self.flip_mean),
@@ -545,5 +541,14 @@ pub fn mark_pareto(ms: &mut [Measurement]) {
             .iter()
             .enumerate()
             .any(|(j, &(tj, ej))| j != i && tj <= t && ej <= e && (tj < t || ej < e));
+    }
+}
+
+/// A PSNR with `digits` decimals and its unit, or "inf" (the images agree).
+fn psnr(db: f64, digits: usize, unit: &str) -> String {
+    if db.is_finite() {
+        format!("{db:.digits$}{unit}")
+    } else {
+        "inf".to_owned()
     }
 }

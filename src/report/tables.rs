@@ -46,11 +46,7 @@ pub fn csv(r: &Report) -> String {
                 opt(m.setup.map(|x| x.pipeline_s)),
                 format!("{:e}", e.max_abs),
                 format!("{:e}", e.rmse),
-                if e.psnr_db.is_finite() {
-                    format!("{:.2}", e.psnr_db)
-                } else {
-                    "inf".into()
-                },
+                super::psnr(e.psnr_db, 2, ""),
                 format!("{:e}", e.frac_over_1_255),
                 e.nonfinite.to_string(),
                 format!("{:e}", m.flip_mean),
