@@ -31,7 +31,9 @@
 `bench` are the default build's),"
 )]
 //! [`tiles`] (tiled renders and their assembly), [`stats`] (ray and test
-//! counts), [`files`] and [`printable`].
+//! counts), [`explain`] (one pixel's ray trees on every renderer),
+//! [`drivers`] (a driver's verdict against the reference, and the
+//! reproducer of its failure), [`files`] and [`printable`].
 #![cfg_attr(
     not(feature = "gpu"),
     doc = r#"
