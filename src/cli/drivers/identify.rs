@@ -3,12 +3,13 @@
 
 use std::path::{Path, PathBuf};
 
+use glint::drivers::verdict::{self, Verdict};
+use glint::drivers::{repro, Ended, Identity};
+
 use super::folder::folder;
 use super::probe::Job;
 use super::staging::Staging;
 use super::{icd, Run};
-use glint::drivers::verdict::{self, Verdict};
-use glint::drivers::{repro, Ended, Identity};
 
 /// A driver of the matrix: its ICD file, a short name, and the device it
 /// gave (or how naming it ended).

@@ -4,6 +4,7 @@
 use std::path::Path;
 use std::process::ExitCode;
 
+use glint::drivers::Verdict;
 use glint::output::Outputs;
 use glint::scene::Overrides;
 
@@ -12,7 +13,6 @@ use super::staging::Staging;
 use super::table::{self, Column, Matrix, Row};
 use super::{probe, DriversArgs};
 use crate::cli::console::{out, outln};
-use glint::drivers::Verdict;
 
 /// The matrix of `rows` over the tested `drivers`, with the `absent` ones
 /// named beside it.

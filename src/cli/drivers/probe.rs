@@ -10,10 +10,10 @@ use std::time::{Duration, Instant};
 
 use anyhow::Context;
 use clap::Args;
+
 use glint::drivers::{Ended, Identity, Probe, Seen, IMAGE};
 use glint::gpu::{GpuError, Renderer};
 use glint::raster::io;
-
 use glint::scene::Scene;
 
 use super::super::{DeviceArgs, OverrideArgs};

@@ -4,6 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use glint::cpu;
+use glint::drivers::repro::Size;
+use glint::drivers::Verdict;
 use glint::raster::Image;
 use glint::scene::Scene;
 
@@ -12,8 +14,6 @@ use super::identify::Driver;
 use super::table::{Cell, Row};
 use super::Run;
 use crate::cli::{progress, scene_name};
-use glint::drivers::repro::Size;
-use glint::drivers::Verdict;
 
 impl Run<'_> {
     /// Each scene (of `paths`) on each driver: its row of cells.

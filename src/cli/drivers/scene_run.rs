@@ -6,19 +6,18 @@ use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use glint::drivers::repro::{self, Size};
+use glint::drivers::verdict::{self, Verdict};
+use glint::drivers::{shrink, Identity};
 use glint::raster::Image;
 use glint::scene::Scene;
 
 use super::folder::folder;
 use super::identify::Driver;
 use super::probe::{self, Job};
-
 use super::rows::reference;
 use super::Run;
 use crate::cli::scene_name;
-use glint::drivers::repro::{self, Size};
-use glint::drivers::verdict::{self, Verdict};
-use glint::drivers::{shrink, Identity};
 
 impl Run<'_> {
     /// Whether the run's --budget has run out: no driver's run starts.

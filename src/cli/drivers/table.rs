@@ -7,11 +7,10 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use glint::output::{self, Outputs};
-use glint::report::escape;
-
 use glint::drivers::verdict::{Verdict, WORDS};
 use glint::drivers::Identity;
+use glint::output::{self, Outputs};
+use glint::report::escape;
 
 /// A driver's column.
 #[derive(Serialize)]
