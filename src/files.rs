@@ -1,5 +1,5 @@
 //! The files of a directory, listed in the one order every command uses:
-//! sorted by path.
+//! sorted by path; and the folder a file is in.
 
 use std::path::{Path, PathBuf};
 
@@ -13,6 +13,15 @@ pub fn sorted(dir: &Path, keep: impl Fn(&Path) -> bool) -> std::io::Result<Vec<P
     Ok(v)
 }
 
+/// The folder `file` is in: its parent, or "." for a bare name (whose
+/// parent is the empty path, which no call can open).
+pub fn folder_of(file: &Path) -> &Path {
+    match file.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
+}
+
 /// Every entry of each of `dirs` in turn, each directory's sorted; one
 /// that cannot be read gives none (the user's shader directories: a
 /// compile names what it cannot find).
@@ -20,4 +29,17 @@ pub fn in_dirs(dirs: &[PathBuf]) -> Vec<PathBuf> {
     dirs.iter()
         .flat_map(|d| sorted(d, |_| true).unwrap_or_default())
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_bare_names_folder_is_the_working_folder() {
+        assert_eq!(folder_of(Path::new("s.toml")), Path::new("."));
+        assert_eq!(folder_of(Path::new("scenes/s.toml")), Path::new("scenes"));
+        assert_eq!(folder_of(Path::new("/s.toml")), Path::new("/"));
+        assert_eq!(folder_of(Path::new("./s.toml")), Path::new("."));
+    }
 }

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 
+use glint::files::folder_of;
 #[cfg(feature = "gpu")]
 use glint::gpu::GpuOptions;
 use glint::scene::{Overrides, Scene};
@@ -137,7 +138,7 @@ impl DeviceArgs {
     /// beside them (`-I .`) is not taken for one.
     pub fn inputs(&self) -> Vec<PathBuf> {
         let mut dirs = self.include.clone();
-        dirs.extend(self.shader.as_deref().map(parent_dir));
+        dirs.extend(self.shader.as_deref().map(|s| folder_of(s).to_owned()));
         let mut v: Vec<PathBuf> = self.shader.iter().cloned().collect();
         v.extend(
             glint::files::in_dirs(&dirs)
@@ -220,7 +221,7 @@ impl DeviceArgs {
             options.main_shader = Some(shader.clone());
             // As a C compiler does: a file the shader includes may sit
             // beside it (searched after the -I folders).
-            options.include_dirs.push(parent_dir(shader));
+            options.include_dirs.push(folder_of(shader).to_owned());
         }
         options.defines = self
             .define
@@ -273,14 +274,6 @@ pub fn scene_line(path: &Path, scene: &Scene) -> String {
         scene.sampling_summary(),
         scene.max_depth
     )
-}
-
-/// The folder `file` is in ("." for a bare name).
-pub fn parent_dir(file: &Path) -> PathBuf {
-    match file.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
-        _ => PathBuf::from("."),
-    }
 }
 
 /// Every file a run of `scene` (read from `path`) with `device` reads:

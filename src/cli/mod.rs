@@ -51,9 +51,7 @@ use clap::{Parser, Subcommand};
 
 pub use args::{inputs, Backend, DeviceArgs, Precision, SceneArgs};
 #[cfg(feature = "gpu")]
-pub use args::{
-    parent_dir, parse_define, scene_files, scene_line, scene_name, OverrideArgs, MAX_RUNS,
-};
+pub use args::{parse_define, scene_files, scene_line, scene_name, OverrideArgs, MAX_RUNS};
 
 #[derive(Parser)]
 #[command(

@@ -55,7 +55,7 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
             );
             // Includes beside the file are found, as `render --shader` finds them.
             let mut dirs = include.clone();
-            dirs.push(super::parent_dir(file));
+            dirs.push(glint::files::folder_of(file).to_owned());
             let sources = compile::Sources {
                 dirs,
                 main: Some(file.clone()),

@@ -75,10 +75,7 @@ impl Stamp {
 /// which a watch on the file itself would lose), and each include
 /// directory (the files directly in it, as the compile searches it).
 fn watched(scene: &Path, device: &DeviceArgs) -> Vec<(PathBuf, RecursiveMode)> {
-    let parent = |f: &Path| match f.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
-        _ => PathBuf::from("."),
-    };
+    let parent = |f: &Path| glint::files::folder_of(f).to_owned();
     let mut dirs: Vec<(PathBuf, RecursiveMode)> = Vec::new();
     let files = std::iter::once(scene).chain(device.shader.iter().map(PathBuf::as_path));
     for dir in files.map(parent) {

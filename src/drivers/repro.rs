@@ -199,11 +199,7 @@ pub fn copy_scene(path: &Path, scene: &Scene, dir: &Path) -> Result<PathBuf, Dri
     // may be spelt differently (issue 42, defect 9: "s.toml" is in ".",
     // and its "mesh.obj" did not start with "./", so it was not copied).
     let resolved = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_owned());
-    let home = resolved(
-        path.parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .unwrap_or(Path::new(".")),
-    );
+    let home = resolved(crate::files::folder_of(path));
     for input in &scene.input_files {
         if let Ok(rel) = resolved(input).strip_prefix(&home) {
             let to = dir.join(rel);

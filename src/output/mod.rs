@@ -139,10 +139,7 @@ impl Name {
             Target::Descriptor(fd) => return Name::Descriptor(*fd),
             Target::Path(p) => p,
         };
-        let parent = match path.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p,
-            _ => Path::new("."),
-        };
+        let parent = crate::files::folder_of(path);
         match (std::fs::canonicalize(parent), path.file_name()) {
             (Ok(dir), Some(name)) => Name::Entry(dir, name.to_owned()),
             _ => Name::Spelled(path.clone()),
@@ -492,10 +489,7 @@ fn kind_of(target: &Path, meta: &Metadata) -> Result<TargetKind, OutputError> {
 /// signal, with `old`'s permissions where it replaces a file (else those
 /// of any new file).
 fn temp_beside(target: &Path, old: Option<&Metadata>) -> Result<Temp, OutputError> {
-    let dir = match target.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
+    let dir = crate::files::folder_of(target);
     partial::remove_stale(dir);
     let prefix = partial::prefix();
     // Each name is listed before its file is made: a signal at any moment

@@ -104,7 +104,7 @@ pub fn library(manifest: &Path) -> Option<PathBuf> {
     let named = json.get("ICD")?.get("library_path")?.as_str()?;
     named
         .contains('/')
-        .then(|| super::super::parent_dir(manifest).join(named))
+        .then(|| glint::files::folder_of(manifest).join(named))
 }
 
 #[cfg(test)]
