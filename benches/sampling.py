@@ -7,12 +7,14 @@ checkout's release build:
 For each scene: a converged reference (CPU f64, 16x16 uniform samples),
 then uniform sampling at 1x1, 2x2, 4x4 and 8x8, Whitted's adaptive
 sampling at a few thresholds and levels, and contrast sampling at a few
-thresholds and most samples (docs/scene-format.md, Rays), each on the GPU
+thresholds and most samples, and with its range test at a few bounds
+(docs/scene-format.md, Rays), each on the GPU
 (f32) and the CPU (f32): the median trace time of RUNS renders (`render
 --stats`, seconds.trace, setup apart) and the RMSE against the reference
 (`glint diff`). Prints a Markdown table per scene, and, for each renderer
 and each adaptive method, the cheapest setting that reaches uniform 4x4's
-error with its share of 4x4's time.
+error with its share of 4x4's time (contrast sampling's two tests apart:
+"contrast" rows are Mitchell's test, "range" rows the range test).
 """
 
 import argparse
@@ -27,8 +29,11 @@ DEFAULT_SCENES = ["scenes/seed-fig5.toml", "scenes/whitted-1980.toml"]
 UNIFORM = [1, 2, 4, 8]
 ADAPTIVE = [(0.2, 2), (0.1, 2), (0.05, 2), (0.05, 3), (0.02, 3), (0.01, 4)]
 CONTRAST = [("0.4, 0.3, 0.6", 17), (0.1, 17), (0.05, 17), (0.05, 33), (0.03, 17), (0.02, 33)]
+# The range test (`range = r`, trees compared or not: "r / m" or "r / m, no trees").
+RANGE = [(0.08, 33, False), (0.05, 17, False), (0.05, 33, False), (0.04, 33, False),
+         (0.03, 33, False), (0.05, 33, True)]
 SAMPLING_KEYS = ("samples =", "sampling =", "threshold =", "max_level =",
-                 "thresholds =", "max_samples =", "compare_trees =")
+                 "thresholds =", "range =", "max_samples =", "compare_trees =")
 
 
 def binary():
@@ -100,6 +105,10 @@ def main():
                            f"thresholds = [{t}]" if "," in str(t) else f"thresholds = [{t}, {t}, {t}]",
                            f"max_samples = {m}"])
                          for t, m in CONTRAST]
+            settings += [(f"range {r} / {m}" + ("" if trees else ", no trees"),
+                          ['sampling = "contrast"', f"range = {r}", f"max_samples = {m}",
+                           f"compare_trees = {'true' if trees else 'false'}"])
+                         for r, m, trees in RANGE]
             for name, lines in settings:
                 f = scene_file(name.replace(" ", "_").replace("/", ""), lines)
                 row = [name]
@@ -114,7 +123,7 @@ def main():
             for r in rows:
                 print(f"| {r[0]} | {r[1]:.3f} s | {r[2]:.2e} | {r[3]:.3f} s | {r[4]:.2e} |")
             four = next(r for r in rows if r[0] == "uniform 4x4")
-            for method in ["adaptive", "contrast"]:
+            for method in ["adaptive", "contrast", "range"]:
                 for label, t_i, e_i in [("GPU", 1, 2), ("CPU", 3, 4)]:
                     reaching = [r for r in rows if r[0].startswith(method) and r[e_i] <= four[e_i]]
                     if reaching:

@@ -19,6 +19,12 @@ uvec2 sobol(uint k) {
     return uvec2(x, y);
 }
 
+// The first of each mirrored pair of samples 1..64: cells of the pixel's
+// 8x8 lattice, numbered x * 8 + y. Mirrors LATTICE in src/scene/contrast.rs.
+const uint LATTICE[32] = uint[](16u, 50u, 2u, 31u, 6u, 9u, 20u, 27u, 0u, 4u, 11u, 15u, 18u, 22u,
+                                25u, 29u, 1u, 3u, 5u, 7u, 8u, 10u, 12u, 14u, 17u, 19u, 21u, 23u,
+                                24u, 26u, 30u, 28u);
+
 // Sample k's place in its pixel, in units of 1/512 pixel: the centre, then
 // pairs mirrored through it. Mirrors sample_at() in src/scene/contrast.rs.
 uvec2 sample_at(uint k) {
@@ -26,9 +32,14 @@ uvec2 sample_at(uint k) {
         return uvec2(256u);
     }
     uint j = (k - 1u) / 2u;
-    uint offset = j < 2u ? 64u : (j < 8u ? 16u : (j < 32u ? 4u : 1u));
-    uvec2 s = sobol(j);
-    uvec2 p = uvec2((2u * s.x + offset) % 512u, (2u * s.y + 3u * offset) % 512u);
+    uvec2 p;
+    if (j < 32u) {
+        uint cell = LATTICE[j];
+        p = uvec2(cell / 8u, cell % 8u) * 64u + 32u;
+    } else {
+        uvec2 s = sobol(j);
+        p = uvec2((2u * s.x + 1u) % 512u, (2u * s.y + 3u) % 512u);
+    }
     return k % 2u == 1u ? p : uvec2(512u) - p;
 }
 

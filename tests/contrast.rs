@@ -35,6 +35,18 @@ fn contrast_with(
     scene
 }
 
+/// `path` at `width`×`height`, sampled by contrast with the range test's
+/// bound `range`, at most `max_samples` a pixel, trees not compared.
+fn by_range(path: &str, width: u32, height: u32, range: f64, max_samples: u32) -> Scene {
+    let keys = format!(
+        "sampling = \"contrast\"\nrange = {range}\n\
+         max_samples = {max_samples}\ncompare_trees = false\n"
+    );
+    let scene = common::resampled(path, width, height, &keys);
+    assert_eq!(scene.contrast.map(|c| c.range), Some(Some(range)));
+    scene
+}
+
 /// The GPU and CPU f32 agree with the f64 reference, on the Whitted scene
 /// and the showcase; a scene perturbed by 1 % of a sphere's radius does
 /// not, so the comparison can fail.
@@ -53,6 +65,59 @@ fn both_renderers_sample_alike() {
             .unwrap_or_else(|| cpu::render::<f32>(&perturbed));
         assert!(!common::passes(&moved, &reference), "{path}: perturbed");
     }
+}
+
+/// With the range test too: the renderers agree with the reference on
+/// seed-fig5 (whose beads are what the test is for), and a perturbed
+/// scene fails the comparison.
+#[test]
+fn both_renderers_sample_alike_with_the_range_test() {
+    let path = "scenes/seed-fig5.toml";
+    let scene = by_range(path, 160, 120, 0.05, 33);
+    let reference = cpu::render::<f64>(&scene);
+    common::assert_renderers_agree(path, &scene, &reference);
+    let mut perturbed = scene.clone();
+    perturbed.prims.spheres[0].radius *= 1.01;
+    let moved =
+        common::render_gpu_if_built(&perturbed).unwrap_or_else(|| cpu::render::<f32>(&perturbed));
+    assert!(!common::passes(&moved, &reference), "perturbed");
+}
+
+/// Where no range passes the range test, every pixel keeps its centre
+/// sample, on both renderers; where a range does, the image nears a
+/// converged one, more with more samples.
+#[test]
+fn the_range_test_refines_toward_a_converged_image() {
+    let path = "scenes/seed-fig5.toml";
+    let (w, h) = (96, 72);
+    let none = by_range(path, w, h, 9.0, 33);
+    let mut centres = none.clone();
+    centres.sampling = Sampling::Centers;
+    centres.contrast = None;
+    let centre_image = cpu::render::<f32>(&centres);
+    assert!(common::same_bits(&cpu::render::<f32>(&none), &centre_image));
+    if let (Some(a), Some(b)) = (
+        common::render_gpu_if_built(&none),
+        common::render_gpu_if_built(&centres),
+    ) {
+        assert!(common::same_bits(&a, &b));
+    }
+    let converged = common::converged(path, w, h);
+    let rmse = |i: &Image| figures(i, &converged).unwrap().rmse;
+    let some = cpu::render::<f32>(&by_range(path, w, h, 0.05, 17));
+    let more = cpu::render::<f32>(&by_range(path, w, h, 0.02, 65));
+    assert!(
+        rmse(&some) < 0.5 * rmse(&centre_image),
+        "{} against {}",
+        rmse(&some),
+        rmse(&centre_image)
+    );
+    assert!(
+        rmse(&more) < rmse(&some),
+        "{} against {}",
+        rmse(&more),
+        rmse(&some)
+    );
 }
 
 /// Where no contrast passes and trees are not compared, every pixel keeps
@@ -182,6 +247,22 @@ fn bad_contrast_keys_are_named() {
             format!("{on}samples = 2\n"),
             "image.sampling",
             "takes samples = 1",
+        ),
+        (
+            "range = 0.05\n".to_owned(),
+            "image.range",
+            "only sampling = \"contrast\"",
+        ),
+        (format!("{on}range = -0.1\n"), "image.range", "must be >= 0"),
+        (
+            format!("{on}range = nan\n"),
+            "image.range",
+            "must be a finite number",
+        ),
+        (
+            format!("{on}range = 0.05\nthresholds = [0.1, 0.1, 0.1]\n"),
+            "image.range",
+            "two tests: give one",
         ),
     ] {
         common::assert_image_keys_refused(&image, key, words);

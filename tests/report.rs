@@ -162,7 +162,7 @@ fn names_with_commas_and_quotes_survive_the_csv_and_the_page() {
 }
 
 /// `--sampling`: uniform 1x1 to 8x8, the adaptive settings and the
-/// contrast settings, each against a converged render; the uniform grids' error falls as they grow (it
+/// contrast settings (Mitchell's test and the range test), each against a converged render; the uniform grids' error falls as they grow (it
 /// would not against a wrong reference), and the axis has its own table,
 /// plot and CSV rows.
 #[test]
@@ -199,7 +199,10 @@ fn the_sampling_axis_is_measured_against_a_converged_render() {
             "gpu f32 contrast 0.2/17",
             "gpu f32 contrast 0.1/17",
             "gpu f32 contrast 0.05/17",
-            "gpu f32 contrast 0.05/33"
+            "gpu f32 contrast 0.05/33",
+            "gpu f32 range 0.05/17",
+            "gpu f32 range 0.05/33",
+            "gpu f32 range 0.03/33"
         ]
     );
     let rmse: Vec<f64> = axis
@@ -216,7 +219,7 @@ fn the_sampling_axis_is_measured_against_a_converged_render() {
     );
     let svg = std::fs::read_to_string(dir.path().join("sampling_vs_time.svg")).unwrap();
     assert!(svg.contains("adaptive sampling") && svg.contains("at 16x16 samples"));
-    assert!(svg.contains("contrast sampling"));
+    assert!(svg.contains("contrast sampling") && svg.contains("range test"));
     // Issue 41: the axis's Pareto front is its own, inside the axes (the
     // main plot's front, of other times and errors, was drawn here, off
     // them), and each plot says what it shows. A front of one point (one

@@ -26,7 +26,7 @@ pub struct Settings {
     pub sweeps: bool,
     /// Also the sampling axis: uniform, adaptive and contrast sampling
     /// against a converged render (`SAMPLING_UNIFORM`, `SAMPLING_ADAPTIVE`,
-    /// `SAMPLING_CONTRAST`).
+    /// `SAMPLING_CONTRAST`, `SAMPLING_RANGE`).
     pub sampling: bool,
 }
 
@@ -37,6 +37,9 @@ pub const SAMPLING_ADAPTIVE: [(u32, u32); 4] = [(200, 2), (100, 2), (50, 2), (20
 /// The sampling axis's contrast settings: a threshold in every channel
 /// (in thousandths) and the most samples a pixel takes.
 pub const SAMPLING_CONTRAST: [(u32, u32); 4] = [(200, 17), (100, 17), (50, 17), (50, 33)];
+/// Contrast sampling with the range test, trees not compared: the bound
+/// (in thousandths) and the most samples a pixel takes.
+pub const SAMPLING_RANGE: [(u32, u32); 3] = [(50, 17), (50, 33), (30, 33)];
 /// The converged render the sampling axis is measured against: CPU f64
 /// with this many uniform samples a side.
 pub const CONVERGED_SAMPLES: u32 = 16;
@@ -79,6 +82,10 @@ pub enum Variant {
     /// The sampling axis: GPU f32 robust, contrast sampling with this
     /// threshold in every channel (in thousandths) and most samples.
     GpuContrast(u32, u32),
+    /// The sampling axis: GPU f32 robust, contrast sampling with the range
+    /// test at this bound (in thousandths) and most samples, trees not
+    /// compared.
+    GpuRange(u32, u32),
     /// The CPU reference in f32.
     Cpu32,
     /// The CPU reference in f64: the reference itself.
@@ -101,6 +108,9 @@ impl Variant {
             }
             Variant::GpuContrast(t, m) => {
                 format!("gpu f32 contrast {}/{m}", f64::from(t) / 1000.0)
+            }
+            Variant::GpuRange(r, m) => {
+                format!("gpu f32 range {}/{m}", f64::from(r) / 1000.0)
             }
             Variant::Cpu32 => "cpu f32".to_owned(),
             Variant::Cpu64 => "cpu f64".to_owned(),
@@ -385,7 +395,8 @@ pub fn measure(
             .map(Variant::GpuUniform)
             .into_iter()
             .chain(SAMPLING_ADAPTIVE.map(|(t, l)| Variant::GpuAdaptive(t, l)))
-            .chain(SAMPLING_CONTRAST.map(|(t, m)| Variant::GpuContrast(t, m)));
+            .chain(SAMPLING_CONTRAST.map(|(t, m)| Variant::GpuContrast(t, m)))
+            .chain(SAMPLING_RANGE.map(|(r, m)| Variant::GpuRange(r, m)));
         for variant in axis {
             let (m, _) = measure_one(
                 renderer,
@@ -436,6 +447,18 @@ fn sampled(scene: &Scene, variant: Variant) -> Scene {
                 thresholds: [t; 3],
                 max_samples: m,
                 compare_trees: true,
+                range: None,
+            });
+        }
+        Variant::GpuRange(r, m) => {
+            s.samples = 1;
+            s.sampling = crate::scene::Sampling::Contrast;
+            s.adaptive = None;
+            s.contrast = Some(crate::scene::Contrast {
+                max_samples: m,
+                compare_trees: false,
+                range: Some(f64::from(r) / 1000.0),
+                ..crate::scene::Contrast::default()
             });
         }
         Variant::GpuAdaptive(t, l) => {

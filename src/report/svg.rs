@@ -29,11 +29,12 @@ fn colour(v: Variant) -> &'static str {
         Variant::GpuUniform(_) => "#17becf",
         Variant::GpuAdaptive(..) => "#e377c2",
         Variant::GpuContrast(..) => "#bcbd22",
+        Variant::GpuRange(..) => "#393b79",
     }
 }
 
 /// The legend: one variant of each family, and its label.
-const FAMILIES: [(Variant, &str); 11] = [
+const FAMILIES: [(Variant, &str); 12] = [
     (Variant::Gpu(Intersect::Robust), "gpu f32 robust"),
     (Variant::Gpu(Intersect::Naive), "gpu f32 naive"),
     (Variant::GpuGeneric, "gpu f32 generic shader"),
@@ -45,6 +46,10 @@ const FAMILIES: [(Variant, &str); 11] = [
     (Variant::GpuUniform(1), "gpu f32, uniform sampling"),
     (Variant::GpuAdaptive(0, 1), "gpu f32, adaptive sampling"),
     (Variant::GpuContrast(0, 4), "gpu f32, contrast sampling"),
+    (
+        Variant::GpuRange(0, 4),
+        "gpu f32, contrast sampling, range test",
+    ),
 ];
 
 /// The marker shapes, one a scene: a circle, a square, a diamond, a

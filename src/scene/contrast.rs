@@ -20,8 +20,8 @@ use crate::input::field::{Triple, Validator};
 use crate::input::locate::KeyPath;
 use crate::raster::region::Region;
 
-/// Contrast sampling's settings (`[image]`'s `thresholds`, `max_samples`
-/// and `compare_trees`).
+/// Contrast sampling's settings (`[image]`'s `thresholds` or `range`,
+/// `max_samples` and `compare_trees`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Contrast {
     /// Per channel (r, g, b): the contrast (Imax − Imin)/(Imax + Imin)
@@ -32,6 +32,10 @@ pub struct Contrast {
     /// Whether a pixel whose samples' ray trees differ goes on too,
     /// whatever their colours.
     pub compare_trees: bool,
+    /// The range test in place of the contrast test, where given: a
+    /// pixel goes on where a channel's range over its samples, divided by
+    /// the square root of their count, passes this (`Contrast::next`).
+    pub range: Option<f64>,
 }
 
 impl Default for Contrast {
@@ -42,6 +46,7 @@ impl Default for Contrast {
             thresholds: Self::DEFAULT_THRESHOLDS,
             max_samples: Self::DEFAULT_MAX_SAMPLES,
             compare_trees: true,
+            range: None,
         }
     }
 }
@@ -63,6 +68,9 @@ impl Contrast {
     /// every renderer and precision makes the same choice from the same
     /// quantised colours.
     pub const SCALE: u32 = 4096;
+    /// The range test counts a range in units of 1/`RANGE_SCALE` of a
+    /// step of 1/255.
+    pub const RANGE_SCALE: u32 = 16;
     /// A sample's place in its pixel is counted in units of 1/`GRID` pixel:
     /// exact in f32 for every image size (`MAX_SIZE` · `GRID` < 2²⁴).
     pub const GRID: u32 = 512;
@@ -90,6 +98,13 @@ impl Contrast {
             .map(|t| (t * scale).round().clamp(0.0, scale + 1.0) as u32)
     }
 
+    /// `range` in units of 1/(255 · `RANGE_SCALE`), rounded: the range
+    /// test compares in integers too.
+    fn scaled_range(&self) -> Option<u64> {
+        self.range
+            .map(|r| (r * 255.0 * f64::from(Self::RANGE_SCALE)).round().min(1e12) as u64)
+    }
+
     /// Whether the quantised range `lo..=hi` (per channel, in steps of
     /// 1/255) passes the thresholds: (hi − lo)/(hi + lo) > t in a channel,
     /// compared in integers.
@@ -105,6 +120,9 @@ impl Contrast {
     /// the centres, any of four after the next): an edge a pixel's few
     /// samples missed lies between them and a neighbour's.
     pub fn next(&self, level: usize, pixels: &[Pixel], width: u32, reached: &[u32]) -> Vec<u32> {
+        if let Some(r) = self.scaled_range() {
+            return self.next_by_range(r, level, pixels, width, reached);
+        }
         let w = width as usize;
         let h = pixels.len() / w.max(1);
         let t = self.scaled_thresholds();
@@ -139,6 +157,62 @@ impl Contrast {
     }
 }
 
+impl Contrast {
+    /// `next` with the range test, `r` scaled (`scaled_range`): each
+    /// pixel whose own samples pass it (or whose trees differ, where
+    /// trees are compared); after the centres, each whose range with a
+    /// neighbour's (of eight) passes it, as one sample; after the next
+    /// level, each beside one (of four) whose own samples pass it. Where
+    /// Mitchell's contrast is relative, so that a dim pixel passes on a
+    /// step or two of difference, this one weighs a difference by what it
+    /// adds to the pixel's squared error: an image's RMSE is what it
+    /// aims at (docs/performance.md, Contrast sampling).
+    fn next_by_range(
+        &self,
+        r: u64,
+        level: usize,
+        pixels: &[Pixel],
+        width: u32,
+        reached: &[u32],
+    ) -> Vec<u32> {
+        let w = width as usize;
+        let h = pixels.len() / w.max(1);
+        let passes = |lo: [u8; 3], hi: [u8; 3], samples: u32| {
+            (0..3).any(|c| {
+                let d = u64::from(hi[c].saturating_sub(lo[c])) * u64::from(Self::RANGE_SCALE);
+                d * d > r * r * u64::from(samples)
+            })
+        };
+        let own = |p: &Pixel| self.compare_trees && p.trees_differ || passes(p.lo, p.hi, p.samples);
+        let neighbour = |i: usize, (dx, dy): (isize, isize)| {
+            let (x, y) = ((i % w) as isize + dx, (i / w) as isize + dy);
+            (x >= 0 && y >= 0 && x < w as isize && y < h as isize)
+                .then(|| &pixels[y as usize * w + x as usize])
+        };
+        let goes = |i: usize| {
+            let p = &pixels[i];
+            own(p)
+                || match level {
+                    0 => EIGHT.iter().filter_map(|&d| neighbour(i, d)).any(|q| {
+                        let lo = [0, 1, 2].map(|k| p.lo[k].min(q.lo[k]));
+                        let hi = [0, 1, 2].map(|k| p.hi[k].max(q.hi[k]));
+                        passes(lo, hi, 1)
+                    }),
+                    1 => EIGHT[..4]
+                        .iter()
+                        .filter_map(|&d| neighbour(i, d))
+                        .any(|q| q.samples > 1 && own(q)),
+                    _ => false,
+                }
+        };
+        reached
+            .par_iter()
+            .copied()
+            .filter(|&i| goes(i as usize))
+            .collect()
+    }
+}
+
 /// `Contrast::passes` with the thresholds `t` scaled.
 fn passes(t: &[u32; 3], lo: [u8; 3], hi: [u8; 3]) -> bool {
     (0..3).any(|c| {
@@ -163,30 +237,43 @@ const EIGHT: [(isize, isize); 8] = [
 /// units of 1/`Contrast::GRID` pixel. Sample 0 is the centre; the others
 /// come in pairs mirrored through it, so that every odd count of samples
 /// is centred in the pixel (a sample set off-centre moves every edge it
-/// sees). The first of each pair is a point of the Sobol (0,2) sequence,
-/// moved off the lattice by an offset that shrinks as the pairs get
-/// denser: the first two pairs are a rotated grid, each row and column of
-/// a 4×4 grid once. Mirrors sample_at() in shaders/contrast.glsl.
+/// sees). Samples 1..=64 are the centres of an 8×8 lattice over the
+/// pixel, level by level (`LATTICE`): 1..=4 a rotated grid; 1..=16 one in
+/// each cell of a 4×4 grid, two in each row and column of the lattice;
+/// 1..=32 a checkerboard of it; 1..=64 all of it. Past 64, the first of
+/// each pair is a point of the Sobol (0,2) sequence, off the lattice.
+/// Mirrors sample_at() in shaders/contrast.glsl.
 pub fn sample_at(k: u32) -> (u32, u32) {
     if k == 0 {
         return (Contrast::GRID / 2, Contrast::GRID / 2);
     }
     let j = (k - 1) / 2;
-    let offset = match j {
-        0..2 => 64,
-        2..8 => 16,
-        8..32 => 4,
-        _ => 1,
+    let (x, y) = if let Some(&cell) = LATTICE.get(j as usize) {
+        let step = Contrast::GRID / 8;
+        let (cx, cy) = (u32::from(cell / 8), u32::from(cell % 8));
+        (cx * step + step / 2, cy * step + step / 2)
+    } else {
+        let (sx, sy) = sobol(j);
+        ((2 * sx + 1) % Contrast::GRID, (2 * sy + 3) % Contrast::GRID)
     };
-    let (sx, sy) = sobol(j);
-    let x = (2 * sx + offset) % Contrast::GRID;
-    let y = (2 * sy + 3 * offset) % Contrast::GRID;
     if k % 2 == 1 {
         (x, y)
     } else {
         (Contrast::GRID - x, Contrast::GRID - y)
     }
 }
+
+/// The first of each mirrored pair of samples 1..=64: cells of the
+/// pixel's 8×8 lattice, numbered x·8 + y. Each level's cells are chosen
+/// far from those before them. Until this lattice the pairs were Sobol
+/// points moved off their own lattice by a small offset, which put a
+/// point and its pair's mirror a few 1/512 apart: 33 such samples had
+/// more error than uniform 4×4's 16 (docs/performance.md, Contrast
+/// sampling).
+const LATTICE: [u8; 32] = [
+    16, 50, 2, 31, 6, 9, 20, 27, 0, 4, 11, 15, 18, 22, 25, 29, 1, 3, 5, 7, 8, 10, 12, 14, 17, 19,
+    21, 23, 24, 26, 30, 28,
+];
 
 /// Point `k` (< 256) of the Sobol (0,2) sequence, both coordinates in
 /// units of 1/256: the van der Corput radical inverse and Sobol's second
@@ -351,19 +438,26 @@ pub fn refine_levels<R: Real, E>(
 
 impl Validator<'_> {
     /// `[image]`'s contrast sampling: its thresholds (default Mitchell's
-    /// 0.4, 0.3, 0.6, each ≥ 0), its `max_samples` (default 33, 4..=256)
-    /// and `compare_trees` (default true); the keys are refused for
-    /// another sampling.
+    /// 0.4, 0.3, 0.6, each ≥ 0) or its `range` (≥ 0; not both), its
+    /// `max_samples` (default 33, 4..=256) and `compare_trees` (default
+    /// true); the keys are refused for another sampling.
     pub(crate) fn contrast(
         &self,
         path: &KeyPath,
         contrast: bool,
-        (thresholds, max_samples, compare_trees): (Option<Triple>, Option<i64>, Option<bool>),
+        keys: ContrastKeys,
         samples: u32,
     ) -> Result<Option<Contrast>, SceneError> {
+        let ContrastKeys {
+            thresholds,
+            range,
+            max_samples,
+            compare_trees,
+        } = keys;
         if !contrast {
             let given = [
                 ("thresholds", thresholds.is_some()),
+                ("range", range.is_some()),
                 ("max_samples", max_samples.is_some()),
                 ("compare_trees", compare_trees.is_some()),
             ];
@@ -375,6 +469,22 @@ impl Validator<'_> {
                 format!("\"contrast\" places its own samples: it takes samples = 1, got {samples}"),
             );
         }
+        if thresholds.is_some() && range.is_some() {
+            return self.err(
+                &path.key("range"),
+                "`range` and `thresholds` are two tests: give one".to_owned(),
+            );
+        }
+        let range = match range {
+            Some(r) => {
+                let r = self.finite(&path.key("range"), r)?;
+                if r < 0.0 {
+                    return self.err(&path.key("range"), format!("must be >= 0, got {r}"));
+                }
+                Some(r)
+            }
+            None => None,
+        };
         let defaults = Contrast::default();
         let thresholds = thresholds.map_or(defaults.thresholds, |t| t.0);
         for (i, t) in thresholds.iter().enumerate() {
@@ -394,8 +504,17 @@ impl Validator<'_> {
             thresholds,
             max_samples,
             compare_trees: compare_trees.unwrap_or(defaults.compare_trees),
+            range,
         }))
     }
+}
+
+/// `[image]`'s contrast keys as the file gives them.
+pub(crate) struct ContrastKeys {
+    pub thresholds: Option<Triple>,
+    pub range: Option<f64>,
+    pub max_samples: Option<i64>,
+    pub compare_trees: Option<bool>,
 }
 
 #[cfg(test)]
@@ -445,11 +564,48 @@ mod tests {
         assert_eq!((columns, rows), (vec![0, 1, 2, 3], vec![0, 1, 2, 3]));
     }
 
+    /// Samples 1..=64 are the centres of the pixel's 8×8 lattice: the
+    /// first 16 one in each cell of a 4×4 grid and two in each row and
+    /// column of the lattice, the first 32 one of its two colours as a
+    /// checkerboard, the first 64 all of it.
+    #[test]
+    fn the_first_sixty_four_samples_fill_the_lattice_level_by_level() {
+        let cells: Vec<(u32, u32)> = (1..=64)
+            .map(sample_at)
+            .map(|(x, y)| {
+                assert_eq!((x % 64, y % 64), (32, 32), "a cell's centre");
+                (x / 64, y / 64)
+            })
+            .collect();
+        let mut grid: Vec<_> = cells[..16].iter().map(|&(x, y)| (x / 2, y / 2)).collect();
+        grid.sort_unstable();
+        grid.dedup();
+        assert_eq!(grid.len(), 16, "one in each cell of the 4×4 grid");
+        for i in 0..8 {
+            assert_eq!(
+                cells[..16].iter().filter(|c| c.0 == i).count(),
+                2,
+                "column {i}"
+            );
+            assert_eq!(
+                cells[..16].iter().filter(|c| c.1 == i).count(),
+                2,
+                "row {i}"
+            );
+        }
+        assert!(cells[..32].iter().all(|&(x, y)| (x + y) % 2 == 0));
+        let mut all = cells.clone();
+        all.sort_unstable();
+        all.dedup();
+        assert_eq!(all.len(), 64);
+    }
+
     fn contrast(compare_trees: bool) -> Contrast {
         Contrast {
             thresholds: [0.4, 0.3, 0.6],
             max_samples: 33,
             compare_trees,
+            range: None,
         }
     }
 
@@ -494,6 +650,48 @@ mod tests {
             word: 0,
             trees_differ,
         }
+    }
+
+    /// The range test: a pixel's own samples pass it by their range over
+    /// the square root of their count; after the centres a pixel goes on
+    /// beside a neighbour of eight that differs from it, after the next
+    /// level beside one of four whose own samples pass.
+    #[test]
+    fn the_range_test_weighs_a_range_by_the_samples_behind_it() {
+        let c = Contrast {
+            range: Some(20.0 / 255.0),
+            ..contrast(false)
+        };
+        // A 3×3 image of centres, the bottom-right 21 steps brighter: the
+        // pixels beside it go on, the others do not.
+        let mut image: Vec<Pixel> = (0..9).map(|_| pixel(50, 1, false)).collect();
+        image[8] = pixel(71, 1, false);
+        assert_eq!(c.next(0, &image, 3, &all(&image)), vec![4, 5, 7, 8]);
+        image[8] = pixel(70, 1, false);
+        assert_eq!(c.next(0, &image, 3, &all(&image)), Vec::<u32>::new());
+        // A dim pixel: Mitchell's contrast passes 2 against 1, the range
+        // test does not.
+        let mut dim: Vec<Pixel> = (0..9).map(|_| pixel(1, 1, false)).collect();
+        dim[8] = pixel(2, 1, false);
+        assert_eq!(contrast(false).next(0, &dim, 3, &[8]), vec![8]);
+        assert_eq!(c.next(0, &dim, 3, &all(&dim)), Vec::<u32>::new());
+        // Five samples ranging 45 steps: 45 > 20·√5 = 44.7 passes, 44 does
+        // not; the pixels beside a passing one go on at that level too.
+        let mut five: Vec<Pixel> = (0..9).map(|_| pixel(50, 5, false)).collect();
+        five[4].lo = [50; 3];
+        five[4].hi = [95; 3];
+        assert_eq!(c.next(1, &five, 3, &all(&five)), vec![1, 3, 4, 5, 7]);
+        assert_eq!(c.next(2, &five, 3, &all(&five)), vec![4]);
+        five[4].hi = [94; 3];
+        assert_eq!(c.next(1, &five, 3, &all(&five)), Vec::<u32>::new());
+        // Differing trees pass where trees are compared.
+        let mut trees = five.clone();
+        trees[0].trees_differ = true;
+        let compared = Contrast {
+            compare_trees: true,
+            ..c
+        };
+        assert_eq!(compared.next(2, &trees, 3, &all(&trees)), vec![0]);
     }
 
     /// Every pixel of `image`, as the pixels that reached a level.

@@ -114,6 +114,9 @@ pub struct ImageFile {
     /// more samples.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub thresholds: Option<Triple>,
+    /// `"contrast"`: the range test's bound, in place of `thresholds`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub range: Option<f64>,
     /// `"contrast"`: the samples a refined pixel takes in all.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_samples: Option<i64>,

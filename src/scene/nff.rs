@@ -437,6 +437,7 @@ impl<'a> Reader<'a> {
                 threshold: None,
                 max_level: None,
                 thresholds: None,
+                range: None,
                 max_samples: None,
                 compare_trees: None,
             },

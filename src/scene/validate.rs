@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
+use super::contrast::ContrastKeys;
 use super::file::SceneFile;
 use super::images::Images;
 use super::texture::Texture;
@@ -177,7 +178,12 @@ impl Validator<'_> {
         let keys = (raw.image.sampling, raw.image.threshold, raw.image.max_level);
         let adaptive = self.adaptive(&image, keys, samples)?;
         let im = &raw.image;
-        let keys = (im.thresholds, im.max_samples, im.compare_trees);
+        let keys = ContrastKeys {
+            thresholds: im.thresholds,
+            range: im.range,
+            max_samples: im.max_samples,
+            compare_trees: im.compare_trees,
+        };
         let contrast = self.contrast(&image, sampling == Sampling::Contrast, keys, samples)?;
         let max_depth =
             self.int_in(&render.key("max_depth"), raw.render.max_depth, 1, MAX_DEPTH)?;
