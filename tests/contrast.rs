@@ -90,34 +90,19 @@ fn both_renderers_sample_alike_with_the_range_test() {
 fn the_range_test_refines_toward_a_converged_image() {
     let path = "scenes/seed-fig5.toml";
     let (w, h) = (96, 72);
-    let none = by_range(path, w, h, 9.0, 33);
-    let mut centres = none.clone();
-    centres.sampling = Sampling::Centers;
-    centres.contrast = None;
-    let centre_image = cpu::render::<f32>(&centres);
-    assert!(common::same_bits(&cpu::render::<f32>(&none), &centre_image));
-    if let (Some(a), Some(b)) = (
-        common::render_gpu_if_built(&none),
-        common::render_gpu_if_built(&centres),
-    ) {
-        assert!(common::same_bits(&a, &b));
-    }
+    let centre_image = assert_the_centres_image(&by_range(path, w, h, 9.0, 33));
     let converged = common::converged(path, w, h);
     let rmse = |i: &Image| figures(i, &converged).unwrap().rmse;
     let some = cpu::render::<f32>(&by_range(path, w, h, 0.05, 17));
     let more = cpu::render::<f32>(&by_range(path, w, h, 0.02, 65));
-    assert!(
-        rmse(&some) < 0.5 * rmse(&centre_image),
-        "{} against {}",
-        rmse(&some),
-        rmse(&centre_image)
-    );
-    assert!(
-        rmse(&more) < rmse(&some),
-        "{} against {}",
-        rmse(&more),
-        rmse(&some)
-    );
+    assert_below(rmse(&some), 0.5 * rmse(&centre_image));
+    assert_below(rmse(&more), rmse(&some));
+}
+
+/// `a < b`, both shown where not.
+#[track_caller]
+fn assert_below(a: f64, b: f64) {
+    assert!(a < b, "{a} against {b}");
 }
 
 /// Where no contrast passes and trees are not compared, every pixel keeps
@@ -125,20 +110,31 @@ fn the_range_test_refines_toward_a_converged_image() {
 /// both renderers.
 #[test]
 fn a_contrast_nothing_passes_is_the_centres_image() {
-    let scene = contrast_with("scenes/whitted-1980.toml", 64, 48, 9.0, 33, false);
+    assert_the_centres_image(&contrast_with(
+        "scenes/whitted-1980.toml",
+        64,
+        48,
+        9.0,
+        33,
+        false,
+    ));
+}
+
+/// Asserts that `scene` renders as its centres alone (one sample a pixel),
+/// bit for bit, on both renderers; the centres' CPU f32 image.
+fn assert_the_centres_image(scene: &Scene) -> Image {
     let mut centres = scene.clone();
     centres.sampling = Sampling::Centers;
     centres.contrast = None;
-    assert!(common::same_bits(
-        &cpu::render::<f32>(&scene),
-        &cpu::render::<f32>(&centres)
-    ));
+    let image = cpu::render::<f32>(&centres);
+    assert!(common::same_bits(&cpu::render::<f32>(scene), &image));
     if let (Some(a), Some(b)) = (
-        common::render_gpu_if_built(&scene),
+        common::render_gpu_if_built(scene),
         common::render_gpu_if_built(&centres),
     ) {
         assert!(common::same_bits(&a, &b));
     }
+    image
 }
 
 /// More samples where pixels differ bring the image nearer a converged
@@ -152,18 +148,8 @@ fn more_samples_bring_the_image_nearer_a_converged_one() {
     let centres = cpu::render::<f64>(&contrast_with(path, 96, 72, 9.0, 33, false));
     let five = cpu::render::<f64>(&contrast(path, 96, 72, 0.05, 5));
     let more = cpu::render::<f64>(&contrast(path, 96, 72, 0.05, 65));
-    assert!(
-        rmse(&five) < rmse(&centres),
-        "{} against {}",
-        rmse(&five),
-        rmse(&centres)
-    );
-    assert!(
-        rmse(&more) < rmse(&five),
-        "{} against {}",
-        rmse(&more),
-        rmse(&five)
-    );
+    assert_below(rmse(&five), rmse(&centres));
+    assert_below(rmse(&more), rmse(&five));
 }
 
 /// Tiles and regions of a contrast render are the whole render, bit for
