@@ -99,10 +99,17 @@ impl Contrast {
     }
 
     /// `range` in units of 1/(255 · `RANGE_SCALE`), rounded: the range
-    /// test compares in integers too.
+    /// test compares in integers too. One past the widest range (255
+    /// steps) where a bound is 1 or more, so that no range passes it and
+    /// its square times a pixel's samples stays far inside a u64 (a bound
+    /// of 1e6, say, would overflow it).
     fn scaled_range(&self) -> Option<u64> {
-        self.range
-            .map(|r| (r * 255.0 * f64::from(Self::RANGE_SCALE)).round().min(1e12) as u64)
+        let most = f64::from(255 * Self::RANGE_SCALE + 1);
+        self.range.map(|r| {
+            (r * 255.0 * f64::from(Self::RANGE_SCALE))
+                .round()
+                .clamp(0.0, most) as u64
+        })
     }
 
     /// Whether the quantised range `lo..=hi` (per channel, in steps of
@@ -692,6 +699,34 @@ mod tests {
             ..c
         };
         assert_eq!(compared.next(2, &trees, 3, &all(&trees)), vec![0]);
+        // A bound past any range passes nothing, whatever its size: the
+        // widest range, over the most samples, against 1, 1e300 and a
+        // bound whose scaled square is 2⁶⁴ (it wrapped to 0 once).
+        let mut widest: Vec<Pixel> = (0..9)
+            .map(|_| pixel(0, Contrast::MAX_SAMPLES, false))
+            .collect();
+        widest[4].hi = [255; 3];
+        let wraps = 2f64.powi(32) / (255.0 * f64::from(Contrast::RANGE_SCALE));
+        for range in [1.0, 1e300, wraps] {
+            let huge = Contrast {
+                range: Some(range),
+                ..c
+            };
+            for level in 0..3 {
+                assert_eq!(
+                    huge.next(level, &widest, 3, &all(&widest)),
+                    Vec::<u32>::new()
+                );
+            }
+        }
+        // Just below the widest range over one sample, it passes.
+        let just = Contrast {
+            range: Some(254.0 / 255.0),
+            ..c
+        };
+        let mut centres: Vec<Pixel> = (0..9).map(|_| pixel(0, 1, false)).collect();
+        centres[4] = pixel(255, 1, false);
+        assert_eq!(just.next(0, &centres, 3, &[4]), vec![4]);
     }
 
     /// Every pixel of `image`, as the pixels that reached a level.
