@@ -121,39 +121,50 @@ impl Contrast {
 
     /// Which of `reached`, the pixels of a `width`-wide image of `pixels`
     /// that reached `level` (0: the centres), go on from it, by their
-    /// place: each whose own samples pass (`passes`, or differing trees
-    /// where trees are compared), and after the first two levels each
-    /// whose samples pass together with a neighbour's (any of eight after
-    /// the centres, any of four after the next): an edge a pixel's few
-    /// samples missed lies between them and a neighbour's.
+    /// place: each whose own samples pass the test (`Test`), or whose
+    /// trees differ where trees are compared; after the centres, each
+    /// whose centre passes it together with a neighbour's (any of eight):
+    /// an edge between two centres lies in one pixel or the other. After
+    /// the next level, by Mitchell's test each whose samples pass it
+    /// together with a neighbour's (any of four); by the range test each
+    /// beside one (of four) whose own samples pass, since the edge its
+    /// five samples caught may lie in that neighbour too.
     pub fn next(&self, level: usize, pixels: &[Pixel], width: u32, reached: &[u32]) -> Vec<u32> {
-        if let Some(r) = self.scaled_range() {
-            return self.next_by_range(r, level, pixels, width, reached);
-        }
+        let test = match self.scaled_range() {
+            Some(r) => Test::Range(r),
+            None => Test::Contrast(self.scaled_thresholds()),
+        };
         let w = width as usize;
         let h = pixels.len() / w.max(1);
-        let t = self.scaled_thresholds();
-        let neighbours = match level {
-            0 => &EIGHT[..],
-            1 => &EIGHT[..4],
-            _ => &[],
+        let own =
+            |p: &Pixel| self.compare_trees && p.trees_differ || test.passes(p.lo, p.hi, p.samples);
+        // Two pixels' samples together, each pixel's range weighed as one
+        // sample's: the range test's weight for a centre and its
+        // neighbour's (Mitchell's test has none).
+        let together = |p: &Pixel, q: &Pixel| {
+            let lo = [0, 1, 2].map(|k| p.lo[k].min(q.lo[k]));
+            let hi = [0, 1, 2].map(|k| p.hi[k].max(q.hi[k]));
+            test.passes(lo, hi, 1)
+        };
+        let neighbours = |i: usize, around: &'static [(isize, isize)]| {
+            let (x, y) = ((i % w) as isize, (i / w) as isize);
+            around.iter().filter_map(move |&(dx, dy)| {
+                let (x, y) = (x + dx, y + dy);
+                (x >= 0 && y >= 0 && x < w as isize && y < h as isize)
+                    .then(|| &pixels[y as usize * w + x as usize])
+            })
         };
         let goes = |i: usize| {
             let p = &pixels[i];
-            if self.compare_trees && p.trees_differ || passes(&t, p.lo, p.hi) {
-                return true;
-            }
-            let (x, y) = ((i % w) as isize, (i / w) as isize);
-            neighbours.iter().any(|&(dx, dy)| {
-                let (nx, ny) = (x + dx, y + dy);
-                if nx < 0 || ny < 0 || nx >= w as isize || ny >= h as isize {
-                    return false;
+            own(p)
+                || match (level, test) {
+                    (0, _) => neighbours(i, &EIGHT).any(|q| together(p, q)),
+                    (1, Test::Contrast(_)) => neighbours(i, &EIGHT[..4]).any(|q| together(p, q)),
+                    (1, Test::Range(_)) => {
+                        neighbours(i, &EIGHT[..4]).any(|q| q.samples > 1 && own(q))
+                    }
+                    _ => false,
                 }
-                let q = &pixels[ny as usize * w + nx as usize];
-                let lo = [0, 1, 2].map(|k| p.lo[k].min(q.lo[k]));
-                let hi = [0, 1, 2].map(|k| p.hi[k].max(q.hi[k]));
-                passes(&t, lo, hi)
-            })
         };
         // In order, over the threads: the first level looks at every pixel.
         reached
@@ -164,59 +175,31 @@ impl Contrast {
     }
 }
 
-impl Contrast {
-    /// `next` with the range test, `r` scaled (`scaled_range`): each
-    /// pixel whose own samples pass it (or whose trees differ, where
-    /// trees are compared); after the centres, each whose range with a
-    /// neighbour's (of eight) passes it, as one sample; after the next
-    /// level, each beside one (of four) whose own samples pass it. Where
-    /// Mitchell's contrast is relative, so that a dim pixel passes on a
-    /// step or two of difference, this one weighs a difference by what it
-    /// adds to the pixel's squared error: an image's RMSE is what it
-    /// aims at (docs/performance.md, Contrast sampling).
-    fn next_by_range(
-        &self,
-        r: u64,
-        level: usize,
-        pixels: &[Pixel],
-        width: u32,
-        reached: &[u32],
-    ) -> Vec<u32> {
-        let w = width as usize;
-        let h = pixels.len() / w.max(1);
-        let passes = |lo: [u8; 3], hi: [u8; 3], samples: u32| {
-            (0..3).any(|c| {
-                let d = u64::from(hi[c].saturating_sub(lo[c])) * u64::from(Self::RANGE_SCALE);
+/// The test that sends a pixel on, scaled to compare in integers.
+#[derive(Debug, Clone, Copy)]
+enum Test {
+    /// Mitchell's contrast, `Contrast::scaled_thresholds`.
+    Contrast([u32; 3]),
+    /// The range test, `Contrast::scaled_range`: where Mitchell's
+    /// contrast is relative, so that a dim pixel passes on a step or two
+    /// of difference, this one weighs a difference by what it adds to the
+    /// pixel's squared error, since an image's RMSE is what it aims at
+    /// (docs/performance.md, Contrast sampling).
+    Range(u64),
+}
+
+impl Test {
+    /// Whether the quantised range `lo..=hi` of `samples` samples passes:
+    /// by Mitchell's contrast in some channel, or by a channel's range
+    /// over √`samples`.
+    fn passes(self, lo: [u8; 3], hi: [u8; 3], samples: u32) -> bool {
+        match self {
+            Test::Contrast(t) => passes(&t, lo, hi),
+            Test::Range(r) => (0..3).any(|c| {
+                let d = u64::from(hi[c].saturating_sub(lo[c])) * u64::from(Contrast::RANGE_SCALE);
                 d * d > r * r * u64::from(samples)
-            })
-        };
-        let own = |p: &Pixel| self.compare_trees && p.trees_differ || passes(p.lo, p.hi, p.samples);
-        let neighbour = |i: usize, (dx, dy): (isize, isize)| {
-            let (x, y) = ((i % w) as isize + dx, (i / w) as isize + dy);
-            (x >= 0 && y >= 0 && x < w as isize && y < h as isize)
-                .then(|| &pixels[y as usize * w + x as usize])
-        };
-        let goes = |i: usize| {
-            let p = &pixels[i];
-            own(p)
-                || match level {
-                    0 => EIGHT.iter().filter_map(|&d| neighbour(i, d)).any(|q| {
-                        let lo = [0, 1, 2].map(|k| p.lo[k].min(q.lo[k]));
-                        let hi = [0, 1, 2].map(|k| p.hi[k].max(q.hi[k]));
-                        passes(lo, hi, 1)
-                    }),
-                    1 => EIGHT[..4]
-                        .iter()
-                        .filter_map(|&d| neighbour(i, d))
-                        .any(|q| q.samples > 1 && own(q)),
-                    _ => false,
-                }
-        };
-        reached
-            .par_iter()
-            .copied()
-            .filter(|&i| goes(i as usize))
-            .collect()
+            }),
+        }
     }
 }
 
