@@ -193,6 +193,15 @@ impl Validator<'_> {
         Ok(v)
     }
 
+    /// A finite number, at least 0.
+    pub(crate) fn non_negative(&self, path: &KeyPath, v: f64) -> Result<f64> {
+        let v = self.finite(path, v)?;
+        if v < 0.0 {
+            return self.err(path, format!("must be >= 0, got {v}"));
+        }
+        Ok(v)
+    }
+
     pub(crate) fn vector(&self, path: &KeyPath, t: Triple) -> Result<DVec3> {
         for (i, c) in t.iter().enumerate() {
             self.finite(&path.index(i), *c)?;

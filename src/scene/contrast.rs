@@ -465,24 +465,13 @@ impl Validator<'_> {
                 "`range` and `thresholds` are two tests: give one".to_owned(),
             );
         }
-        let range = match range {
-            Some(r) => {
-                let r = self.finite(&path.key("range"), r)?;
-                if r < 0.0 {
-                    return self.err(&path.key("range"), format!("must be >= 0, got {r}"));
-                }
-                Some(r)
-            }
-            None => None,
-        };
+        let range = range
+            .map(|r| self.non_negative(&path.key("range"), r))
+            .transpose()?;
         let defaults = Contrast::default();
         let thresholds = thresholds.map_or(defaults.thresholds, |t| t.0);
         for (i, t) in thresholds.iter().enumerate() {
-            let at = path.key("thresholds").index(i);
-            let t = self.finite(&at, *t)?;
-            if t < 0.0 {
-                return self.err(&at, format!("must be >= 0, got {t}"));
-            }
+            self.non_negative(&path.key("thresholds").index(i), *t)?;
         }
         let max_samples = self.int_in(
             &path.key("max_samples"),

@@ -209,13 +209,7 @@ impl Validator<'_> {
             (None, None) => texture,
             (None, Some(_)) => None,
         };
-        let shininess = self.finite(&path.key("shininess"), m.shininess)?;
-        if shininess < 0.0 {
-            return self.err(
-                &path.key("shininess"),
-                format!("must be >= 0, got {shininess}"),
-            );
-        }
+        let shininess = self.non_negative(&path.key("shininess"), m.shininess)?;
         let reflectivity = self.finite(&path.key("reflectivity"), m.reflectivity)?;
         if !(0.0..=1.0).contains(&reflectivity) {
             return self.err(

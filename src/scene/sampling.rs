@@ -126,13 +126,7 @@ impl Validator<'_> {
                 format!("\"adaptive\" starts from one ray per pixel corner: it takes samples = 1, got {samples}"),
             );
         }
-        let threshold = self.finite(&path.key("threshold"), threshold.unwrap_or(0.1))?;
-        if threshold < 0.0 {
-            return self.err(
-                &path.key("threshold"),
-                format!("must be >= 0, got {threshold}"),
-            );
-        }
+        let threshold = self.non_negative(&path.key("threshold"), threshold.unwrap_or(0.1))?;
         let levels = self.int_in(
             &path.key("max_level"),
             max_level.unwrap_or(2),
