@@ -83,6 +83,39 @@ fn both_renderers_sample_alike_with_the_range_test() {
     assert!(!common::passes(&moved, &reference), "perturbed");
 }
 
+/// The range test on what a scene may lack: no lights (a sphere lit by
+/// its ambient term alone, whose edge is all there is to refine) and no
+/// objects (the background only, where nothing passes). Both renderers
+/// agree with the f64 reference, and the empty scene is its centres.
+#[test]
+fn the_range_test_on_a_scene_with_no_lights_or_no_objects() {
+    let head = "[image]\nwidth = 40\nheight = 30\nsampling = \"contrast\"\nrange = 0.05\n\
+                [render]\nbackground = [0.2, 0.3, 0.4]\n\
+                [camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nvfov = 45\n";
+    let unlit = format!(
+        "{head}[materials.m]\nambient = [1, 1, 1]\n\
+         [[spheres]]\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"m\"\n"
+    );
+    let scene = common::scene_sized(&unlit, 40, 30);
+    let reference = cpu::render::<f64>(&scene);
+    common::assert_renderers_agree("no lights", &scene, &reference);
+    assert_below(0.0, difference_from_the_centres(&scene));
+
+    let empty = common::scene_sized(head, 40, 30);
+    common::assert_renderers_agree("no objects", &empty, &cpu::render::<f64>(&empty));
+    assert_the_centres_image(&empty);
+}
+
+/// The largest difference between `scene`'s render and its centres' (CPU
+/// f32): more than 0 where the sampler refined a pixel.
+fn difference_from_the_centres(scene: &Scene) -> f64 {
+    let mut centres = scene.clone();
+    centres.sampling = Sampling::Centers;
+    centres.contrast = None;
+    let c = cpu::render::<f32>(&centres);
+    figures(&cpu::render::<f32>(scene), &c).unwrap().max_abs
+}
+
 /// Where no range passes the range test, every pixel keeps its centre
 /// sample, on both renderers; where a range does, the image nears a
 /// converged one, more with more samples.
