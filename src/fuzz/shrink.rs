@@ -6,8 +6,7 @@
 //! spent.
 
 use super::{check, Device, Failure, Property};
-use crate::generate::Spec;
-use crate::scene::Sampling;
+use crate::generate::{Sampler, Spec};
 
 /// The specs one step smaller than `s`, the largest cuts first.
 fn smaller(s: &Spec) -> Vec<Spec> {
@@ -41,8 +40,8 @@ fn smaller(s: &Spec) -> Vec<Spec> {
         (s.reflect, &|t| t.reflect = false),
         (s.eye_inside, &|t| t.eye_inside = false),
         (s.grazing, &|t| t.grazing = false),
-        (s.sampling != Sampling::Centers, &|t| {
-            t.sampling = Sampling::Centers
+        (s.sampling != Sampler::Centers, &|t| {
+            t.sampling = Sampler::Centers
         }),
         (s.samples > 1, &|t| t.samples = 1),
         (s.depth > 1, &|t| t.depth = 1),

@@ -44,6 +44,58 @@ pub struct LightSpec {
     pub dark: bool,
 }
 
+/// How a generated scene samples its pixels: a mode of `[image] sampling`,
+/// with contrast sampling's two tests apart, since each is its own choice
+/// of which pixels go on (docs/scene-format.md, Rays).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum Sampler {
+    /// `centers`, at the spec's `samples`.
+    Centers,
+    /// `corners`.
+    Corners,
+    /// `adaptive`: threshold 0.05, to level 2.
+    Adaptive,
+    /// `contrast` with Mitchell's test (thresholds 0.1), to 9 samples,
+    /// the trees compared.
+    Contrast,
+    /// `contrast` with the range test (0.03), to 9 samples, the trees not
+    /// compared.
+    Range,
+}
+
+impl Sampler {
+    /// The mode it sets.
+    pub fn mode(self) -> Sampling {
+        match self {
+            Sampler::Centers => Sampling::Centers,
+            Sampler::Corners => Sampling::Corners,
+            Sampler::Adaptive => Sampling::Adaptive,
+            Sampler::Contrast | Sampler::Range => Sampling::Contrast,
+        }
+    }
+
+    /// Its keys under `[image]`, beside `samples`.
+    fn keys(self, image: &mut toml::Table) {
+        image.insert("sampling".into(), value(self.mode()));
+        let keys = match self {
+            Sampler::Centers | Sampler::Corners => vec![],
+            Sampler::Adaptive => vec![("threshold", value(0.05)), ("max_level", value(2))],
+            Sampler::Contrast => vec![
+                ("thresholds", toml::Value::Array(vec![value(0.1); 3])),
+                ("max_samples", value(9)),
+            ],
+            Sampler::Range => vec![
+                ("range", value(0.03)),
+                ("max_samples", value(9)),
+                ("compare_trees", value(false)),
+            ],
+        };
+        for (k, v) in keys {
+            image.insert(k.into(), v);
+        }
+    }
+}
+
 /// What a generated scene holds.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Spec {
@@ -59,8 +111,8 @@ pub struct Spec {
     pub texture: Option<usize>,
     /// `[render] shadows`.
     pub shadows: bool,
-    /// `[image] sampling`.
-    pub sampling: Sampling,
+    /// `[image] sampling` and its keys.
+    pub sampling: Sampler,
     /// `[image] samples` (for `centers`).
     pub samples: u32,
     /// `[render] max_depth`.
@@ -188,15 +240,7 @@ impl Spec {
         image.insert("width".into(), value(self.width));
         image.insert("height".into(), value(self.height));
         image.insert("samples".into(), value(self.samples));
-        image.insert("sampling".into(), value(self.sampling));
-        if self.sampling == Sampling::Adaptive {
-            image.insert("threshold".into(), value(0.05));
-            image.insert("max_level".into(), value(2));
-        }
-        if self.sampling == Sampling::Contrast {
-            image.insert("thresholds".into(), toml::Value::Array(vec![value(0.1); 3]));
-            image.insert("max_samples".into(), value(9));
-        }
+        self.sampling.keys(&mut image);
         doc.insert("image".into(), toml::Value::Table(image));
 
         let mut render = toml::Table::new();

@@ -4,18 +4,19 @@
 //! Every factor's values come from the tables (kinds, light types,
 //! patterns), so that a new entry is in every set with no code here.
 
-use super::{mix, LightSpec, Object, Spec};
+use super::{mix, LightSpec, Object, Sampler, Spec};
 use crate::prim::KINDS;
 use crate::rng::Xorshift;
 use crate::scene::texture::PATTERNS;
-use crate::scene::{Sampling, LIGHT_TYPES};
+use crate::scene::LIGHT_TYPES;
 
-/// The sampling modes, in the order the sets cycle through them.
-pub const SAMPLINGS: [Sampling; 4] = [
-    Sampling::Centers,
-    Sampling::Corners,
-    Sampling::Adaptive,
-    Sampling::Contrast,
+/// The samplers, in the order the sets cycle through them.
+pub const SAMPLINGS: [Sampler; 5] = [
+    Sampler::Centers,
+    Sampler::Corners,
+    Sampler::Adaptive,
+    Sampler::Contrast,
+    Sampler::Range,
 ];
 
 /// The small space's factors for one scene: the values a covering array
@@ -304,7 +305,7 @@ pub fn random(seed: u64, max_objects: usize, width: u32, height: u32) -> Spec {
         shadows: pick(4) != 0,
         sampling,
         // More than one sample a pixel is the centres' alone.
-        samples: if sampling == Sampling::Centers {
+        samples: if sampling == Sampler::Centers {
             [1, 1, 2][pick(3)]
         } else {
             1
