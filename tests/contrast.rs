@@ -203,6 +203,29 @@ fn the_levels_are_counted_alike() {
     assert!(c.eye > 80 * 60 && c.eye < 80 * 60 * 17, "{c:?}");
 }
 
+/// A prepared contrast scene is made with its levels' stage alone: its
+/// variant is theirs, so no stage it never dispatches is compiled. Updated
+/// in place (the camera moved), it renders what a fresh renderer renders.
+#[cfg(feature = "gpu")]
+#[test]
+fn a_prepared_contrast_scene_holds_its_levels_stage_alone() {
+    use glint::gpu::Update;
+    let mut scene = by_range("scenes/whitted-1980.toml", 64, 48, 0.05, 17);
+    let mut r = common::gpu();
+    let settings = r.settings();
+    let mut prepared = r.prepare(&scene, &settings).unwrap();
+    let v = prepared.variant();
+    assert!(v.refine && v.contrast == Some(false), "{}", v.name());
+    let before = prepared.render(None, &|_| {}).unwrap().image;
+    assert_eq!(before, common::render_gpu(&scene));
+    scene.camera.eye += glam::DVec3::new(0.3, 0.2, 0.0);
+    assert_eq!(prepared.update(&scene).unwrap(), Update::InPlace);
+    let after = prepared.render(None, &|_| {}).unwrap().image;
+    let fresh = common::render_gpu(&scene);
+    assert_ne!(before, fresh, "the camera's move shows in the image");
+    assert_eq!(after, fresh);
+}
+
 #[test]
 fn bad_contrast_keys_are_named() {
     let on = "sampling = \"contrast\"\n";

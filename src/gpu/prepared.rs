@@ -13,6 +13,7 @@ use super::blocks::{Block, Form};
 use super::layout::Uploads;
 use super::options::RenderSettings;
 use super::passes::{Executor, Pass, Target};
+use super::refine;
 use super::resident::{scene_blocks, stage_blocks, Blocks, Own};
 use super::shared::{Pipeline, Shared};
 use super::times::{RenderTimes, SetupTimes};
@@ -27,6 +28,7 @@ use crate::base::aov::{self, Aov};
 use crate::base::record;
 use crate::raster::region::Region;
 use crate::raster::Image;
+use crate::scene::contrast::Entry;
 use crate::scene::{Adaptive, Contrast, Scene};
 use crate::stats::{Counter, Counts};
 
@@ -101,6 +103,16 @@ impl Gather {
             (true, Some(a)) => Gather::Adaptive(a),
         }
     }
+
+    /// The main stage's variant, from the scene's: contrast sampling
+    /// traces nothing but its levels' lists, so its one stage is theirs,
+    /// made with the scene as every other mode's is.
+    fn stage(&self, scene: Variant) -> Variant {
+        match self {
+            Gather::Contrast(c) => scene.listing(Some(c.compare_trees)),
+            _ => scene,
+        }
+    }
 }
 
 /// A render of a prepared scene.
@@ -170,7 +182,8 @@ impl Prepared {
         if let Some(why) = super::features::refused_reads(wanted, &up, &shared.device.info) {
             return Err(GpuError::Unsupported(why));
         }
-        let (variant, defines) = shared.variant(traced, settings, &up, settings.count);
+        let variant = gather.stage(shared.variant(traced, settings, &up, settings.count).0);
+        let defines = shared.defines_of(&variant);
         let (pipeline, setup) = shared.pipeline(&variant, &defines)?;
         let t1 = Instant::now();
         let info = &shared.device.info;
@@ -191,14 +204,15 @@ impl Prepared {
         )?;
         let work = PixelWork::of(traced).through(up.ray_cost);
         let tile = work.tile_size(&variant, info.max_storage_buffer_range);
-        let main = BoundStage::new(
-            shared,
-            pipeline,
-            variant,
-            &blocks,
-            tile,
-            Own::Main(settings.record),
-        )?;
+        // Contrast sampling's stage holds a list of one empty entry until
+        // its first level binds one of its own: the driver's compile below
+        // dispatches it over no pixels.
+        let empty = refine::entries(&[Entry::default()]);
+        let own = match gather {
+            Gather::Contrast(_) => Own::Refine(&empty),
+            _ => Own::Main(settings.record),
+        };
+        let main = BoundStage::new(shared, pipeline, variant, &blocks, tile, own)?;
         let upload_s = layout_s + t1.elapsed().as_secs_f64();
         let mut prepared = Self {
             main,

@@ -106,6 +106,21 @@ impl Variant {
         }
     }
 
+    /// This variant made to trace a list: adaptive sampling's points, or
+    /// contrast sampling's entries where `contrast` (its trees compared or
+    /// not). A list is the megakernel's, and records no tree and writes no
+    /// AOVs.
+    pub(crate) fn listing(&self, contrast: Option<bool>) -> Self {
+        Self {
+            refine: true,
+            contrast,
+            wavefront: false,
+            record: false,
+            aovs: false,
+            ..self.clone()
+        }
+    }
+
     /// The generic shader in f32 with the robust forms and no BVH (`glint
     /// shader check` compiles a user's file against its interface).
     pub fn generic() -> Self {

@@ -283,7 +283,7 @@ pub fn sobol(k: u32) -> (u32, u32) {
 
 /// Samples `first..first + count` of pixel (x, y) of the image: what a
 /// renderer traces for one entry of a level's list.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Entry {
     /// The pixel's column in the image.
     pub x: u32,

@@ -93,12 +93,7 @@ impl Prepared {
                 pipeline, variant, ..
             }) => (pipeline, variant),
             None => {
-                let mut variant = self.main.variant.clone();
-                variant.refine = true;
-                variant.contrast = contrast;
-                variant.wavefront = false;
-                variant.record = false;
-                variant.aovs = false;
+                let variant = self.main.variant.listing(contrast);
                 let defines = self.shared.defines_of(&variant);
                 let (pipeline, setup) = self.shared.pipeline(&variant, &defines)?;
                 times.setup.compile_s += setup.compile_s;

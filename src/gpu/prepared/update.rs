@@ -57,7 +57,9 @@ impl Prepared {
             s.accel,
             self.shape.as_ref(),
         );
-        let (variant, _) = self.shared.variant(traced, &s, &up, s.count);
+        let variant = self
+            .gather
+            .stage(self.shared.variant(traced, &s, &up, s.count).0);
         if variant != self.main.variant {
             return Ok(Update::Prepare(format!(
                 "it needs the shader variant {}, where it has {}",
