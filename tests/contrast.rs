@@ -204,8 +204,9 @@ fn the_levels_are_counted_alike() {
 }
 
 /// A prepared contrast scene is made with its levels' stage alone: its
-/// variant is theirs, so no stage it never dispatches is compiled. Updated
-/// in place (the camera moved), it renders what a fresh renderer renders.
+/// variant is theirs, so no stage it never dispatches is compiled, and each
+/// level binds its list on it. Rendered again, and updated in place (the
+/// camera moved), it renders what a fresh renderer renders.
 #[cfg(feature = "gpu")]
 #[test]
 fn a_prepared_contrast_scene_holds_its_levels_stage_alone() {
@@ -218,6 +219,7 @@ fn a_prepared_contrast_scene_holds_its_levels_stage_alone() {
     assert!(v.refine && v.contrast == Some(false), "{}", v.name());
     let before = prepared.render(None, &|_| {}).unwrap().image;
     assert_eq!(before, common::render_gpu(&scene));
+    assert_eq!(prepared.render(None, &|_| {}).unwrap().image, before);
     scene.camera.eye += glam::DVec3::new(0.3, 0.2, 0.0);
     assert_eq!(prepared.update(&scene).unwrap(), Update::InPlace);
     let after = prepared.render(None, &|_| {}).unwrap().image;

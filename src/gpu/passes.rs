@@ -23,6 +23,10 @@ pub(crate) struct Target<'a> {
     pub pipeline: &'a ComputePipeline,
     pub set: raw::DescriptorSet,
     pub out: raw::Buffer,
+    /// The bytes of `out` the tile writes, from its start: what the
+    /// megakernel's dispatch fills first (a stage's output may hold more:
+    /// contrast sampling's levels share the first level's).
+    pub out_bytes: raw::DeviceSize,
     pub zero: Option<Zeroed>,
     pub rect: UVec4,
 }
@@ -114,6 +118,7 @@ fn dispatch<'c>(
         pipeline: p,
         set,
         out,
+        out_bytes,
         zero,
         rect,
     } = *target;
@@ -123,12 +128,13 @@ fn dispatch<'c>(
     };
     // SAFETY: the pipeline, its set and the buffers bound to it are alive
     // until `run` returns (the prepared scene holds them) and are leaked if
-    // the wait times out; the fills cover whole buffers; the command buffer
+    // the wait times out; the output's fill is within it (`out_bytes` are
+    // a tile's words, at most the stage's), the counters' is whole; the command buffer
     // is recording, outside a render pass (the contract of the timestamps).
     let done = commands.run(timeout, |dev, cb| unsafe {
         // Every output word starts as a NaN, so a pixel the shader never
         // writes is seen, not read as whatever the memory held.
-        dev.cmd_fill_buffer(cb, out, 0, raw::WHOLE_SIZE, UNWRITTEN);
+        dev.cmd_fill_buffer(cb, out, 0, out_bytes, UNWRITTEN);
         if let Some((buffer, offset, size)) = zero {
             dev.cmd_fill_buffer(cb, buffer, offset, size, 0);
         }

@@ -14,7 +14,7 @@ use super::layout::Uploads;
 use super::options::RenderSettings;
 use super::passes::{Executor, Pass, Target};
 use super::refine;
-use super::resident::{scene_blocks, stage_blocks, Blocks, Own};
+use super::resident::{list_buffer, scene_blocks, stage_blocks, Blocks, Bound, Own};
 use super::shared::{Pipeline, Shared};
 use super::times::{RenderTimes, SetupTimes};
 use super::variant::Variant;
@@ -25,6 +25,7 @@ use super::work::{PixelWork, COMPILE_TIMEOUT};
 use super::{GpuError, Precision};
 use crate::accel::refit::Shape;
 use crate::base::aov::{self, Aov};
+use crate::base::interface::Array;
 use crate::base::record;
 use crate::raster::region::Region;
 use crate::raster::Image;
@@ -203,7 +204,12 @@ impl Prepared {
             &up,
         )?;
         let work = PixelWork::of(traced).through(up.ray_cost);
-        let tile = work.tile_size(&variant, info.max_storage_buffer_range);
+        // Contrast sampling's levels are lists on this stage: its output
+        // holds the largest, the first's one entry a pixel.
+        let tile = match gather {
+            Gather::Contrast(_) => refinement::list_tiles(scene.width * scene.height, 1).1,
+            _ => work.tile_size(&variant, info.max_storage_buffer_range),
+        };
         // Contrast sampling's stage holds a list of one empty entry until
         // its first level binds one of its own: the driver's compile below
         // dispatches it over no pixels.
@@ -406,6 +412,7 @@ impl Prepared {
                     self.work.timeout(pixels, bvh)
                 });
                 let target = Target {
+                    out_bytes: u64::from(w) * u64::from(h) * per as u64 * 16,
                     zero: zero.take(),
                     rect: UVec4::new(x0, y0, w, h),
                     ..stage.target()
@@ -502,28 +509,62 @@ impl BoundStage {
         let device = &shared.device;
         let own = stage_blocks(device, &variant, tile, own)?;
         let set = DescriptorSet::new(device, &pipeline.raw)?;
-        let resources: Vec<Resource> = variant
-            .bindings()
-            .into_iter()
-            .map(|(block, _, _)| {
-                own.get(block)
-                    .or_else(|| scene.get(block))
-                    .expect("every binding has its buffer")
-                    .resource()
-            })
-            .collect();
-        // SAFETY: the set is new, so no submission uses it; the buffers it
-        // names live in this stage (its own) or in the prepared scene,
-        // which drops its stages first, and are leaked where a wait timed
-        // out.
-        unsafe { set.write(&resources) };
-        Ok(Self {
+        let stage = Self {
             set,
             own,
             pipeline,
             variant,
             tile,
-        })
+        };
+        let resources = stage.resources(scene);
+        // SAFETY: the set is new, so no submission uses it; the buffers it
+        // names live in this stage (its own) or in the prepared scene,
+        // which drops its stages first, and are leaked where a wait timed
+        // out.
+        unsafe { stage.set.write(&resources) };
+        Ok(stage)
+    }
+
+    /// Whether its output holds a tile of `tile` invocations' words.
+    fn holds(&self, tile: (u32, u32)) -> bool {
+        tile.0 <= self.tile.0 && tile.1 <= self.tile.1
+    }
+
+    /// `list` bound in place of the stage's list (a refining stage's),
+    /// which no submission uses once the last has been waited on.
+    fn bind_list(
+        &mut self,
+        shared: &Shared,
+        scene: &Blocks,
+        list: &Array<'_>,
+    ) -> Result<(), GpuError> {
+        let buffer = list_buffer(&shared.device, list)?;
+        let last = self.own.replace(Block::Refine, Bound::Buffer(buffer));
+        assert!(last.is_some(), "a stage with a list binds another");
+        let resources = self.resources(scene);
+        // SAFETY: every submission of this set has been waited on (each
+        // tile's dispatch waits on its fence), and the buffers it names live
+        // in this stage or in the prepared scene, as in `new`; the list it
+        // named is dropped only after the set no longer names it.
+        unsafe { self.set.write(&resources) };
+        drop(last);
+        Ok(())
+    }
+
+    /// The resources of its bindings, its own buffers first, then the
+    /// scene's.
+    fn resources(&self, scene: &Blocks) -> Vec<Resource> {
+        self.variant
+            .bindings()
+            .into_iter()
+            .map(|(block, _, _)| {
+                self.own
+                    .get(block)
+                    .or_else(|| scene.get(block))
+                    .expect("every binding has its buffer")
+                    .resource()
+            })
+            .collect()
     }
 
     /// The stage's buffer at `block`, where it has one of its own.
@@ -540,6 +581,7 @@ impl BoundStage {
                 .buffer(Block::Pixels)
                 .expect("a stage has its output")
                 .raw,
+            out_bytes: ash::vk::WHOLE_SIZE,
             zero: None,
             rect: UVec4::ZERO,
         }

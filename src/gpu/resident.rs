@@ -56,6 +56,12 @@ impl Blocks {
     pub fn get(&self, block: Block) -> Option<&Bound> {
         self.0.iter().find(|(b, _)| *b == block).map(|(_, x)| x)
     }
+
+    /// `bound` in place of what `block` held; what it held, returned.
+    pub fn replace(&mut self, block: Block, bound: Bound) -> Option<Bound> {
+        let at = self.0.iter_mut().find(|(b, _)| *b == block)?;
+        Some(std::mem::replace(&mut at.1, bound))
+    }
 }
 
 /// What fills a scene block's buffer: the bytes, in place.
@@ -213,13 +219,7 @@ pub(crate) fn stage_blocks(
                 let Own::Refine(list) = own else {
                     unreachable!("a refining variant is a refinement's stage, with its list")
                 };
-                Buffer::written(
-                    device,
-                    list.byte_len(),
-                    |dst| list.write(dst),
-                    storage,
-                    block.name(),
-                )?
+                list_buffer(device, list)?
             }
             Block::PathReals | Block::PathWords => {
                 let (reals, words) = variant.path_bytes();
@@ -253,6 +253,17 @@ pub(crate) fn stage_blocks(
         blocks.push((block, Bound::Buffer(buffer)));
     }
     Ok(Blocks(blocks))
+}
+
+/// A refinement's list in a buffer of its own (`Block::Refine`).
+pub(crate) fn list_buffer(device: &Arc<Device>, list: &Array<'_>) -> Result<Buffer, GpuError> {
+    Buffer::written(
+        device,
+        list.byte_len(),
+        |dst| list.write(dst),
+        raw::BufferUsageFlags::STORAGE_BUFFER,
+        Block::Refine.name(),
+    )
 }
 
 /// The usage of a scene array's buffer read in `form` through a binding of

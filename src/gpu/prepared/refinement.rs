@@ -67,11 +67,12 @@ impl Prepared {
             .collect())
     }
 
-    /// Traces a list on the refinement's stage, made for this list, in
-    /// `invocations` laid out `REFINE_WIDTH` wide, each tracing at most
-    /// `rays` eye rays: adaptive sampling's points, or contrast sampling's
-    /// entries where `contrast` (its trees compared or not). What the
-    /// invocations wrote, in order; their counts join `counts`.
+    /// Traces a list in `invocations` laid out `REFINE_WIDTH` wide, each
+    /// tracing at most `rays` eye rays: adaptive sampling's points, on the
+    /// refinement's stage made for this list, or contrast sampling's
+    /// entries where `contrast` (its trees compared or not), on the main
+    /// stage, which is theirs. What the invocations wrote, in order; their
+    /// counts join `counts`.
     pub(super) fn trace_list(
         &mut self,
         list: &Array<'static>,
@@ -82,10 +83,10 @@ impl Prepared {
         counts: &mut Option<Counts>,
     ) -> Result<Vec<[f32; 3]>, GpuError> {
         let per = rays.max(1);
-        let width = variant::REFINE_WIDTH.min(invocations);
-        let entries = Region::whole(width, invocations.div_ceil(width));
-        let rows = (RAYS_PER_DISPATCH / u64::from(width * per)) as u32;
-        let tile = (width, rows.clamp(1, entries.height));
+        let (entries, tile) = list_tiles(invocations, per);
+        if contrast.is_some() && self.main.variant.contrast == contrast && self.main.holds(tile) {
+            return self.trace_list_on_main(list, entries, tile, per, times, counts);
+        }
         // The list is this call's alone: the stage binds it anew, with the
         // refinement's pipeline, looked up once for this prepared scene.
         let (pipeline, variant) = match self.refine.take() {
@@ -114,12 +115,53 @@ impl Prepared {
         times.upload_s += t0.elapsed().as_secs_f64();
         times.setup.driver_compile_s += self.compile_on_driver(true)?;
         let (words, more) = self.tiles(true, entries, f64::from(per), times, &|_| {})?;
-        *counts = match (counts.take(), more) {
-            (Some(a), Some(b)) => Some(Tally::merge(a, b)),
-            (a, b) => a.or(b),
-        };
+        merge_counts(counts, more);
         Ok(words)
     }
+
+    /// A level of contrast sampling traced on the main stage, which is the
+    /// levels' own (`Gather::stage`): its list bound in place of the last,
+    /// its output and counters kept, so that no level makes buffers of its
+    /// own or first touches them.
+    fn trace_list_on_main(
+        &mut self,
+        list: &Array<'static>,
+        entries: Region,
+        tile: (u32, u32),
+        per: u32,
+        times: &mut RenderTimes,
+        counts: &mut Option<Counts>,
+    ) -> Result<Vec<[f32; 3]>, GpuError> {
+        let t0 = Instant::now();
+        self.main.bind_list(&self.shared, &self.scene, list)?;
+        times.upload_s += t0.elapsed().as_secs_f64();
+        // The level's tile, within the stage's output; the stage keeps its
+        // own for the next level.
+        let made = std::mem::replace(&mut self.main.tile, tile);
+        let traced = self.tiles(false, entries, f64::from(per), times, &|_| {});
+        self.main.tile = made;
+        let (words, more) = traced?;
+        merge_counts(counts, more);
+        Ok(words)
+    }
+}
+
+/// A level's counts joined to the levels' before it.
+fn merge_counts(counts: &mut Option<Counts>, more: Option<Counts>) {
+    *counts = match (counts.take(), more) {
+        (Some(a), Some(b)) => Some(Tally::merge(a, b)),
+        (a, b) => a.or(b),
+    };
+}
+
+/// A list of `invocations`, each tracing at most `per` eye rays, laid out
+/// `REFINE_WIDTH` wide (the region the stage dispatches), and the tile it
+/// is dispatched in: as many rows as `RAYS_PER_DISPATCH` rays allow.
+pub(super) fn list_tiles(invocations: u32, per: u32) -> (Region, (u32, u32)) {
+    let width = variant::REFINE_WIDTH.min(invocations);
+    let entries = Region::whole(width, invocations.div_ceil(width));
+    let rows = (RAYS_PER_DISPATCH / u64::from(width * per.max(1))) as u32;
+    (entries, (width, rows.clamp(1, entries.height)))
 }
 
 /// The host's share of a pass over levels (adaptive sampling's refinement,
