@@ -121,8 +121,8 @@ impl Prepared {
 
     /// A level of contrast sampling traced on the main stage, which is the
     /// levels' own (`Gather::stage`): its list bound in place of the last,
-    /// its output and counters kept, so that no level makes buffers of its
-    /// own or first touches them.
+    /// its output and counters kept, so that a level makes no buffer but
+    /// its list's, and first touches no output.
     fn trace_list_on_main(
         &mut self,
         list: &Array<'static>,
