@@ -128,9 +128,10 @@ fn dispatch<'c>(
     };
     // SAFETY: the pipeline, its set and the buffers bound to it are alive
     // until `run` returns (the prepared scene holds them) and are leaked if
-    // the wait times out; the output's fill is within it (`out_bytes` are
-    // a tile's words, at most the stage's), the counters' is whole; the command buffer
-    // is recording, outside a render pass (the contract of the timestamps).
+    // the wait times out; the output's fill is within it (`out_bytes` are a
+    // tile's words, at most the stage's) and the counters' is whole; the
+    // command buffer is recording, outside a render pass (the contract of
+    // the timestamps).
     let done = commands.run(timeout, |dev, cb| unsafe {
         // Every output word starts as a NaN, so a pixel the shader never
         // writes is seen, not read as whatever the memory held.
