@@ -162,9 +162,10 @@ fn names_with_commas_and_quotes_survive_the_csv_and_the_page() {
 }
 
 /// `--sampling`: uniform 1x1 to 8x8, the adaptive settings and the
-/// contrast settings (Mitchell's test and the range test), each against a converged render; the uniform grids' error falls as they grow (it
-/// would not against a wrong reference), and the axis has its own table,
-/// plot and CSV rows.
+/// contrast settings (Mitchell's test and the range test), each against a
+/// converged render; the uniform grids' error falls as they grow (it would
+/// not against a wrong reference), and the axis has its own table, plot
+/// and CSV rows.
 #[test]
 fn the_sampling_axis_is_measured_against_a_converged_render() {
     let dir = tempfile::tempdir().unwrap();

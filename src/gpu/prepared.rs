@@ -213,9 +213,12 @@ impl Prepared {
         // Contrast sampling's stage holds a list of one empty entry until
         // its first level binds one of its own: the driver's compile below
         // dispatches it over no pixels.
-        let empty = refine::entries(&[Entry::default()]);
+        let empty;
         let own = match gather {
-            Gather::Contrast(_) => Own::Refine(&empty),
+            Gather::Contrast(_) => {
+                empty = refine::entries(&[Entry::default()]);
+                Own::Refine(&empty)
+            }
             _ => Own::Main(settings.record),
         };
         let main = BoundStage::new(shared, pipeline, variant, &blocks, tile, own)?;

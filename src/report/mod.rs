@@ -438,29 +438,24 @@ fn sampled(scene: &Scene, variant: Variant) -> Scene {
             s.sampling = crate::scene::Sampling::Centers;
             s.adaptive = None;
         }
-        Variant::GpuContrast(t, m) => {
-            let t = f64::from(t) / 1000.0;
-            s.samples = 1;
-            s.sampling = crate::scene::Sampling::Contrast;
-            s.adaptive = None;
-            s.contrast = Some(crate::scene::Contrast {
-                thresholds: [t; 3],
+        Variant::GpuContrast(t, m) => by_contrast(
+            &mut s,
+            crate::scene::Contrast {
+                thresholds: [f64::from(t) / 1000.0; 3],
                 max_samples: m,
                 compare_trees: true,
                 range: None,
-            });
-        }
-        Variant::GpuRange(r, m) => {
-            s.samples = 1;
-            s.sampling = crate::scene::Sampling::Contrast;
-            s.adaptive = None;
-            s.contrast = Some(crate::scene::Contrast {
+            },
+        ),
+        Variant::GpuRange(r, m) => by_contrast(
+            &mut s,
+            crate::scene::Contrast {
                 max_samples: m,
                 compare_trees: false,
                 range: Some(f64::from(r) / 1000.0),
                 ..crate::scene::Contrast::default()
-            });
-        }
+            },
+        ),
         Variant::GpuAdaptive(t, l) => {
             s.samples = 1;
             s.sampling = crate::scene::Sampling::Adaptive;
@@ -472,6 +467,15 @@ fn sampled(scene: &Scene, variant: Variant) -> Scene {
         _ => {}
     }
     s
+}
+
+/// `s` sampled by contrast as `contrast` says: the sampling axis's two
+/// tests differ in their settings alone.
+fn by_contrast(s: &mut Scene, contrast: crate::scene::Contrast) {
+    s.samples = 1;
+    s.sampling = crate::scene::Sampling::Contrast;
+    s.adaptive = None;
+    s.contrast = Some(contrast);
 }
 
 /// One variant of `scene`: its error against `reference`, and the median

@@ -1,7 +1,7 @@
 //! Contrast sampling of a prepared scene: level by level
 //! (`scene::contrast::refine_levels`, as the CPU runs them), each level's
-//! entries a list dispatched on the refinement's stage
-//! (shaders/contrast.glsl), whose words become the level's batches.
+//! entries a list bound on the scene's one stage (`Prepared::trace_level`,
+//! shaders/contrast.glsl), whose words become the level's batches.
 
 use rayon::prelude::*;
 
@@ -32,7 +32,7 @@ impl Prepared {
         let mut counts: Option<Counts> = None;
         let size = self.size;
         let pixels = refine_levels(contrast, region, size, |entries| {
-            self.trace_entries::<R>(entries, contrast, &mut times, &mut counts)
+            self.trace_entries::<R>(entries, &mut times, &mut counts)
         })?;
         host.end(&mut times);
         Ok(Rendered {
@@ -48,15 +48,13 @@ impl Prepared {
     fn trace_entries<R: Real>(
         &mut self,
         entries: &[Entry],
-        contrast: &Contrast,
         times: &mut RenderTimes,
         counts: &mut Option<Counts>,
     ) -> Result<Vec<Batch<R>>, GpuError> {
         let n = entries.len() as u32;
         let rays = entries.iter().map(|e| e.count).max().unwrap_or(1);
         let list = refine::entries(entries);
-        let trees = Some(contrast.compare_trees);
-        let words = self.trace_list(&list, n, rays, trees, times, counts)?;
+        let words = self.trace_level(&list, n, rays, times, counts)?;
         let per = CONTRAST_OUTPUTS as usize;
         Ok(words[..n as usize * per]
             .par_chunks_exact(per)

@@ -1,6 +1,7 @@
 //! Adaptive sampling's refinement of a prepared scene: level by level, each
 //! level's points a list dispatched on a stage of its own
-//! (shaders/adaptive.glsl), after the corners' pass.
+//! (shaders/adaptive.glsl), after the corners' pass. Contrast sampling's
+//! levels are lists too, bound on the scene's one stage (`trace_level`).
 
 use std::time::Instant;
 
@@ -60,33 +61,27 @@ impl Prepared {
         let n = points.len() as u32;
         let per = variant::REFINE_POINTS;
         let list = refine::list(points);
-        let pixels = self.trace_list(&list, n.div_ceil(per), per, None, times, counts)?;
+        let pixels = self.trace_list(&list, n.div_ceil(per), per, times, counts)?;
         Ok(pixels[..n as usize]
             .iter()
             .map(|&c| Vec3::of_rgb(c))
             .collect())
     }
 
-    /// Traces a list in `invocations` laid out `REFINE_WIDTH` wide, each
-    /// tracing at most `rays` eye rays: adaptive sampling's points, on the
-    /// refinement's stage made for this list, or contrast sampling's
-    /// entries where `contrast` (its trees compared or not), on the main
-    /// stage, which is theirs. What the invocations wrote, in order; their
-    /// counts join `counts`.
-    pub(super) fn trace_list(
+    /// Traces adaptive sampling's points, a list on the refinement's stage
+    /// made for it, in `invocations` laid out `REFINE_WIDTH` wide, each
+    /// tracing at most `rays` eye rays. What the invocations wrote, in
+    /// order; their counts join `counts`.
+    fn trace_list(
         &mut self,
         list: &Array<'static>,
         invocations: u32,
         rays: u32,
-        contrast: Option<bool>,
         times: &mut RenderTimes,
         counts: &mut Option<Counts>,
     ) -> Result<Vec<[f32; 3]>, GpuError> {
         let per = rays.max(1);
         let (entries, tile) = list_tiles(invocations, per);
-        if contrast.is_some() && self.main.variant.contrast == contrast && self.main.holds(tile) {
-            return self.trace_list_on_main(list, entries, tile, per, times, counts);
-        }
         // The list is this call's alone: the stage binds it anew, with the
         // refinement's pipeline, looked up once for this prepared scene.
         let (pipeline, variant) = match self.refine.take() {
@@ -94,7 +89,7 @@ impl Prepared {
                 pipeline, variant, ..
             }) => (pipeline, variant),
             None => {
-                let variant = self.main.variant.listing(contrast);
+                let variant = self.main.variant.listing(None);
                 let defines = self.shared.defines_of(&variant);
                 let (pipeline, setup) = self.shared.pipeline(&variant, &defines)?;
                 times.setup.compile_s += setup.compile_s;
@@ -119,19 +114,29 @@ impl Prepared {
         Ok(words)
     }
 
-    /// A level of contrast sampling traced on the main stage, which is the
-    /// levels' own (`Gather::stage`): its list bound in place of the last,
-    /// its output and counters kept, so that a level makes no buffer but
-    /// its list's, and first touches no output.
-    fn trace_list_on_main(
+    /// A level of contrast sampling, a list of `invocations` laid out
+    /// `REFINE_WIDTH` wide, each tracing at most `rays` eye rays, traced on
+    /// the main stage, which is the levels' own (`Gather::stage`): its list
+    /// bound in place of the last, its output and counters kept, so that a
+    /// level makes no buffer but its list's, and first touches no output.
+    /// What the invocations wrote, in order; their counts join `counts`.
+    pub(super) fn trace_level(
         &mut self,
         list: &Array<'static>,
-        entries: Region,
-        tile: (u32, u32),
-        per: u32,
+        invocations: u32,
+        rays: u32,
         times: &mut RenderTimes,
         counts: &mut Option<Counts>,
     ) -> Result<Vec<[f32; 3]>, GpuError> {
+        let per = rays.max(1);
+        let (entries, tile) = list_tiles(invocations, per);
+        // The stage's output was sized for the first level, one entry a
+        // pixel of the image (`Prepared::new`): no later level's tile is
+        // wider or taller, since it lists fewer entries of more rays.
+        assert!(
+            self.main.variant.contrast.is_some() && self.main.holds(tile),
+            "a contrast scene's stage holds each level"
+        );
         let t0 = Instant::now();
         self.main.bind_list(&self.shared, &self.scene, list)?;
         times.upload_s += t0.elapsed().as_secs_f64();
