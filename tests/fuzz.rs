@@ -72,6 +72,15 @@ fn try_render(text: &str) {
     render_small(&scene);
 }
 
+/// The base scene sampled by contrast, with these keys under `[image]`.
+fn sampled_by_contrast(keys: &str) -> String {
+    BASE.replacen(
+        "samples = 1\n",
+        &format!("samples = 1\nsampling = \"contrast\"\n{keys}\n"),
+        1,
+    )
+}
+
 /// A scene that parsed renders at a few pixels without a panic, through
 /// both scene managements, to the same image.
 fn render_small(scene: &Scene) {
@@ -217,6 +226,26 @@ proptest! {
     #[test]
     fn any_text_parses_or_errs(text in "\\PC{0,400}") {
         try_render(&text);
+    }
+
+    /// Contrast sampling's keys (issue 61) with a hostile number: the
+    /// range test's bound, a threshold, or the most samples, beside either
+    /// test. The same keys with tame numbers render, so the hostile ones
+    /// are tried on a scene that gets as far as the sampler.
+    #[test]
+    fn a_hostile_contrast_key_is_refused_or_rendered(key in 0usize..4, n in hostile_number()) {
+        let tame = ["range = 0.03\nmax_samples = 9", "thresholds = [0.1, 0.1, 0.1]\nmax_samples = 9"];
+        for keys in tame {
+            let scene = parse(&sampled_by_contrast(keys), Path::new("fuzz.toml"), &Overrides::default());
+            prop_assert!(scene.is_ok(), "{keys}: {:?}", scene.err());
+        }
+        let keys = match key {
+            0 => format!("range = {n}\nmax_samples = 9"),
+            1 => format!("range = 0.03\nmax_samples = {n}"),
+            2 => format!("thresholds = [0.1, {n}, 0.1]\nmax_samples = 9"),
+            _ => format!("thresholds = [0.1, 0.1, 0.1]\nmax_samples = {n}"),
+        };
+        try_render(&sampled_by_contrast(&keys));
     }
 
     /// The base scene with one number replaced by a hostile one.
