@@ -41,8 +41,19 @@ const real BOX_SLACK = 1.000002;
 
 // The children waiting, with where the ray enters their boxes: private to
 // the invocation, shared by the two walks (never nested).
-uint bvh_stack_word[BVH_STACK];
-real bvh_stack_t[BVH_STACK];
+#if defined(PAIR_VISIT) && defined(REGISTER_STACK)
+#error "PAIR_VISIT reads the stack's array, which REGISTER_STACK keeps in registers"
+#endif
+#ifdef PAIR_VISIT
+// Pairs break the bound of three entries a level (a pair's second node
+// may lie above the first): room to spare, and pushes past it dropped
+// (bvh_push) so that the array is never overrun.
+#define BVH_CAPACITY (BVH_STACK * 4u)
+#else
+#define BVH_CAPACITY BVH_STACK
+#endif
+uint bvh_stack_word[BVH_CAPACITY];
+real bvh_stack_t[BVH_CAPACITY];
 uint bvh_sp;
 
 #ifdef REGISTER_STACK
@@ -67,6 +78,11 @@ void bvh_push(uint w, real t) {
 #define BVH_CLEAR() bvh_sp = 0u; rs_n = 0u
 #else
 void bvh_push(uint w, real t) {
+#ifdef PAIR_VISIT
+    if (bvh_sp == BVH_CAPACITY) {
+        return;
+    }
+#endif
     bvh_stack_word[bvh_sp] = w;
     bvh_stack_t[bvh_sp] = t;
     bvh_sp++;
@@ -149,6 +165,78 @@ void order(inout real ta, inout uint wa, inout uint ka, inout real tb, inout uin
     kb = swap ? k : kb;
 }
 
+// A node's four children in the order the ray enters them, nearest first
+// (INF for those it misses): their entries and their words.
+struct Children {
+    real t0, t1, t2, t3;
+    uint w0, w1, w2, w3;
+};
+
+// The children of words `child` entered at `t`, sorted; slots numbered
+// from `k` (a tie goes to the lower).
+Children sorted_children(vec4r t, uvec4 child, uint k) {
+    Children c = Children(t.x, t.y, t.z, t.w, child.x, child.y, child.z, child.w);
+    uint k0 = k, k1 = k + 1u, k2 = k + 2u, k3 = k + 3u;
+    order(c.t0, c.w0, k0, c.t1, c.w1, k1);
+    order(c.t2, c.w2, k2, c.t3, c.w3, k3);
+    order(c.t0, c.w0, k0, c.t2, c.w2, k2);
+    order(c.t1, c.w1, k1, c.t3, c.w3, k3);
+    order(c.t1, c.w1, k1, c.t2, c.w2, k2);
+    return c;
+}
+
+// Pushes the entered children of `c` but the nearest, the farthest first
+// (and the nearest last, where `nearest_too`).
+void push_children(Children c, bool nearest_too) {
+    if (c.t3 < INF) {
+        bvh_push(c.w3, c.t3);
+    }
+    if (c.t2 < INF) {
+        bvh_push(c.w2, c.t2);
+    }
+    if (c.t1 < INF) {
+        bvh_push(c.w1, c.t1);
+    }
+    if (nearest_too && c.t0 < INF) {
+        bvh_push(c.w0, c.t0);
+    }
+}
+
+#ifdef PAIR_VISIT
+// An experiment (issue 58; docs/performance.md, The walk's control): a
+// visit takes the stack's top as well where it is an inner node entered
+// within t_max, so that one iteration of the divergent loop tests eight
+// boxes, as an 8-wide node's visit would, rather than four. The nearest
+// of the eight is returned; each node's other children are pushed
+// farthest first, the node with the farther nearest child first. Slower
+// on both lavapipes: a box's work, not the loop's, is what a visit costs.
+uint bvh_descend(Ray r, vec3r inv, uint index, real t_max) {
+    uint other = BVH_EMPTY;
+    if (bvh_sp > 0u && bvh_sp + 6u <= BVH_STACK) {
+        uint w = bvh_stack_word[bvh_sp - 1u];
+        if ((w & 15u) == 0u && bvh_stack_t[bvh_sp - 1u] <= t_max * BOX_SLACK) {
+            bvh_sp--;
+            other = w >> 4;
+        }
+    }
+    ON_NODE();
+    COUNT_NODE();
+    if (other != BVH_EMPTY) {
+        COUNT_NODE();
+    }
+    Node n = unpack(index);
+    Node m = unpack(other != BVH_EMPTY ? other : index);
+    Children a = sorted_children(entries(r, inv, n, t_max), n.child, 0u);
+    Children b = sorted_children(other != BVH_EMPTY ? entries(r, inv, m, t_max) : vec4r(INF),
+                                 m.child, 4u);
+    bool b_nearer = b.t0 < a.t0;
+    push_children(b_nearer ? a : b, true);
+    Children near = b_nearer ? b : a;
+    push_children(near, false);
+    ON_PUSH(BVH_DEPTH);
+    return near.t0 < INF ? near.w0 : BVH_EMPTY;
+}
+#else
 // Visits inner node `index`: of the children whose boxes the ray enters
 // within t_max, the nearest is returned and the others are pushed, the
 // farthest first; BVH_EMPTY where it enters none.
@@ -156,27 +244,12 @@ uint bvh_descend(Ray r, vec3r inv, uint index, real t_max) {
     ON_NODE();
     COUNT_NODE();
     Node n = unpack(index);
-    vec4r t = entries(r, inv, n, t_max);
-    real t0 = t.x, t1 = t.y, t2 = t.z, t3 = t.w;
-    uint w0 = n.child.x, w1 = n.child.y, w2 = n.child.z, w3 = n.child.w;
-    uint k0 = 0u, k1 = 1u, k2 = 2u, k3 = 3u;
-    order(t0, w0, k0, t1, w1, k1);
-    order(t2, w2, k2, t3, w3, k3);
-    order(t0, w0, k0, t2, w2, k2);
-    order(t1, w1, k1, t3, w3, k3);
-    order(t1, w1, k1, t2, w2, k2);
-    if (t3 < INF) {
-        bvh_push(w3, t3);
-    }
-    if (t2 < INF) {
-        bvh_push(w2, t2);
-    }
-    if (t1 < INF) {
-        bvh_push(w1, t1);
-    }
+    Children c = sorted_children(entries(r, inv, n, t_max), n.child, 0u);
+    push_children(c, false);
     ON_PUSH(BVH_DEPTH);
-    return t0 < INF ? w0 : BVH_EMPTY;
+    return c.t0 < INF ? c.w0 : BVH_EMPTY;
 }
+#endif
 
 #ifdef SHADOW_ANY_ORDER
 // An experiment (docs/performance.md, Reading the scene): a shadow ray

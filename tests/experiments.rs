@@ -86,6 +86,11 @@ fn a_stack_in_registers_finds_what_the_array_finds() {
     same_bits_with("REGISTER_STACK", TREES);
 }
 
+#[test]
+fn two_nodes_a_visit_find_what_one_node_finds() {
+    same_bits_with("PAIR_VISIT", TREES);
+}
+
 /// MATERIAL_SELECT picks among the materials' uniform slots: a driver that
 /// gets no uniform buffers (llvmpipe before Mesa 25.0, which corrupted its
 /// heap on them; issue 56) has none to pick among.

@@ -275,6 +275,55 @@ fn the_stack_experiment_counts_within_the_declared_stack() {
     assert!(deepest > 3.0, "deepest {deepest} of {declared}");
 }
 
+/// The stack experiment's green channel counts each pixel's visits: over
+/// the image they are the nodes `--stats` counts, one a visit; with two
+/// nodes a visit (`-D PAIR_VISIT`) fewer visits than nodes, and the image
+/// the same.
+#[test]
+fn the_stack_experiment_counts_the_visits_that_stats_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo("scenes/glass.toml");
+    let render = |extra: &[&str], out: &str| {
+        let o = common::cmd()
+            .args(["render", &scene, "--width", "48", "--height", "48"])
+            .args(extra)
+            .arg("-o")
+            .arg(dir.path().join(out))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", text(&o.stderr));
+    };
+    let stack = common::repo().join("shaders/experiments/stack");
+    let stack = stack.to_str().unwrap();
+    let visits = |file: &str| -> f64 {
+        let image = glint::raster::io::read(&dir.path().join(file)).unwrap();
+        image.pixels.iter().map(|p| f64::from(p[1])).sum()
+    };
+    let nodes = |file: &str| -> f64 {
+        let stats = std::fs::read_to_string(dir.path().join(file)).unwrap();
+        let stats: serde_json::Value = serde_json::from_str(&stats).unwrap();
+        stats["tests"]["bvh_nodes"].as_f64().unwrap()
+    };
+    render(&["-I", stack], "one.pfm");
+    render(
+        &["--stats", dir.path().join("one.json").to_str().unwrap()],
+        "one.png",
+    );
+    render(&["-I", stack, "-D", "PAIR_VISIT"], "pair.pfm");
+    let pair_json = dir.path().join("pair.json");
+    render(
+        &["-D", "PAIR_VISIT", "--stats", pair_json.to_str().unwrap()],
+        "pair.png",
+    );
+    assert!(nodes("one.json") > 1000.0);
+    assert_eq!(visits("one.pfm"), nodes("one.json"));
+    assert!(visits("pair.pfm") < 0.9 * nodes("pair.json"));
+    assert_eq!(
+        std::fs::read(dir.path().join("one.png")).unwrap(),
+        std::fs::read(dir.path().join("pair.png")).unwrap()
+    );
+}
+
 /// Waits until `f` holds, for at most `limit`.
 fn wait_for(limit: Duration, mut f: impl FnMut() -> bool) -> bool {
     let start = Instant::now();
