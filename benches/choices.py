@@ -19,6 +19,12 @@ Prints, for each driver, the medians of the GPU f32 times and each lane's
 ratio to the base, as a Markdown table, and the median of those ratios and
 of the CPU f32 ratios (which move only where a lane's binary builds the
 scene differently, e.g. its BVH).
+
+On a machine with a real GPU (ci/gpu-check), `--drivers device` leaves
+the Vulkan driver as the environment has it (a lane's `--device NAME`
+picks the device), and `--metric gpu` takes the GPU render's wall time
+with no CPU reference (`glint bench --gpu-only`): a GPU's work is not the
+process's CPU seconds.
 """
 
 import argparse
@@ -55,9 +61,11 @@ def parse_lane(text, default_binary):
 
 
 def bench(lane, icd, scenes, metric, inner):
-    extra = ["--gpu-only"] if metric == "cpu" else []
+    extra = ["--gpu-only"] if metric in ("cpu", "gpu") else []
     cmd = [lane["binary"], "bench", "--json", "--runs", str(inner), *extra, *lane["args"], *scenes]
-    env = dict(os.environ, VK_DRIVER_FILES=icd, **lane["env"])
+    # icd None: the driver the environment names (--drivers device).
+    driver = {} if icd is None else {"VK_DRIVER_FILES": icd}
+    env = dict(os.environ, **driver, **lane["env"])
     out = subprocess.run(cmd, capture_output=True, text=True, cwd=REPO, env=env)
     if out.returncode != 0:
         # A lane that fails (a driver's crash, the watchdog) is reported as
@@ -68,6 +76,8 @@ def bench(lane, icd, scenes, metric, inner):
     if metric == "cpu":
         # The GPU render's CPU seconds (lavapipe's work); no CPU reference.
         return {s["scene"]: (s["gpu_f32_cpu_s"], None) for s in scenes}
+    if metric == "gpu":
+        return {s["scene"]: (s["gpu_f32_s"], None) for s in scenes}
     return {s["scene"]: (s["gpu_f32_s"], s["cpu_f32_s"]) for s in scenes}
 
 
@@ -75,14 +85,18 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--lane", action="append", required=True, help="NAME=ARGS (the first is the base)")
     ap.add_argument("--runs", type=int, default=3)
-    ap.add_argument("--drivers", default="default,22.3", help="default, 22.3 or both, comma-separated")
+    ap.add_argument(
+        "--drivers",
+        default="default,22.3",
+        help="default, 22.3 or both, comma-separated; or device: the driver the environment names",
+    )
     ap.add_argument(
         "--metric",
-        choices=["wall", "cpu"],
+        choices=["wall", "cpu", "gpu"],
         default="wall",
         help="wall: the GPU render's wall time (and the CPU reference's); cpu: the CPU seconds "
         "the process spends in the GPU render, lavapipe's work, steadier on a shared machine "
-        "(glint bench --gpu-only)",
+        "(glint bench --gpu-only); gpu: the GPU render's wall time alone (--gpu-only)",
     )
     ap.add_argument("--inner", type=int, default=1, help="timed renders a scene in each glint bench (its median)")
     target = os.environ.get("CARGO_TARGET_DIR", os.path.join(REPO, "target"))
@@ -90,11 +104,11 @@ def main():
     ap.add_argument("scenes", nargs="*")
     a = ap.parse_args()
     lanes = [parse_lane(t, a.binary) for t in a.lane]
-    icds = {"default": DEFAULT_ICD, "22.3": None}
+    icds = {"default": DEFAULT_ICD, "22.3": None, "device": None}
     drivers = [d.strip() for d in a.drivers.split(",") if d.strip()]
     for d in drivers:
         if d not in icds:
-            sys.exit(f"--drivers: {d!r} is not default or 22.3")
+            sys.exit(f"--drivers: {d!r} is not default, 22.3 or device")
         if d == "22.3":
             icds[d] = old_icd()
     runs = {(d, l["name"]): [] for d in drivers for l in lanes}
@@ -117,7 +131,8 @@ def main():
     base = every[0]
     for d in drivers:
         what = "CPU seconds of the GPU f32 render" if a.metric == "cpu" else "GPU f32"
-        print(f"\n{d} lavapipe: {what}, medians of {a.runs} interleaved runs\n")
+        where = "the environment's driver" if d == "device" else f"{d} lavapipe"
+        print(f"\n{where}: {what}, medians of {a.runs} interleaved runs\n")
         for n in every:
             if (d, n) in failed:
                 print(f"{n} failed on {d}: {failed[(d, n)]}\n")
