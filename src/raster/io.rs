@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 pub use super::pfm::read_pfm;
 use super::pfm::{pfm_header, write_pfm};
-use super::{quantize, Image};
+use super::{quantize_pixels, Image};
 use crate::input::{MAX_PIXELS, MAX_SIDE};
 use crate::output::{self, OutputError, Outputs, TargetKind};
 
@@ -167,11 +167,7 @@ fn write_png(
     srgb: bool,
     path: &Path,
 ) -> Result<(), ImageIoError> {
-    let bytes: Vec<u8> = img
-        .pixels
-        .iter()
-        .flat_map(|p| p.map(|c| quantize(c, srgb)))
-        .collect();
+    let bytes = quantize_pixels(&img.pixels, srgb);
     let encoder = image::codecs::png::PngEncoder::new(out);
     image::ImageEncoder::write_image(
         encoder,

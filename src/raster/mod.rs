@@ -2,6 +2,7 @@
 
 pub mod diff;
 pub mod io;
+mod levels;
 pub mod memory;
 mod pfm;
 pub mod region;
@@ -108,12 +109,35 @@ pub fn srgb_decode_level(c: f32) -> f32 {
     srgb_decode(f64::from(c)) as f32
 }
 
+/// Every channel of `pixels`, in order, as [`quantize`] makes it, over
+/// the threads: an image's bytes for an 8-bit file.
+pub fn quantize_pixels(pixels: &[[f32; 3]], srgb: bool) -> Vec<u8> {
+    use rayon::prelude::*;
+    const ROWS: usize = 4096;
+    let mut bytes = vec![0u8; pixels.len() * 3];
+    bytes
+        .par_chunks_mut(3 * ROWS)
+        .zip(pixels.par_chunks(ROWS))
+        .for_each(|(out, pixels)| {
+            for (out, p) in out.chunks_exact_mut(3).zip(pixels) {
+                for (o, &c) in out.iter_mut().zip(p) {
+                    *o = quantize(c, srgb);
+                }
+            }
+        });
+    bytes
+}
+
 /// docs/scene-format.md, Outputs: round(255 * clamp(c, 0, 1)), after the sRGB curve if asked.
 /// NaN maps to 0, as `clamp` would leave it undefined.
 pub fn quantize(c: f32, srgb: bool) -> u8 {
     let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
-    let c = if srgb { srgb_encode(c) } else { c };
-    (255.0 * c).round() as u8
+    if srgb {
+        // The same level as round(255 * srgb_encode(c)), by table.
+        levels::srgb_level(c)
+    } else {
+        (255.0 * c).round() as u8
+    }
 }
 
 #[cfg(test)]

@@ -14,7 +14,7 @@ use crate::cpu;
 use crate::gpu::vk::device::DeviceInfo;
 use crate::gpu::{GpuError, Intersect, Precision, RenderSettings, Renderer, SetupTimes};
 use crate::raster::diff::{figures, ErrorFigures};
-use crate::raster::{quantize, Image};
+use crate::raster::{quantize_pixels, Image};
 use crate::scene::Scene;
 
 /// What `measure` measures.
@@ -331,11 +331,7 @@ pub fn median(v: &mut [f64]) -> f64 {
 /// LDR-FLIP between two linear images, each sRGB-encoded and quantized.
 pub fn flip_mean(image: &Image, reference: &Image) -> f64 {
     let to8 = |img: &Image| -> nv_flip::FlipImageRgb8 {
-        let bytes: Vec<u8> = img
-            .pixels
-            .iter()
-            .flat_map(|p| p.map(|c| quantize(c, true)))
-            .collect();
+        let bytes = quantize_pixels(&img.pixels, true);
         nv_flip::FlipImageRgb8::with_data(img.width, img.height, &bytes)
     };
     let map = nv_flip::flip(
