@@ -3,8 +3,9 @@
 //! a 1920×1080 PNG's writing. The level is a step function of c, so each
 //! step's first value, found once with that same formula, gives every
 //! level: the same bytes, no `powf`. A second table, of the level at
-//! each 1/4096, starts the count one step or none below it (no step of
-//! the curve is narrower than 1/4096), where a search of the 255
+//! each 1/4096, starts the count one step or none below it (no step but
+//! level 0's, which ends inside the first 1/4096, is narrower than
+//! that), where a search of the 255
 //! thresholds cost more branches than the `powf` it replaced saved.
 
 use std::sync::OnceLock;
@@ -94,7 +95,8 @@ mod tests {
     fn the_thresholds_rise_and_the_ends_are_the_ends() {
         let t = thresholds();
         assert!(t.windows(2).all(|w| w[0] < w[1]));
-        // No step narrower than a bucket: a count goes on at most once.
+        // No step between two thresholds narrower than a bucket (level 0's
+        // ends inside the first): a count goes on at most once.
         assert!(t.windows(2).all(|w| w[1] - w[0] > 1.0 / BUCKETS as f32));
         assert_eq!(srgb_level(0.0), 0);
         assert_eq!(srgb_level(1.0), 255);
