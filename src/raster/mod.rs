@@ -176,6 +176,34 @@ mod tests {
         assert_eq!(quantize(f32::INFINITY, false), 255);
     }
 
+    /// The sRGB levels by table keep quantize's ends: NaN and below 0 to
+    /// 0, 1 and past it (infinity too) to 255; an image's bytes are its
+    /// channels' levels in order, none for an empty image.
+    #[test]
+    fn srgb_quantizing_keeps_the_ends_and_an_images_bytes_are_its_levels() {
+        assert_eq!(quantize(f32::NAN, true), 0);
+        assert_eq!(quantize(-1.0, true), 0);
+        assert_eq!(quantize(f32::NEG_INFINITY, true), 0);
+        assert_eq!(quantize(1.0, true), 255);
+        assert_eq!(quantize(f32::INFINITY, true), 255);
+        assert_eq!(quantize(f32::MAX, true), 255);
+        assert!(quantize_pixels(&[], true).is_empty());
+        let pixels: Vec<[f32; 3]> = (0..10_000)
+            .map(|i| {
+                let v = i as f32 / 9_000.0 - 0.05;
+                [v, f32::NAN, 1.0 - v]
+            })
+            .collect();
+        for srgb in [false, true] {
+            let bytes = quantize_pixels(&pixels, srgb);
+            let one_by_one: Vec<u8> = pixels
+                .iter()
+                .flat_map(|p| p.map(|c| quantize(c, srgb)))
+                .collect();
+            assert_eq!(bytes, one_by_one);
+        }
+    }
+
     #[test]
     fn srgb_curve_is_continuous_and_brightens_midtones() {
         let below = srgb_encode(0.003_130_8);
