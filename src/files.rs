@@ -1,5 +1,5 @@
 //! The files of a directory, listed in the one order every command uses:
-//! sorted by path; and the folder a file is in.
+//! sorted by path; the folder a file is in; and what tells a file changed.
 
 use std::path::{Path, PathBuf};
 
@@ -41,5 +41,42 @@ mod tests {
         assert_eq!(folder_of(Path::new("scenes/s.toml")), Path::new("scenes"));
         assert_eq!(folder_of(Path::new("/s.toml")), Path::new("/"));
         assert_eq!(folder_of(Path::new("./s.toml")), Path::new("."));
+    }
+}
+
+/// A file's modification time and size, and the two a writer cannot set:
+/// its inode (a file renamed over it is another) and its change time (any
+/// write sets it). Times and size alone missed a same-size edit that kept
+/// the time (`cp -p`, `rsync -a`, `tar x`, two saves in one second of a
+/// file system with 1-second times): `glint watch` and the mesh cache
+/// behind the Python module's `params` both rendered the old file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Stamp {
+    modified: Option<std::time::SystemTime>,
+    len: u64,
+    #[cfg(unix)]
+    changed: (i64, i64),
+    #[cfg(unix)]
+    file: (u64, u64),
+}
+
+impl Stamp {
+    /// The stamp of a file's metadata.
+    pub fn of(m: &std::fs::Metadata) -> Self {
+        #[cfg(unix)]
+        use std::os::unix::fs::MetadataExt;
+        Stamp {
+            modified: m.modified().ok(),
+            len: m.len(),
+            #[cfg(unix)]
+            changed: (m.ctime(), m.ctime_nsec()),
+            #[cfg(unix)]
+            file: (m.dev(), m.ino()),
+        }
+    }
+
+    /// The stamp of the file at `path`, where it can be read.
+    pub fn of_file(path: &Path) -> Option<Self> {
+        std::fs::metadata(path).ok().map(|m| Self::of(&m))
     }
 }

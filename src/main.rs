@@ -41,12 +41,25 @@ fn run() -> ExitCode {
         Err(e) => return usage_error(e),
     };
     cli::console::catching(|| match cli::run(args) {
-        Ok(code) => code,
+        Ok(code) => {
+            cache_notices();
+            code
+        }
         Err(e) => {
+            cache_notices();
             cli::console::last_words(format_args!("error: {e:#}\n"));
             ExitCode::from(2)
         }
     })
+}
+
+/// What the caches repaired during the command (a damaged SPIR-V entry
+/// compiled again), a line each at INFO level on stderr.
+fn cache_notices() {
+    #[cfg(feature = "gpu")]
+    for n in glint::gpu::sealed::notices() {
+        cli::console::to_stderr(format_args!("info: {n}\n"));
+    }
 }
 
 /// clap's own text (usage, tips, or the help where a command is missing),

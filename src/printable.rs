@@ -44,6 +44,21 @@ pub fn path(p: &Path) -> String {
     text(&p.to_string_lossy())
 }
 
+/// A number as a message shows it: as Rust writes it where that is short,
+/// in exponent form past it (at or above 1e6, below 1e-4), so that a
+/// `radius = -1e300` is "-1e300" in its error, not 301 digits.
+pub fn number<T>(v: T) -> String
+where
+    T: Copy + Into<f64> + std::fmt::Display + std::fmt::LowerExp,
+{
+    let size = v.into().abs();
+    if size.is_finite() && size != 0.0 && !(1e-4..1e6).contains(&size) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
 /// A message that may span lines, on one line, cut to `MAX_MESSAGE_CHARS`:
 /// the names and paths in it are already cut to `MAX_CHARS` each, so a long
 /// name does not push out what the message says is wrong (issue 31,
@@ -80,5 +95,21 @@ mod tests {
         let message = format!("material \"{}\": Kd must be finite", text(&long));
         assert!(one_line(&message).ends_with("\": Kd must be finite"));
         assert_eq!(one_line(&long).chars().count(), MAX_MESSAGE_CHARS + 1);
+    }
+
+    #[test]
+    fn numbers_past_a_few_digits_are_in_exponent_form() {
+        assert_eq!(number(-1e300), "-1e300");
+        assert_eq!(number(-1e-300), "-1e-300");
+        assert_eq!(number(1.5e7), "1.5e7");
+        assert_eq!(number(0.25), "0.25");
+        assert_eq!(number(-3.0), "-3");
+        assert_eq!(number(0.0), "0");
+        assert_eq!(number(123456.5), "123456.5");
+        assert_eq!(number(f64::NAN), "NaN");
+        assert_eq!(number(f64::NEG_INFINITY), "-inf");
+        assert_eq!(number(1e30f32), "1e30");
+        assert_eq!(number(0.1f32), "0.1");
+        assert!(number(f64::MIN_POSITIVE / 3.0).len() < 30);
     }
 }

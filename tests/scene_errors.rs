@@ -334,3 +334,26 @@ fn a_light_types_own_keys_are_named_where_they_stand() {
         "{msg}"
     );
 }
+
+/// A number past a few digits is in exponent form in its error: -1e300
+/// printed in full was a 301-digit "got -1000…000", and -1e-300 a
+/// 354-byte line.
+#[test]
+fn numbers_in_errors_are_short() {
+    let cases = [
+        ("radius = 1.0", "radius = -1e300", "got -1e300"),
+        ("radius = 1.0", "radius = -1e-300", "got -1e-300"),
+        ("vfov = 40.0", "vfov = 1e200", "got 1e200"),
+        ("cutoff = 30.0", "cutoff = -2.5e-9", "got -2.5e-9"),
+        (
+            "cutoff = 30.0",
+            "cutoff = 30.0\nexponent = -1e300",
+            "got -1e300",
+        ),
+    ];
+    for (from, to, words) in cases {
+        let e = error_of(&with(from, to));
+        assert!(e.contains(words), "{to}: {e}");
+        assert!(e.len() < 200, "{to}: {} bytes: {e}", e.len());
+    }
+}

@@ -240,15 +240,18 @@ fn a_mesh_cache_rereads_only_a_changed_file() {
     let plain = read(None);
     assert_eq!(plain.len(), 2);
     assert_eq!(read(Some(&cache)), plain);
+    assert_eq!(cache.reads(), 1);
     assert_eq!(read(Some(&cache)), plain, "from the cache");
+    assert_eq!(cache.reads(), 1, "an unchanged file is not read again");
     // Changed (another length): read again.
     std::fs::write(&obj, quad("-1")).unwrap();
     let moved = read(None);
     assert_ne!(moved, plain);
     assert_eq!(read(Some(&cache)), moved);
-    // Changed with its length and time of change kept: the stamp is all
-    // the cache looks at, so it is not read again (which shows the cache
-    // was used; `glint.Scene.params` documents the stamp).
+    assert_eq!(cache.reads(), 2);
+    // Changed with its length and time of modification kept, as `cp -p`,
+    // `rsync -a` and `tar x` leave it: its change time tells (the cache
+    // kept the old mesh when it looked at length and mtime alone).
     let when = std::fs::metadata(&obj).unwrap().modified().unwrap();
     std::fs::write(&obj, quad("-2")).unwrap();
     std::fs::File::options()
@@ -257,6 +260,18 @@ fn a_mesh_cache_rereads_only_a_changed_file() {
         .unwrap()
         .set_modified(when)
         .unwrap();
-    assert_ne!(read(None), moved);
-    assert_eq!(read(Some(&cache)), moved);
+    let again = read(None);
+    assert_ne!(again, moved);
+    assert_eq!(read(Some(&cache)), again);
+    // Another file of the same length and times renamed over it (an
+    // editor's save, `rsync`'s rename): its inode tells.
+    let other = dir.path().join("m2.obj");
+    std::fs::write(&other, quad("-3")).unwrap();
+    let f = std::fs::File::options().write(true).open(&other).unwrap();
+    f.set_modified(when).unwrap();
+    drop(f);
+    std::fs::rename(&other, &obj).unwrap();
+    let renamed = read(None);
+    assert_ne!(renamed, again);
+    assert_eq!(read(Some(&cache)), renamed);
 }

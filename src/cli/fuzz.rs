@@ -106,24 +106,62 @@ fn scenes(a: &FuzzArgs) -> Box<dyn Iterator<Item = Spec>> {
     }
 }
 
-/// Writes the first --cases scenes of the set into `dir`.
+/// Writes the first --cases scenes of the set into `dir`, each file as
+/// every output is written (whole or not at all, never half a scene).
 fn dump(a: &FuzzArgs, dir: &std::path::Path) -> anyhow::Result<ExitCode> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot make {}", dir.display()))?;
-    let mut n = 0;
+    glint::output::check_folder(dir)?;
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("cannot make {}", glint::printable::path(dir)))?;
+    let mut written = Vec::new();
     for (i, spec) in scenes(a).take(a.cases.unwrap_or(1000)).enumerate() {
-        spec.scene()
-            .write(dir, &format!("case-{}-{i}.toml", a.seed))
-            .with_context(|| format!("cannot write into {}", dir.display()))?;
-        n += 1;
+        written.push(
+            spec.scene()
+                .write(dir, &format!("case-{}-{i}.toml", a.seed))?,
+        );
     }
-    outln!(
-        "{n} generated scenes written into {}",
-        glint::printable::text(&dir.display().to_string())
-    );
+    if a.json {
+        outln!(
+            "{}",
+            serde_json::json!({ "set": format!("{:?}", a.set).to_lowercase(), "seed": a.seed,
+                "folder": dir, "scenes": written })
+        );
+    } else {
+        outln!(
+            "{} generated scenes written into {}",
+            written.len(),
+            glint::printable::path(dir)
+        );
+    }
     Ok(ExitCode::SUCCESS)
 }
 
+/// The longest --minutes: about two years, and a deadline a clock can hold.
+const MAX_MINUTES: f64 = 1e6;
+
+/// Refuses what no run can do before any scene is made: a --minutes no
+/// clock holds (1e300 overflowed a `Duration` and panicked), and more
+/// objects than a generated scene may hold (4294967296 asked 16 GB at once
+/// and aborted).
+fn check(a: &FuzzArgs) -> anyhow::Result<()> {
+    if let Some(m) = a.minutes {
+        anyhow::ensure!(
+            m > 0.0 && m <= MAX_MINUTES,
+            "--minutes {}: must be a number of minutes in (0, {}]",
+            glint::printable::number(m),
+            glint::printable::number(MAX_MINUTES)
+        );
+    }
+    anyhow::ensure!(
+        a.objects <= space::MAX_OBJECTS,
+        "--objects {}: a generated scene holds at most {} objects",
+        a.objects,
+        space::MAX_OBJECTS
+    );
+    Ok(())
+}
+
 pub fn run(a: &FuzzArgs) -> anyhow::Result<ExitCode> {
+    check(a)?;
     if let Some(dir) = &a.dump {
         return dump(a, dir);
     }
@@ -134,10 +172,6 @@ pub fn run(a: &FuzzArgs) -> anyhow::Result<ExitCode> {
         Set::Full => Some(space::full_len()),
     };
     let minutes = a.minutes.or(total.is_none().then_some(1.0));
-    anyhow::ensure!(
-        minutes.is_none_or(|m| m > 0.0 && m.is_finite()),
-        "--minutes: must be a positive number of minutes"
-    );
     let deadline = minutes.map(|m| Instant::now() + Duration::from_secs_f64(m * 60.0));
     let limit = a.cases.or(total).unwrap_or(usize::MAX);
     let bar = progress::bar(limit.min(1 << 40) as u64, "scenes");
@@ -166,13 +200,13 @@ pub fn run(a: &FuzzArgs) -> anyhow::Result<ExitCode> {
     let seconds = started.elapsed().as_secs_f64();
     let mut written = Vec::new();
     if !found.is_empty() {
+        glint::output::check_folder(&a.out)?;
         std::fs::create_dir_all(&a.out)
             .with_context(|| format!("cannot make {}", a.out.display()))?;
     }
     for (case, index, _) in &found {
         let name = format!("case-{}-{index}.toml", a.seed);
-        let path = fuzz::write_case(case, &a.out, &name)
-            .with_context(|| format!("cannot write into {}", a.out.display()))?;
+        let path = fuzz::write_case(case, &a.out, &name)?;
         written.push(path);
     }
     if a.json {

@@ -2,12 +2,13 @@ use crate::cli::console::errln;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::mpsc;
-use std::time::{Duration, SystemTime};
+use std::time::Duration;
 
 use anyhow::Context;
 use clap::Args;
 use notify_debouncer_mini::{new_debouncer, notify::RecursiveMode};
 
+use glint::files::Stamp;
 use glint::gpu::{GpuError, Renderer};
 use glint::output::Outputs;
 use glint::raster::io;
@@ -34,40 +35,10 @@ fn stamp(scene: &Path, device: &DeviceArgs) -> Vec<(PathBuf, Option<Stamp>)> {
     files
         .into_iter()
         .map(|f| {
-            let stamp = std::fs::metadata(&f).ok().map(|m| Stamp::of(&m));
+            let stamp = Stamp::of_file(&f);
             (f, stamp)
         })
         .collect()
-}
-
-/// A file's modification time and size, and the two a writer cannot set:
-/// its inode (a file renamed over it is another) and its change time (any
-/// write sets it). Times and size alone missed a same-size edit that kept
-/// the time (`cp -p`, `rsync -t`, two saves in one second of a file
-/// system with 1-second times).
-#[derive(Debug, PartialEq, Eq)]
-struct Stamp {
-    modified: Option<SystemTime>,
-    len: u64,
-    #[cfg(unix)]
-    changed: (i64, i64),
-    #[cfg(unix)]
-    file: (u64, u64),
-}
-
-impl Stamp {
-    fn of(m: &std::fs::Metadata) -> Self {
-        #[cfg(unix)]
-        use std::os::unix::fs::MetadataExt;
-        Stamp {
-            modified: m.modified().ok(),
-            len: m.len(),
-            #[cfg(unix)]
-            changed: (m.ctime(), m.ctime_nsec()),
-            #[cfg(unix)]
-            file: (m.dev(), m.ino()),
-        }
-    }
 }
 
 /// The directories to watch, and how: the scene's and each shader file's

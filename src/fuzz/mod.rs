@@ -16,6 +16,7 @@ use crate::accel::Accel;
 use crate::condition::judge;
 use crate::cpu;
 use crate::generate::{LightSpec, Spec};
+use crate::output::interrupt::TempFolder;
 use crate::raster::diff::Tolerance;
 use crate::raster::Image;
 use crate::scene::Scene;
@@ -169,9 +170,10 @@ pub fn compare_failure(scene: &Scene, img: &Image, reference: &Image) -> Option<
     })
 }
 
-/// A generated scene, loaded: its files go into a folder of their own.
-pub fn load(spec: &Spec) -> Result<(Scene, tempfile::TempDir), String> {
-    let dir = tempfile::tempdir().map_err(|e| format!("cannot make a folder: {e}"))?;
+/// A generated scene, loaded: its files go into a folder of their own,
+/// which an interrupted run removes.
+pub fn load(spec: &Spec) -> Result<(Scene, TempFolder), String> {
+    let dir = TempFolder::new("fuzz").map_err(|e| format!("cannot make a folder: {e}"))?;
     let scene = spec.scene().load(dir.path()).map_err(|e| e.to_string())?;
     Ok((scene, dir))
 }
@@ -285,7 +287,11 @@ pub struct Case {
 
 /// Writes a failing case's scene (shrunk, where it was) and its files into
 /// `dir` as `name`, with the failures as comments at its head; the path.
-pub fn write_case(case: &Case, dir: &Path, name: &str) -> std::io::Result<std::path::PathBuf> {
+pub fn write_case(
+    case: &Case,
+    dir: &Path,
+    name: &str,
+) -> Result<std::path::PathBuf, crate::output::OutputError> {
     let mut g = case.spec.scene();
     let mut head = String::new();
     for f in &case.failures {

@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
+use crate::output::OutputError;
 use crate::prim::KINDS;
 use crate::rng::Place;
 use crate::rng::Xorshift;
@@ -146,13 +147,20 @@ pub struct Generated {
 
 impl Generated {
     /// Writes the scene (as `name`) and its files into `dir`; the scene's
-    /// path.
-    pub fn write(&self, dir: &Path, name: &str) -> std::io::Result<PathBuf> {
+    /// path. Each file is written as every output is (`output::write_one`):
+    /// whole or not at all, an earlier one at its name kept until the new
+    /// one is complete, none left half-written by a signal.
+    pub fn write(&self, dir: &Path, name: &str) -> Result<PathBuf, OutputError> {
+        let whole = |path: &Path, bytes: &[u8]| {
+            crate::output::write_one::<OutputError>(path, &[], false, |w| {
+                w.write_all(bytes).map_err(crate::output::io_err(path))
+            })
+        };
         for (file, bytes) in &self.files {
-            std::fs::write(dir.join(file), bytes)?;
+            whole(&dir.join(file), bytes)?;
         }
         let path = dir.join(name);
-        std::fs::write(&path, &self.text)?;
+        whole(&path, self.text.as_bytes())?;
         Ok(path)
     }
 
@@ -161,9 +169,12 @@ impl Generated {
     pub fn load(&self, dir: &Path) -> Result<Scene, SceneError> {
         let path = self
             .write(dir, "generated.toml")
-            .map_err(|cause| SceneError::Read {
+            .map_err(|e| SceneError::Read {
                 path: dir.join("generated.toml"),
-                cause,
+                cause: match e {
+                    OutputError::Io { cause, .. } => cause,
+                    other => std::io::Error::other(other.to_string()),
+                },
             })?;
         crate::scene::parse(&self.text, &path, &Overrides::default())
     }

@@ -268,6 +268,10 @@ pub fn ci() -> Vec<Point> {
     out
 }
 
+/// The most objects a generated scene holds (`glint fuzz --objects`): a
+/// scene far past the BVH's reach, whose file is still a few megabytes.
+pub const MAX_OBJECTS: usize = 100_000;
+
 /// A random scene over the wide ranges: up to `max_objects` objects of
 /// any kinds (past the BVH's threshold), up to 4 lights of any types,
 /// scales and offsets from the extreme suite's ranges, the eye inside an

@@ -431,8 +431,10 @@ pub fn compile_cached(
     let Some(dir) = dir else {
         return Ok((compile(sources, defines)?.spirv, false));
     };
-    let file = dir.join(format!("{}.spv", cache_key(fingerprint, defines)));
-    if let Ok(bytes) = std::fs::read(&file) {
+    // Sealed (`sealed`): a damaged entry is compiled again and replaced,
+    // never handed to the driver.
+    let file = dir.join(format!("{}.spv.sealed", cache_key(fingerprint, defines)));
+    if let Some(bytes) = super::sealed::read(&file, "the cached SPIR-V") {
         if bytes.len() % 4 == 0 && bytes.len() >= 20 {
             let words: Vec<u32> = bytes
                 .chunks_exact(4)
@@ -444,14 +446,7 @@ pub fn compile_cached(
         }
     }
     let spirv = compile(sources, defines)?.spirv;
-    // A cache that cannot be written is only a slower next start.
-    if std::fs::create_dir_all(dir).is_ok() {
-        if let Ok(tmp) = tempfile::NamedTempFile::new_in(dir) {
-            if std::fs::write(tmp.path(), spirv_bytes(&spirv)).is_ok() {
-                let _ = tmp.persist(&file);
-            }
-        }
-    }
+    super::sealed::write(&file, &spirv_bytes(&spirv));
     Ok((spirv, false))
 }
 

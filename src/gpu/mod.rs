@@ -33,6 +33,7 @@ mod refine;
 mod renderer;
 mod resident;
 pub mod schedule;
+pub mod sealed;
 mod shared;
 mod times;
 pub mod variant;

@@ -56,7 +56,7 @@ impl Renderer {
         let cache_file = opts
             .cache_dir
             .as_ref()
-            .map(|d| d.join(format!("pipelines-{}.bin", device.info.cache_id())));
+            .map(|d| d.join(format!("pipelines-{}.sealed", device.info.cache_id())));
         let pipeline_cache = PipelineCache::new(&device, cache_file.as_deref())?;
         let stage_uploads = opts
             .stage_uploads

@@ -95,7 +95,10 @@ impl At<'_> {
         let path = self.path.key(key);
         let v = self.check.finite(&path, v)?;
         if v <= 0.0 {
-            return self.check.err(&path, format!("must be > 0, got {v}"));
+            return self.check.err(
+                &path,
+                format!("must be > 0, got {}", crate::printable::number(v)),
+            );
         }
         if v > MAX_COORDINATE {
             return self.check.err(
@@ -188,7 +191,13 @@ impl Validator<'_> {
 
     pub(crate) fn finite(&self, path: &KeyPath, v: f64) -> Result<f64> {
         if !v.is_finite() {
-            return self.err(path, format!("must be a finite number, got {v}"));
+            return self.err(
+                path,
+                format!(
+                    "must be a finite number, got {}",
+                    crate::printable::number(v)
+                ),
+            );
         }
         Ok(v)
     }
@@ -197,7 +206,10 @@ impl Validator<'_> {
     pub(crate) fn non_negative(&self, path: &KeyPath, v: f64) -> Result<f64> {
         let v = self.finite(path, v)?;
         if v < 0.0 {
-            return self.err(path, format!("must be >= 0, got {v}"));
+            return self.err(
+                path,
+                format!("must be >= 0, got {}", crate::printable::number(v)),
+            );
         }
         Ok(v)
     }
@@ -228,7 +240,10 @@ impl Validator<'_> {
     pub(crate) fn colour(&self, path: &KeyPath, t: Triple) -> Result<DVec3> {
         let v = self.vector(path, t)?;
         if let Some(i) = t.iter().position(|c| *c < 0.0) {
-            return self.err(&path.index(i), format!("must be >= 0, got {}", t[i]));
+            return self.err(
+                &path.index(i),
+                format!("must be >= 0, got {}", crate::printable::number(t[i])),
+            );
         }
         Ok(v)
     }

@@ -108,3 +108,63 @@ pub fn clean_up() {
         let _ = std::fs::remove_dir_all(f);
     }
 }
+
+/// A run's temporary folder, `$TMPDIR/glint-<what>-<pid>-XXXXXX`: listed
+/// for an interrupted run to remove, and removed when dropped. Those of
+/// the same `what` that a run left behind and no longer runs (a SIGKILL's)
+/// are removed as it is made: a signal that no handler sees leaves one
+/// folder until the next run, not for ever.
+pub struct TempFolder(Option<tempfile::TempDir>);
+
+impl TempFolder {
+    /// Makes one for `what` (letters and '-': `fuzz`, `drivers`); once
+    /// the run is stopping, never returns.
+    pub fn new(what: &str) -> std::io::Result<Self> {
+        remove_stale_folders(what);
+        let prefix = format!("{}{}-", folder_stem(what), std::process::id());
+        let dir = make_folder(|| tempfile::Builder::new().prefix(&prefix).tempdir())?;
+        Ok(Self(Some(dir)))
+    }
+
+    /// Where it is.
+    pub fn path(&self) -> &Path {
+        self.0.as_ref().expect("held until dropped").path()
+    }
+}
+
+impl Drop for TempFolder {
+    fn drop(&mut self) {
+        if let Some(dir) = self.0.take() {
+            let path = dir.path().to_owned();
+            // Removed, then unlisted: a signal between finds it listed.
+            drop(dir);
+            folder_kept(&path);
+        }
+    }
+}
+
+/// The start of a `what` folder's name, before its pid.
+fn folder_stem(what: &str) -> String {
+    format!("glint-{what}-")
+}
+
+/// Removes the `what` folders in the system's temporary folder whose run
+/// no longer runs.
+fn remove_stale_folders(what: &str) {
+    let stem = folder_stem(what);
+    let Ok(entries) = std::fs::read_dir(std::env::temp_dir()) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let pid = name
+            .strip_prefix(&stem)
+            .and_then(|rest| rest.split_once('-'))
+            .and_then(|(pid, _)| pid.parse::<u32>().ok());
+        if let Some(pid) = pid {
+            if pid != std::process::id() && !super::alive(pid) && e.path().is_dir() {
+                let _ = std::fs::remove_dir_all(e.path());
+            }
+        }
+    }
+}

@@ -114,7 +114,10 @@ fn radius(at: &At, key: &str, v: f64) -> Result<f64, SceneError> {
     if !v.is_finite() || !(0.0..=MAX_COORDINATE).contains(&v) {
         return at.invalid(
             key,
-            format!("must be a number from 0 to {MAX_COORDINATE:e}, got {v}"),
+            format!(
+                "must be a number from 0 to {MAX_COORDINATE:e}, got {}",
+                crate::printable::number(v)
+            ),
         );
     }
     Ok(v)

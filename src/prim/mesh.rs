@@ -11,6 +11,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use super::triangle::{Triangle, MAX_UV};
+use crate::files::Stamp;
 use crate::input::error::SceneError;
 use crate::input::field::{unit_vector, At, Triple};
 
@@ -353,6 +354,8 @@ fn read(path: &Path, scene_material: bool, at: &At) -> Result<Parsed, SceneError
 #[derive(Debug, Default)]
 pub struct Cache {
     entries: std::sync::Mutex<Vec<Entry>>,
+    /// How many files it has read (not taken from itself).
+    reads: std::sync::atomic::AtomicUsize,
 }
 
 #[derive(Debug)]
@@ -364,12 +367,8 @@ struct Entry {
     parsed: Arc<Parsed>,
 }
 
-/// What tells a file changed: its length and time of change.
-type Stamp = (u64, std::time::SystemTime);
-
 fn stamp(path: &Path) -> Option<Stamp> {
-    let m = std::fs::metadata(path).ok()?;
-    Some((m.len(), m.modified().ok()?))
+    Stamp::of_file(path)
 }
 
 /// Files a cache keeps at most: a scene's meshes, with room.
@@ -448,6 +447,11 @@ impl Cache {
         entries.push(entry);
     }
 
+    /// How many OBJ files it has read rather than taken from itself.
+    pub fn reads(&self) -> usize {
+        self.reads.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
     /// The file at `path` as `read` gives it: from the cache where read
     /// before and unchanged since, else read (and kept where it reads).
     fn get_or_read(
@@ -477,6 +481,8 @@ impl Cache {
         // Stamped before it is read: a file changed while read is read
         // again next time.
         let before = stamp(path);
+        self.reads
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let parsed = Arc::new(read()?);
         let mut stamps = stamps_of(&parsed);
         if stamps[0] != before {
@@ -542,7 +548,15 @@ fn mtl_material(
     let colour = |what: &str, v: Option<[f64; 3]>| -> Result<DVec3, SceneError> {
         let v = DVec3::from_array(v.unwrap_or_default());
         if !v.is_finite() || v.min_element() < 0.0 {
-            bad(what, format!("must be finite and >= 0, got {v}"))?;
+            bad(
+                what,
+                format!(
+                    "must be finite and >= 0, got [{}, {}, {}]",
+                    crate::printable::number(v.x),
+                    crate::printable::number(v.y),
+                    crate::printable::number(v.z)
+                ),
+            )?;
         }
         Ok(v)
     };

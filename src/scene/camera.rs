@@ -115,7 +115,10 @@ impl Validator<'_> {
         if !(vfov > 0.0 && vfov < 180.0) {
             return self.err(
                 &path.key("vfov"),
-                format!("must be in (0, 180) degrees, got {vfov}"),
+                format!(
+                    "must be in (0, 180) degrees, got {}",
+                    crate::printable::number(vfov)
+                ),
             );
         }
         let up = self.direction(&path.key("up"), c.up.unwrap_or(Triple([0.0, 1.0, 0.0])))?;

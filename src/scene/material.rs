@@ -214,19 +214,28 @@ impl Validator<'_> {
         if !(0.0..=1.0).contains(&reflectivity) {
             return self.err(
                 &path.key("reflectivity"),
-                format!("must be in [0, 1], got {reflectivity}"),
+                format!(
+                    "must be in [0, 1], got {}",
+                    crate::printable::number(reflectivity)
+                ),
             );
         }
         let transmittance = self.finite(&path.key("transmittance"), m.transmittance)?;
         if !(0.0..=1.0).contains(&transmittance) {
             return self.err(
                 &path.key("transmittance"),
-                format!("must be in [0, 1], got {transmittance}"),
+                format!(
+                    "must be in [0, 1], got {}",
+                    crate::printable::number(transmittance)
+                ),
             );
         }
         let ior = self.finite(&path.key("ior"), m.ior)?;
         if ior <= 0.0 {
-            return self.err(&path.key("ior"), format!("must be > 0, got {ior}"));
+            return self.err(
+                &path.key("ior"),
+                format!("must be > 0, got {}", crate::printable::number(ior)),
+            );
         }
         // Both renderers square the ratio of two iors: it must stay finite,
         // and non-zero, in f32 (the f32 overflow rule of every other value).

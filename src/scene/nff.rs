@@ -422,7 +422,9 @@ impl<'a> Reader<'a> {
                 view.line,
                 format!(
                     "v: the angle must be in (0, 180) degrees and the resolution at least 2×2, got {} and {}×{}",
-                    view.angle, view.width, view.height
+                    crate::printable::number(view.angle),
+                    view.width,
+                    view.height
                 ),
             );
         }

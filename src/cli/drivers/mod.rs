@@ -100,23 +100,18 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
     a.device.options()?.check()?;
     icd::check_given(&a.icd)?;
     let size = plan::size(a)?;
-    let (paths, scenes) = plan::scenes(a, &size)?;
+    let scenes = plan::scenes(a, &size)?;
     let started = Instant::now();
     let files = plan::driver_files(a)?;
-    let inputs = plan::inputs(a, &paths, &scenes, &files);
+    let inputs = plan::inputs(a, &scenes, &files);
     let mut outputs = Outputs::new(inputs.iter(), false);
     for f in table::files(&a.output) {
         if f.parent().is_some_and(|d| d.is_dir()) {
             outputs.check(&f)?;
         }
     }
-    staging::remove_stale_work();
-    let work = glint::output::interrupt::make_folder(|| {
-        tempfile::Builder::new()
-            .prefix(&staging::work_prefix())
-            .tempdir()
-    })
-    .context("cannot make a temporary folder")?;
+    let work = glint::output::interrupt::TempFolder::new("drivers")
+        .context("cannot make a temporary folder")?;
     staging::room(work.path())?;
     let run = Run {
         args: a,
@@ -138,14 +133,7 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
     let (drivers, absent) = identify::tested(all)?;
     let staging = Staging::new(&a.output)?;
     let load_repro = identify::load_reproducers(&run, &drivers, &staging, &repro_root)?;
-    let rows = run.rows(
-        &paths,
-        &scenes,
-        &drivers,
-        &load_repro,
-        &staging.dir,
-        &repro_root,
-    )?;
+    let rows = run.rows(&scenes, &drivers, &load_repro, &staging.dir, &repro_root)?;
     let seconds = started.elapsed().as_secs_f64();
     let matrix = outcome::matrix(&drivers, &absent, rows, &size, seconds);
     outcome::finish(&matrix, a, outputs, staging, &repro_root)

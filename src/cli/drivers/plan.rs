@@ -8,7 +8,8 @@ use std::time::Duration;
 use glint::cpu;
 use glint::scene::{Overrides, Scene};
 
-use super::{generated, icd, memory, DriversArgs, MIN_DEADLINE};
+use super::generated::Generated;
+use super::{icd, memory, DriversArgs, MIN_DEADLINE};
 
 /// The run's time limits.
 pub(super) struct Limits {
@@ -25,7 +26,8 @@ impl Limits {
         let seconds = |name: &str, v: f64| {
             anyhow::ensure!(
                 v.is_finite() && v > 0.0 && v <= 1e6,
-                "{name} {v:?}: must be in (0, 1e6] seconds"
+                "{name} {}: must be in (0, 1e6] seconds",
+                glint::printable::number(v)
             );
             Ok(Duration::from_secs_f64(v))
         };
@@ -35,8 +37,8 @@ impl Limits {
         // (issue 57, item 13): that is no verdict on a driver.
         anyhow::ensure!(
             deadline >= MIN_DEADLINE,
-            "--deadline {:?}: must be at least {} s, the time a probe takes to start and load its driver",
-            a.deadline.unwrap_or_default(),
+            "--deadline {}: must be at least {} s, the time a probe takes to start and load its driver",
+            glint::printable::number(a.deadline.unwrap_or_default()),
             MIN_DEADLINE.as_secs()
         );
         Ok(Limits {
@@ -61,12 +63,26 @@ pub(super) fn size(a: &DriversArgs) -> anyhow::Result<Overrides> {
     Ok(size)
 }
 
-/// The scenes' files and the scenes, every one loaded at `size` before
-/// minutes of rendering.
-pub(super) fn scenes(
-    a: &DriversArgs,
-    size: &Overrides,
-) -> anyhow::Result<(Vec<PathBuf>, Vec<Scene>)> {
+/// A row's scene: read before any driver runs, or generated as its row
+/// starts (`--generated`).
+pub(super) enum Source {
+    Read(Box<Scene>),
+    Generated(u64),
+}
+
+/// The run's rows: each scene's path and its source, with the generated
+/// scenes' folder and the size every scene is read at.
+pub(super) struct Scenes {
+    pub paths: Vec<PathBuf>,
+    pub sources: Vec<Source>,
+    pub generated: Option<Generated>,
+    pub size: Overrides,
+}
+
+/// The scenes' files and the scenes: those named (or the defaults), every
+/// one read at `size` before minutes of rendering and before anything is
+/// written, then the generated ones, whose folder is made anew here.
+pub(super) fn scenes(a: &DriversArgs, size: &Overrides) -> anyhow::Result<Scenes> {
     let mut paths = if !a.scenes.is_empty() || a.generated.is_some() {
         a.scenes.clone()
     } else if a.quick {
@@ -77,18 +93,40 @@ pub(super) fn scenes(
         v.extend(crate::cli::scene_files("scenes/extreme")?);
         v
     };
-    if let Some(n) = a.generated {
-        paths.extend(generated::write(&a.output, n, a.seed)?);
-    }
-    let scenes = paths
+    let mut scenes = paths
         .iter()
         .map(|p| {
             let s = Scene::load(p, size)?;
             cpu::bound::check(&s)?;
-            Ok(s)
+            Ok(Source::Read(Box::new(s)))
         })
         .collect::<anyhow::Result<Vec<_>>>()?;
-    Ok((paths, scenes))
+    let Some(n) = a.generated else {
+        return Ok(Scenes {
+            paths,
+            sources: scenes,
+            generated: None,
+            size: *size,
+        });
+    };
+    let mut read = paths.clone();
+    for s in &scenes {
+        if let Source::Read(s) = s {
+            read.extend(s.input_files.iter().cloned());
+        }
+    }
+    let generated = Generated::new(&a.output, n, a.seed, &read)?;
+    generated.make_folder()?;
+    for i in 0..n as u64 {
+        paths.push(generated.path(i));
+        scenes.push(Source::Generated(i));
+    }
+    Ok(Scenes {
+        paths,
+        sources: scenes,
+        generated: Some(generated),
+        size: *size,
+    })
 }
 
 /// The drivers' ICD files: the loader's, the unpacked ones and those
@@ -113,17 +151,14 @@ pub(super) fn driver_files(a: &DriversArgs) -> anyhow::Result<Vec<PathBuf>> {
 /// Every file the run reads: the scenes and theirs, the shader files, the
 /// ICD files and the drivers' libraries (issue 42, defect 2: a
 /// drivers.csv linked to the library the run loaded replaced it).
-pub(super) fn inputs(
-    a: &DriversArgs,
-    paths: &[PathBuf],
-    scenes: &[Scene],
-    files: &[PathBuf],
-) -> Vec<PathBuf> {
+pub(super) fn inputs(a: &DriversArgs, scenes: &Scenes, files: &[PathBuf]) -> Vec<PathBuf> {
     let mut inputs = a.device.inputs();
     inputs.extend(a.icd.iter().cloned());
-    for (p, s) in paths.iter().zip(scenes) {
-        inputs.push(p.clone());
-        inputs.extend(s.input_files.iter().cloned());
+    for (p, s) in scenes.paths.iter().zip(&scenes.sources) {
+        if let Source::Read(s) = s {
+            inputs.push(p.clone());
+            inputs.extend(s.input_files.iter().cloned());
+        }
     }
     inputs.extend(files.iter().cloned());
     inputs.extend(files.iter().filter_map(|f| icd::library(f)));

@@ -11,6 +11,7 @@ use glint::scene::Scene;
 
 use super::folder::folder;
 use super::identify::Driver;
+use super::plan::{Scenes, Source};
 use super::table::{Cell, Row};
 use super::Run;
 use crate::cli::{progress, scene_name};
@@ -22,22 +23,33 @@ impl Run<'_> {
     /// will hold them.
     pub(super) fn rows(
         &self,
-        paths: &[PathBuf],
-        scenes: &[Scene],
+        scenes: &Scenes,
         drivers: &[Driver],
         load_repro: &[Option<PathBuf>],
         staging_dir: &Path,
         repro_root: &Path,
     ) -> anyhow::Result<Vec<Row>> {
-        let bar = progress::bar((scenes.len() * drivers.len()) as u64, "drivers");
+        let bar = progress::bar((scenes.paths.len() * drivers.len()) as u64, "drivers");
         let mut rows = Vec::new();
-        for ((path, scene), name) in paths.iter().zip(scenes).zip(row_names(paths)) {
+        let named = scenes.paths.iter().zip(&scenes.sources);
+        for ((path, source), name) in named.zip(row_names(&scenes.paths)) {
             let shown = glint::printable::text(&name);
+            // Past the budget no scene is read or written: its row is "not run".
+            let made;
+            let scene = match (source, &scenes.generated) {
+                _ if self.past_budget() => None,
+                (Source::Read(s), _) => Some(&**s),
+                (Source::Generated(i), Some(g)) => {
+                    bar.set_message(format!("{shown}: writing it"));
+                    made = g.scene(*i, &scenes.size)?;
+                    Some(&made)
+                }
+                (Source::Generated(_), None) => anyhow::bail!("{shown}: no folder for it"),
+            };
             bar.set_message(format!("{shown}: the CPU f64 reference"));
-            let reference = if self.past_budget() {
-                None
-            } else {
-                Some(reference(scene, self.args.device.accel)?)
+            let reference = match scene {
+                Some(scene) => Some((scene, reference(scene, self.args.device.accel)?)),
+                None => None,
             };
             let mut cells = Vec::new();
             for (d, load_repro) in drivers.iter().zip(load_repro) {
@@ -49,7 +61,7 @@ impl Run<'_> {
                         repro: load_repro.clone(),
                         explained: None,
                     },
-                    (Ok(identity), Some(reference)) if !self.past_budget() => {
+                    (Ok(identity), Some((scene, reference))) if !self.past_budget() => {
                         let (verdict, image, stderr) = self.scene(
                             d,
                             path,
@@ -116,11 +128,16 @@ pub(super) fn reference(scene: &Scene, accel: glint::accel::Accel) -> anyhow::Re
 /// a stem (issue 42, defect 3: a/s.toml and b/s.toml were two rows "s").
 fn row_names(paths: &[PathBuf]) -> Vec<String> {
     let stems: Vec<String> = paths.iter().map(|p| scene_name(p)).collect();
+    // Counted once: a run of --generated 100000 compared every pair.
+    let mut count = std::collections::HashMap::<&str, usize>::new();
+    for s in &stems {
+        *count.entry(s).or_default() += 1;
+    }
     paths
         .iter()
         .zip(&stems)
         .map(|(p, stem)| {
-            if stems.iter().filter(|s| *s == stem).count() > 1 {
+            if count[stem.as_str()] > 1 {
                 p.display().to_string()
             } else {
                 stem.clone()

@@ -70,32 +70,6 @@ pub(super) fn remove_stale(dir: &Path) {
     }
 }
 
-/// The prefix of a run's temporary folder: `glint-drivers-<pid>-`.
-pub(super) fn work_prefix() -> String {
-    format!("glint-drivers-{}-", std::process::id())
-}
-
-/// Removes the temporary folders of runs that no longer run from the
-/// system's temporary folder (named by `work_prefix`).
-pub(super) fn remove_stale_work() {
-    let tmp = std::env::temp_dir();
-    let Ok(entries) = std::fs::read_dir(&tmp) else {
-        return;
-    };
-    for e in entries.flatten() {
-        let name = e.file_name().to_string_lossy().into_owned();
-        let pid = name
-            .strip_prefix("glint-drivers-")
-            .and_then(|rest| rest.split_once('-'))
-            .and_then(|(pid, _)| pid.parse::<u32>().ok());
-        if let Some(pid) = pid {
-            if pid != std::process::id() && !glint::output::alive(pid) && e.path().is_dir() {
-                let _ = std::fs::remove_dir_all(e.path());
-            }
-        }
-    }
-}
-
 /// The bytes a folder of the probes must take before any starts: a probe
 /// writes its image (230 KB at the default 160x120) and its report.
 const ROOM: usize = 1 << 20;

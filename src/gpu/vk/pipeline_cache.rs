@@ -1,6 +1,7 @@
-//! A Vulkan pipeline cache kept in a file between runs. The driver checks
-//! the data's header (vendor, device, driver version) and ignores data made
-//! elsewhere, so a stale or foreign file costs nothing but a cold compile.
+//! A Vulkan pipeline cache kept in a file between runs, sealed with a
+//! checksum (`gpu::sealed`). The driver checks the data's header (vendor,
+//! device, driver version) and ignores data made elsewhere, so a stale or
+//! foreign file costs nothing but a cold compile.
 
 use std::path::{Path, PathBuf};
 
@@ -21,7 +22,11 @@ pub struct PipelineCache {
 impl PipelineCache {
     /// A cache seeded from `file` where it exists; saved back on drop.
     pub fn new(device: &Arc<Device>, file: Option<&Path>) -> Result<Self, GpuError> {
-        let data = file.and_then(|f| std::fs::read(f).ok()).unwrap_or_default();
+        // Sealed (`gpu::sealed`): the driver checks the data's header alone,
+        // and damaged data past it is the driver's to misread.
+        let data = file
+            .and_then(|f| crate::gpu::sealed::read(f, "the Vulkan pipeline cache"))
+            .unwrap_or_default();
         let info = vk::PipelineCacheCreateInfo::default().initial_data(&data);
         // SAFETY: a live device; initial data of any content is allowed (the
         // driver checks its header and ignores data that is not its own).
@@ -41,9 +46,7 @@ impl Drop for PipelineCache {
         if let Some(file) = &self.file {
             // SAFETY: a live cache of a live device.
             if let Ok(data) = unsafe { d.get_pipeline_cache_data(self.raw) } {
-                // A cache that cannot be written is only a slower next start.
-                let _ = file.parent().map(std::fs::create_dir_all);
-                let _ = std::fs::write(file, data);
+                crate::gpu::sealed::write(file, &data);
             }
         }
         // SAFETY: pipeline creation, the cache's only user, is synchronous.
