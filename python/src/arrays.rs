@@ -8,6 +8,7 @@
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use std::sync::{Arc, Mutex, Weak};
 
 use glint::scene::MeshArrays;
 
@@ -24,8 +25,11 @@ pub const MESH_ARRAYS: &[&str] = &["vertices", "faces", "normals", "uvs"];
 /// The folder a dict's arrays are written into, made at the first one.
 #[derive(Default)]
 pub struct ArrayFiles {
-    dir: Option<tempfile::TempDir>,
+    dir: Option<Arc<tempfile::TempDir>>,
     written: usize,
+    /// Each file written, and the key of the arrays it holds
+    /// (`meshes[0]`, `textures.t.image`): what an error names.
+    keys: Vec<(PathBuf, String)>,
     /// The meshes written, by file, as arrays: a scene's mesh cache takes
     /// them, so that the files are not parsed back (`MeshCache::insert_arrays`).
     meshes: Vec<(PathBuf, MeshArrays)>,
@@ -72,11 +76,52 @@ fn number(out: &mut String, x: f64) {
     let _ = write!(out, " {x:?}");
 }
 
+/// The folders of the arrays of every scene alive: a scene made from
+/// another's `to_dict` names its files, and keeps them (a copy made as
+/// docs/python.md makes one failed once the original was collected).
+static LIVE: Mutex<Vec<Weak<tempfile::TempDir>>> = Mutex::new(Vec::new());
+
+/// The folders of other scenes' arrays that `text` names: a scene read
+/// from it keeps them as long as it lives.
+pub fn named_in(text: &str) -> Vec<Arc<tempfile::TempDir>> {
+    let mut live = LIVE.lock().unwrap_or_else(|p| p.into_inner());
+    live.retain(|w| w.strong_count() > 0);
+    live.iter()
+        .filter_map(Weak::upgrade)
+        .filter(|d| text.contains(&*d.path().to_string_lossy()))
+        .collect()
+}
+
 impl ArrayFiles {
     /// The folder the arrays were written into, where any was: the scene
     /// keeps it as long as it lives.
-    pub fn into_dir(self) -> Option<tempfile::TempDir> {
+    pub fn into_dir(self) -> Option<Arc<tempfile::TempDir>> {
         self.dir
+    }
+
+    /// `message` (an error of the scene the arrays were read into) with
+    /// each file written named by the key of its arrays, not by its
+    /// temporary path, which the user never gave.
+    pub fn said(&self, message: &str) -> String {
+        let mut out = message.to_owned();
+        for (path, key) in &self.keys {
+            let path = path.display().to_string();
+            out = out.replace(&format!("{key}: {path}: "), &format!("{key}: "));
+            out = out.replace(&format!("{path}: "), &format!("{key}: "));
+            out = out.replace(&path, key);
+        }
+        out
+    }
+
+    /// The key of the arrays an error's key (`meshes[0].file`,
+    /// `meshes[0].material`) is of, where it is of a mesh written from
+    /// arrays.
+    pub fn arrays_of(&self, key: &str) -> Option<String> {
+        let (entry, _) = key.rsplit_once('.')?;
+        self.keys
+            .iter()
+            .find(|(_, k)| k == entry)
+            .map(|(_, k)| k.clone())
     }
 
     /// The meshes written, as `cache` takes them.
@@ -86,18 +131,24 @@ impl ArrayFiles {
         }
     }
 
-    fn path(&mut self, extension: &str) -> PyResult<PathBuf> {
+    fn path(&mut self, extension: &str, key: &str) -> PyResult<PathBuf> {
         if self.dir.is_none() {
-            self.dir = Some(
+            let dir = Arc::new(
                 tempfile::Builder::new()
                     .prefix("glint-arrays-")
                     .tempdir()
                     .map_err(errors::other)?,
             );
+            LIVE.lock()
+                .unwrap_or_else(|p| p.into_inner())
+                .push(Arc::downgrade(&dir));
+            self.dir = Some(dir);
         }
         self.written += 1;
         let dir = self.dir.as_ref().expect("made above");
-        Ok(dir.path().join(format!("{}.{extension}", self.written)))
+        let path = dir.path().join(format!("{}.{extension}", self.written));
+        self.keys.push((path.clone(), key.to_owned()));
+        Ok(path)
     }
 
     /// The OBJ file of the mesh row `row` (at key path `at`), written.
@@ -177,7 +228,13 @@ impl ArrayFiles {
             }
             text.push('\n');
         }
-        let path = self.path("obj")?;
+        if get("file")?.is_some() {
+            return Err(bad(
+                at,
+                "gives both a file and arrays (vertices, faces): give one",
+            ));
+        }
+        let path = self.path("obj", at)?;
         std::fs::write(&path, text).map_err(errors::other)?;
         let arrays = MeshArrays {
             positions: vertices,
@@ -197,7 +254,17 @@ impl ArrayFiles {
         let top = match dtype.as_str() {
             "uint8" => Some(255.0),
             "uint16" => Some(65535.0),
-            _ => None,
+            d if d.starts_with("float") => None,
+            // Levels of 200 in an int16 array were texels of 200.0.
+            other => {
+                return Err(bad(
+                    at,
+                    format!(
+                        "is an array of {}: an image is floats (linear values) or uint8 or uint16 (sRGB levels)",
+                        glint::printable::text(other)
+                    ),
+                ))
+            }
         };
         let a = as_array(v, "float64").map_err(|_| bad(at, "is not an array of numbers"))?;
         let a: PyReadonlyArray3<'_, f64> = a
@@ -238,7 +305,7 @@ impl ArrayFiles {
             })
             .collect();
         let image = glint::raster::Image::new(w32, h32, pixels);
-        let path = self.path("pfm")?;
+        let path = self.path("pfm", at)?;
         glint::raster::io::write(&path, &image, false).map_err(errors::image)?;
         Ok(path.display().to_string())
     }

@@ -53,9 +53,7 @@ pub fn from_numpy(a: &PyReadonlyArray3<'_, f32>, what: &str) -> PyResult<Image> 
 #[pyo3(signature = (path, srgb=true))]
 pub fn read(py: Python<'_>, path: PathBuf, srgb: bool) -> PyResult<Bound<'_, PyArray3<f32>>> {
     guard(|| {
-        let image = py
-            .detach(|| io::read_as(&path, srgb))
-            .map_err(errors::image)?;
+        let image = crate::gil::detach(py, || io::read_as(&path, srgb)).map_err(errors::image)?;
         to_numpy(py, image)
     })
 }
@@ -70,8 +68,7 @@ pub fn write(
 ) -> PyResult<()> {
     guard(|| {
         let image = from_numpy(&image, "image")?;
-        py.detach(|| io::write(&path, &image, srgb))
-            .map_err(errors::image)
+        crate::gil::detach(py, || io::write(&path, &image, srgb)).map_err(errors::image)
     })
 }
 

@@ -12,7 +12,9 @@ mod arrays;
 mod compare;
 mod dict;
 mod errors;
+mod gil;
 mod image;
+mod keywords;
 mod params;
 mod render;
 #[cfg(feature = "gpu")]
@@ -24,6 +26,7 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _glint(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
+    gil::register(m)?;
     m.add_class::<scene::Scene>()?;
     m.add_class::<render::Renderer>()?;
     m.add_class::<render::PreparedScene>()?;

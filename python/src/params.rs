@@ -22,9 +22,9 @@ fn steps(key: &str) -> PyResult<Vec<Step>> {
     loop {
         let name;
         if let Some(q) = rest.strip_prefix('"') {
-            let end = q.find('"').ok_or_else(|| bad("a quote is not closed"))?;
-            name = q[..end].to_owned();
-            rest = &q[end + 1..];
+            let (unquoted, after) = quoted(q).ok_or_else(|| bad("a quote is not closed"))?;
+            name = unquoted;
+            rest = after;
         } else {
             let end = rest.find(['.', '[']).unwrap_or(rest.len());
             name = rest[..end].to_owned();
@@ -50,16 +50,55 @@ fn steps(key: &str) -> PyResult<Vec<Step>> {
     }
 }
 
-/// A table key as a step of a key: quoted where it is not bare.
+/// The name in a quoted step (`q` is the text after its opening quote),
+/// its escapes read as TOML's basic strings have them (`\"`, `\\`,
+/// `\uXXXX`), and the text after its closing quote; None where it is not
+/// closed.
+fn quoted(q: &str) -> Option<(String, &str)> {
+    let mut name = String::new();
+    let mut chars = q.char_indices();
+    while let Some((i, c)) = chars.next() {
+        match c {
+            '"' => return Some((name, &q[i + 1..])),
+            '\\' => match chars.next()?.1 {
+                'u' => {
+                    let hex: String = (0..4)
+                        .filter_map(|_| chars.next().map(|(_, c)| c))
+                        .collect();
+                    name.push(char::from_u32(u32::from_str_radix(&hex, 16).ok()?)?);
+                }
+                e => name.push(e),
+            },
+            c => name.push(c),
+        }
+    }
+    None
+}
+
+/// A table key as a step of a key: quoted where it is not bare, with `"`,
+/// `\` and control characters escaped, so that every key `params` lists
+/// reads back (a material named `say "hi"` was listed as a key no read
+/// could parse).
 fn name(k: &str) -> String {
     let bare = !k.is_empty()
         && k.chars()
             .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
     if bare {
-        k.to_owned()
-    } else {
-        format!("\"{k}\"")
+        return k.to_owned();
     }
+    let mut out = String::from("\"");
+    for c in k.chars() {
+        match c {
+            '"' | '\\' => {
+                out.push('\\');
+                out.push(c);
+            }
+            c if c.is_control() => out.push_str(&format!("\\u{:04x}", u32::from(c))),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
 }
 
 /// Whether a value is one `params` lists: a number, or a list of numbers.
@@ -125,13 +164,20 @@ pub fn get<'t>(table: &'t toml::Table, key: &str) -> PyResult<Option<&'t toml::V
 }
 
 /// Sets `key` in `table` to `value` (None: removes it). A key gives or
-/// replaces a value of a table or of an array's entry: a missing table on
-/// its way is made (the scene's check refuses one it does not know), a
-/// missing array entry is an error.
-pub fn set(table: &mut toml::Table, key: &str, value: Option<toml::Value>) -> PyResult<()> {
+/// replaces a value of a table or of an array's entry. A missing section
+/// of the file on its way (`render` for `"render.max_depth"`) is made (the
+/// scene's check refuses one it does not know); a missing entry further in
+/// (`materials.rde`, a misspelt material) is a KeyError naming it, unless
+/// `create` (`params.add`); a missing array entry is always one.
+pub fn set(
+    table: &mut toml::Table,
+    key: &str,
+    value: Option<toml::Value>,
+    create: bool,
+) -> PyResult<()> {
     let steps = steps(key)?;
     let mut root = toml::Value::Table(std::mem::take(table));
-    let result = set_in(&mut root, &steps, 0, value, key);
+    let result = set_in(&mut root, &steps, 0, value, key, create);
     if let toml::Value::Table(t) = root {
         *table = t;
     }
@@ -144,11 +190,12 @@ fn set_in(
     at: usize,
     value: Option<toml::Value>,
     key: &str,
+    create: bool,
 ) -> PyResult<()> {
     let missing = || {
         PyKeyError::new_err(format!(
             "{key:?}: the scene has no {} (a key gives a value to an entry that the \
-             scene has; add entries with to_dict and from_dict)",
+             scene has; add entries with params.add, or to_dict and from_dict)",
             shown(&steps[..=at])
         ))
     };
@@ -174,17 +221,19 @@ fn set_in(
         };
     }
     let next = match (v, step, &steps[at + 1]) {
-        // A table on the way is made where it is missing (`render` for
-        // "render.max_depth"); an array's entry never is.
-        (toml::Value::Table(t), Step::Key(k), Step::Key(_)) => Some(
+        // A section of the file is made where it is missing (`render` for
+        // "render.max_depth"), an entry in one only where asked; an
+        // array's entry never is.
+        (toml::Value::Table(t), Step::Key(k), Step::Key(_)) if at == 0 || create => Some(
             t.entry(k.clone())
                 .or_insert_with(|| toml::Value::Table(toml::Table::new())),
         ),
+        (toml::Value::Table(t), Step::Key(k), Step::Key(_)) => t.get_mut(k),
         (toml::Value::Table(t), Step::Key(k), Step::Index(_)) => t.get_mut(k),
         (toml::Value::Array(a), Step::Index(i), _) => a.get_mut(*i),
         _ => None,
     };
-    set_in(next.ok_or_else(missing)?, steps, at + 1, value, key)
+    set_in(next.ok_or_else(missing)?, steps, at + 1, value, key, create)
 }
 
 /// Steps written back as a key.

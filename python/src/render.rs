@@ -97,7 +97,8 @@ pub fn interruptible_with<T: Send>(
         let mut interrupted = None;
         loop {
             // The wait ends the moment the job does, not at the next poll.
-            let (waited, rx) = py.detach(move || (done_rx.recv_timeout(POLL), done_rx));
+            let (waited, rx) =
+                crate::gil::detach(py, move || (done_rx.recv_timeout(POLL), done_rx));
             done_rx = rx;
             if !matches!(waited, Err(RecvTimeoutError::Timeout)) {
                 break;

@@ -95,8 +95,12 @@ impl Renderer {
             opts.defines = defines.unwrap_or_default().into_iter().collect();
             // As the binary refuses -D and -I (issue 57, defect 4).
             for (name, value) in &opts.defines {
-                gpu::check_define(name, value.as_deref())
-                    .map_err(|e| PyValueError::new_err(format!("defines: {name:?}: {e}")))?;
+                gpu::check_define(name, value.as_deref()).map_err(|e| {
+                    PyValueError::new_err(format!(
+                        "defines: {:?}: {e}",
+                        glint::printable::text(name)
+                    ))
+                })?;
             }
             let mut texts = None;
             match include {
@@ -126,9 +130,8 @@ impl Renderer {
                 gpu::check_include_dir(dir)
                     .map_err(|e| PyValueError::new_err(format!("include: {e}")))?;
             }
-            let inner = py
-                .detach(|| gpu::Renderer::new(&opts))
-                .map_err(errors::gpu)?;
+            let inner =
+                crate::gil::detach(py, || gpu::Renderer::new(&opts)).map_err(errors::gpu)?;
             let device = inner.device_info().name.clone();
             Ok(Self {
                 inner: Arc::new(Mutex::new(inner)),
@@ -182,19 +185,24 @@ impl Renderer {
             stats,
             asked.is_some(),
         );
-        let kept = lock(&self.last)
-            .as_ref()
-            .filter(|(k, _)| *k == key)
-            .map(|(_, p)| p.clone_ref(py));
+        let (kept, last_key) = {
+            let last = lock(&self.last);
+            let kept = last
+                .as_ref()
+                .filter(|(k, _)| *k == key)
+                .map(|(_, p)| p.clone_ref(py));
+            (kept, last.as_ref().map(|(k, _)| *k))
+        };
         let prepared = match kept {
             Some(p) => p,
             None => {
                 // The last scene's buffers go before the next one's are made.
                 *lock(&self.last) = None;
-                let p = Py::new(
-                    py,
-                    self.prepare_with(py, scene, precision, stats, asked.is_some())?,
-                )?;
+                let fresh = self.prepare_with(py, scene, precision, stats, asked.is_some())?;
+                // Its first render says why it was prepared (a render of
+                // this scene with other settings kept none to update).
+                *lock(&fresh.note) = Some(why_prepared(last_key, key));
+                let p = Py::new(py, fresh)?;
                 *lock(&self.last) = Some((key, p.clone_ref(py)));
                 p
             }
@@ -213,8 +221,9 @@ impl Renderer {
         py: Python<'_>,
         scene: &Scene,
         pixel: (u32, u32),
-        sample: Option<u32>,
+        sample: Option<Bound<'_, PyAny>>,
     ) -> PyResult<String> {
+        let sample = crate::keywords::optional(sample.as_ref(), "sample", 0, u32::MAX)?;
         use glint::explain::{check_renders, explain_on_gpu, samples, ExplainError};
         let refused = |e: ExplainError| match e {
             ExplainError::Outside { .. } | ExplainError::Sample { .. } => errors::value(e),
@@ -286,6 +295,7 @@ impl Renderer {
                 stop,
                 device: self.device.clone(),
                 device_counted: self.device_counted.clone(),
+                note: Mutex::new(None),
             })
         })
     }
@@ -310,6 +320,31 @@ pub struct PreparedScene {
     stop: Arc<AtomicBool>,
     device: String,
     device_counted: Arc<AtomicBool>,
+    /// How its first render's scene was taken, where `Renderer.render`
+    /// prepared it: its `stats["update"]`.
+    note: Mutex<Option<String>>,
+}
+
+/// Why `Renderer.render` prepared a scene rather than render the one it
+/// kept (`last`): the first render of it here, or one with other settings.
+fn why_prepared(last: Option<LastKey>, now: LastKey) -> String {
+    let Some(last) = last.filter(|l| l.0 == now.0) else {
+        return "prepared: the first render of this scene on this renderer".to_owned();
+    };
+    let mut other = Vec::new();
+    if last.1 != now.1 {
+        other.push(format!("precision {:?}", last.1));
+    }
+    if last.2 != now.2 {
+        other.push(format!("stats={}", if last.2 { "True" } else { "False" }));
+    }
+    if last.3 != now.3 {
+        other.push(if last.3 { "AOVs" } else { "no AOVs" }.to_owned());
+    }
+    format!(
+        "prepared: the last render of this scene here had {}",
+        other.join(", ")
+    )
 }
 
 /// The scene on the device, and the generation of its scene it shows.
@@ -410,8 +445,9 @@ impl PreparedScene {
             let (rendered, call_s, followed) = interruptible_with(py, &self.stop, shown, || {
                 let mut held = lock(&self.inner);
                 let t0 = Instant::now();
-                let followed =
-                    held.follow(&now, generation, &self.renderer, &self.settings, &self.stop)?;
+                let followed = held
+                    .follow(&now, generation, &self.renderer, &self.settings, &self.stop)?
+                    .or_else(|| lock(&self.note).take());
                 let tiles = |pixels: u64| {
                     done.fetch_add(pixels, Ordering::Relaxed);
                 };
@@ -426,7 +462,10 @@ impl PreparedScene {
                 ..
             } = rendered;
             let compiled = times.setup.compile_s > 0.0 || times.setup.pipeline_s > 0.0;
-            if let Some(said) = followed.as_deref().filter(|s| s.starts_with("prepared")) {
+            if let Some(said) = followed
+                .as_deref()
+                .filter(|s| s.starts_with("prepared again"))
+            {
                 // A change that needed more than new values says so.
                 let compiling = if compiled { ", compiled a shader" } else { "" };
                 py.import("logging")?
@@ -483,7 +522,7 @@ pub fn devices_json(py: Python<'_>) -> PyResult<String> {
     guard(|| {
         // No driver, or no loader: no devices, as a listing says it
         // (issue 60); a driver that fails otherwise still raises.
-        let devices = match py.detach(gpu::list_devices) {
+        let devices = match crate::gil::detach(py, gpu::list_devices) {
             Err(gpu::GpuError::NoDevice | gpu::GpuError::NoLoader(_)) => Vec::new(),
             listed => listed.map_err(errors::gpu)?,
         };

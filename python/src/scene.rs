@@ -14,6 +14,7 @@ use glint::scene::{self as lib, Overrides, SceneError as LibSceneError};
 use crate::arrays::ArrayFiles;
 use crate::dict::{self, to_python, top_level};
 use crate::errors::{self, guard};
+use crate::keywords;
 use crate::params;
 
 /// A scene read and checked: what `glint.render` and `Renderer.prepare`
@@ -31,12 +32,15 @@ pub struct Scene {
     pub base: PathBuf,
     /// The files a dict's arrays were written as (meshes, images), which
     /// its `to_dict` names: kept as long as the scene.
-    pub _arrays: Option<tempfile::TempDir>,
+    pub _arrays: Vec<std::sync::Arc<tempfile::TempDir>>,
     /// Its meshes' OBJ files, kept once `params` has read it again: a
     /// change of a value reads the scene file, not the meshes.
     meshes: lib::MeshCache,
     /// Held while a change is made.
     setting: std::sync::Mutex<()>,
+    /// The scenes `render(width=, height=, samples=, max_depth=)` made of
+    /// it, by their keywords, with the generation of this one each shows.
+    derived: std::sync::Mutex<Vec<(Overrides, u64, Py<Scene>)>>,
     /// Which scene this is, among all made in the process (never reused):
     /// what a renderer keeps its last prepared scene by.
     pub id: u64,
@@ -69,7 +73,7 @@ impl Scene {
         read_as: PathBuf,
         base: PathBuf,
         overrides: Overrides,
-        arrays: Option<tempfile::TempDir>,
+        arrays: Vec<std::sync::Arc<tempfile::TempDir>>,
         meshes: lib::MeshCache,
     ) -> Self {
         Scene {
@@ -85,6 +89,7 @@ impl Scene {
             _arrays: arrays,
             meshes,
             setting: std::sync::Mutex::new(()),
+            derived: std::sync::Mutex::new(Vec::new()),
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
         }
     }
@@ -130,6 +135,30 @@ impl Scene {
     }
 }
 
+/// Takes `m`, waiting for it with the GIL released: its holder may be
+/// waiting for the GIL (a change of `params` reads the scene without it),
+/// and two threads changing one scene's `params` deadlocked the
+/// interpreter when the second waited with the GIL held. A signal
+/// (Ctrl-C) ends the wait.
+fn lock_without_the_gil<'m, T>(
+    py: Python<'_>,
+    m: &'m std::sync::Mutex<T>,
+) -> PyResult<std::sync::MutexGuard<'m, T>> {
+    loop {
+        match m.try_lock() {
+            Ok(held) => return Ok(held),
+            // A change that panicked stored nothing half-done.
+            Err(std::sync::TryLockError::Poisoned(p)) => return Ok(p.into_inner()),
+            Err(std::sync::TryLockError::WouldBlock) => {
+                crate::gil::detach(py, || {
+                    std::thread::sleep(std::time::Duration::from_micros(200))
+                });
+                py.check_signals()?;
+            }
+        }
+    }
+}
+
 /// A scene file's text as it was given: TOML, or NFF (converted to TOML
 /// only when `to_dict` asks, as `glint convert` writes it).
 pub enum FileText {
@@ -150,6 +179,12 @@ impl FileText {
     }
 }
 
+/// `path` made absolute against the working directory now (as given
+/// where that cannot be read).
+fn absolute(path: &Path) -> PathBuf {
+    std::path::absolute(path).unwrap_or_else(|_| path.to_owned())
+}
+
 /// The folder that relative names in the file at `path` are of.
 fn folder_of(path: &Path) -> PathBuf {
     match path.parent() {
@@ -158,33 +193,24 @@ fn folder_of(path: &Path) -> PathBuf {
     }
 }
 
-fn overrides(
-    width: Option<u32>,
-    height: Option<u32>,
-    samples: Option<u32>,
-    max_depth: Option<u32>,
-) -> Overrides {
-    Overrides {
-        width,
-        height,
-        samples,
-        max_depth,
-    }
-}
-
 #[pyfunction]
 #[pyo3(signature = (path, width=None, height=None, samples=None, max_depth=None))]
 pub fn load(
     py: Python<'_>,
     path: PathBuf,
-    width: Option<u32>,
-    height: Option<u32>,
-    samples: Option<u32>,
-    max_depth: Option<u32>,
+    width: Option<Bound<'_, PyAny>>,
+    height: Option<Bound<'_, PyAny>>,
+    samples: Option<Bound<'_, PyAny>>,
+    max_depth: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Scene> {
-    let o = overrides(width, height, samples, max_depth);
+    let o = keywords::overrides(
+        width.as_ref(),
+        height.as_ref(),
+        samples.as_ref(),
+        max_depth.as_ref(),
+    )?;
     guard(|| {
-        let scene = py.detach(|| {
+        let scene = crate::gil::detach(py, || {
             if is_obj(&path) {
                 obj_scene(&path, &o)
             } else {
@@ -202,14 +228,19 @@ pub fn load(
         } else {
             scene.map_err(errors::scene)?
         };
+        // Absolute now: a later `params` change reads it again from here,
+        // whatever the working directory is by then (it read another
+        // folder's mesh after `os.chdir`).
+        let read_as = absolute(&path);
+        let base = folder_of(&read_as);
         Ok(Scene::new(
             scene,
             file,
             path.display().to_string(),
-            path.clone(),
-            folder_of(&path),
+            read_as,
+            base,
             o,
-            None,
+            Vec::new(),
             lib::MeshCache::default(),
         ))
     })
@@ -259,12 +290,17 @@ fn obj_error(path: &Path, e: LibSceneError) -> PyErr {
 pub fn loads(
     text: &str,
     format: &str,
-    width: Option<u32>,
-    height: Option<u32>,
-    samples: Option<u32>,
-    max_depth: Option<u32>,
+    width: Option<Bound<'_, PyAny>>,
+    height: Option<Bound<'_, PyAny>>,
+    samples: Option<Bound<'_, PyAny>>,
+    max_depth: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Scene> {
-    let o = overrides(width, height, samples, max_depth);
+    let o = keywords::overrides(
+        width.as_ref(),
+        height.as_ref(),
+        samples.as_ref(),
+        max_depth.as_ref(),
+    )?;
     guard(|| {
         // Relative file names in the text (meshes, textures) are of the
         // working directory.
@@ -283,14 +319,15 @@ pub fn loads(
                 )))
             }
         };
+        let base = absolute(Path::new("."));
         Ok(Scene::new(
             scene.map_err(errors::scene)?,
             file,
             "<string>".to_owned(),
-            PathBuf::from("<string>"),
-            PathBuf::from("."),
+            base.join("<string>"),
+            base,
             o,
-            None,
+            Vec::new(),
             lib::MeshCache::default(),
         ))
     })
@@ -365,6 +402,47 @@ fn obj_scene(path: &Path, o: &Overrides) -> Result<(lib::Scene, FileText), LibSc
     Ok((lib::parse(&text, path, o)?, FileText::Toml(text)))
 }
 
+/// An error of a scene made from a dict, its arrays' files named by the
+/// arrays' keys (`meshes[0]`), and a mesh of arrays (which has no MTL
+/// file) told to take a material.
+fn arrays_named(e: LibSceneError, files: &ArrayFiles) -> LibSceneError {
+    let LibSceneError::Invalid {
+        file,
+        line,
+        column,
+        key,
+        message,
+    } = e
+    else {
+        return e;
+    };
+    let Some(arrays) = files.arrays_of(&key) else {
+        return LibSceneError::Invalid {
+            file,
+            line,
+            column,
+            key,
+            message: files.said(&message),
+        };
+    };
+    // The OBJ glint wrote has one unnamed object and no MTL file.
+    let message = if message.contains("(usemtl)") {
+        format!("{arrays}: the mesh has no material: add material = \"NAME\"")
+    } else {
+        files
+            .said(&message)
+            .replace("object \"unnamed_object\", ", "")
+            .replace("object \"unnamed_object\" ", "")
+    };
+    LibSceneError::Invalid {
+        file,
+        line,
+        column,
+        key: arrays,
+        message,
+    }
+}
+
 /// An error of a scene's TOML that the caller never saw (a dict's, or a
 /// scene read again with its values changed): said by its key, without
 /// the line and column of that text.
@@ -408,14 +486,19 @@ impl Scene {
     fn from_dict(
         d: &Bound<'_, PyDict>,
         base: Option<PathBuf>,
-        width: Option<u32>,
-        height: Option<u32>,
-        samples: Option<u32>,
-        max_depth: Option<u32>,
+        width: Option<Bound<'_, PyAny>>,
+        height: Option<Bound<'_, PyAny>>,
+        samples: Option<Bound<'_, PyAny>>,
+        max_depth: Option<Bound<'_, PyAny>>,
     ) -> PyResult<Scene> {
         // The dict is written out as TOML and read as a file in `base` is.
-        let o = overrides(width, height, samples, max_depth);
-        let base = base.unwrap_or_else(|| PathBuf::from("."));
+        let o = keywords::overrides(
+            width.as_ref(),
+            height.as_ref(),
+            samples.as_ref(),
+            max_depth.as_ref(),
+        )?;
+        let base = absolute(&base.unwrap_or_else(|| PathBuf::from(".")));
         guard(|| {
             let mut text = String::new();
             let mut files = ArrayFiles::default();
@@ -425,7 +508,11 @@ impl Scene {
             let meshes = lib::MeshCache::default();
             files.cache_meshes(&meshes);
             let scene = lib::parse_cached(&text, &read_as, &o, Some(&meshes))
-                .map_err(|e| by_key(e, "<dict>"))?;
+                .map_err(|e| by_key(arrays_named(e, &files), "<dict>"))?;
+            // Another scene's arrays that this one names (a copy from its
+            // `to_dict`), and its own.
+            let mut kept = crate::arrays::named_in(&text);
+            kept.extend(files.into_dir());
             Ok(Scene::new(
                 scene,
                 FileText::Toml(text),
@@ -433,7 +520,7 @@ impl Scene {
                 read_as,
                 base,
                 o,
-                files.into_dir(),
+                kept,
                 meshes,
             ))
         })
@@ -483,10 +570,13 @@ impl Scene {
     /// reads the scene again, whole, with every check a file gets (its
     /// meshes from the scene's cache of them). On an error (KeyError,
     /// TypeError, SceneError naming the key) nothing has changed.
-    fn _set_params(&self, py: Python<'_>, items: &Bound<'_, PyDict>) -> PyResult<()> {
+    /// With `create`, the entries on a key's way that the scene lacks are
+    /// made (`params.add`); else such a key is a KeyError.
+    #[pyo3(signature = (items, create=false))]
+    fn _set_params(&self, py: Python<'_>, items: &Bound<'_, PyDict>, create: bool) -> PyResult<()> {
         guard(|| {
             // One change at a time: each starts from the last one's tables.
-            let _one = self.setting.lock().unwrap_or_else(|p| p.into_inner());
+            let _one = lock_without_the_gil(py, &self.setting)?;
             let mut table = self.table()?;
             for (k, v) in items.iter() {
                 let key: String = k.extract().map_err(|_| {
@@ -500,25 +590,97 @@ impl Scene {
                 } else {
                     Some(dict::value(&v, &key)?)
                 };
-                params::set(&mut table, &key, value)?;
+                params::set(&mut table, &key, value, create)?;
             }
             let text = toml::to_string(&table).map_err(errors::other)?;
-            let scene = py
-                .detach(|| {
-                    lib::parse_cached(
-                        &text,
-                        &self.read_as,
-                        &Overrides::default(),
-                        Some(&self.meshes),
-                    )
-                })
-                .map_err(|e| by_key(e, &self.source))?;
+            let scene = crate::gil::detach(py, || {
+                lib::parse_cached(
+                    &text,
+                    &self.read_as,
+                    &Overrides::default(),
+                    Some(&self.meshes),
+                )
+            })
+            .map_err(|e| by_key(e, &self.source))?;
             let mut now = self.now.write().unwrap_or_else(|p| p.into_inner());
             now.scene = Arc::new(scene);
             now.file = FileText::Toml(text);
             now.generation += 1;
             now.overrides = Overrides::default();
             Ok(())
+        })
+    }
+
+    /// The scene as it is now with the keywords in place of its own size,
+    /// sampling and depth (`render(scene, samples=...)`), the scene itself
+    /// unchanged. Kept by the keywords: the same ones give the same scene
+    /// again, which follows this one's changes as a new generation of its
+    /// own, so that a renderer updates it in place.
+    #[pyo3(signature = (width=None, height=None, samples=None, max_depth=None))]
+    fn _overridden(
+        slf: &Bound<'_, Self>,
+        width: Option<Bound<'_, PyAny>>,
+        height: Option<Bound<'_, PyAny>>,
+        samples: Option<Bound<'_, PyAny>>,
+        max_depth: Option<Bound<'_, PyAny>>,
+    ) -> PyResult<Py<Scene>> {
+        let py = slf.py();
+        let this = slf.get();
+        let asked = keywords::overrides(
+            width.as_ref(),
+            height.as_ref(),
+            samples.as_ref(),
+            max_depth.as_ref(),
+        )?;
+        guard(|| {
+            let (text, generation, own) = {
+                let now = this.now();
+                (now.file.toml()?.into_owned(), now.generation, now.overrides)
+            };
+            let o = Overrides {
+                width: asked.width.or(own.width),
+                height: asked.height.or(own.height),
+                samples: asked.samples.or(own.samples),
+                max_depth: asked.max_depth.or(own.max_depth),
+            };
+            let same = |a: &Overrides| {
+                (a.width, a.height, a.samples, a.max_depth)
+                    == (o.width, o.height, o.samples, o.max_depth)
+            };
+            let mut derived = this.derived.lock().unwrap_or_else(|p| p.into_inner());
+            if let Some((_, shown, scene)) = derived.iter_mut().find(|(k, _, _)| same(k)) {
+                if *shown != generation {
+                    let read = lib::parse_cached(&text, &this.read_as, &o, Some(&this.meshes))
+                        .map_err(|e| by_key(e, &this.source))?;
+                    let mut now = scene.get().now.write().unwrap_or_else(|p| p.into_inner());
+                    now.scene = Arc::new(read);
+                    now.file = FileText::Toml(text);
+                    now.generation += 1;
+                    *shown = generation;
+                }
+                return Ok(scene.clone_ref(py));
+            }
+            let read = lib::parse_cached(&text, &this.read_as, &o, Some(&this.meshes))
+                .map_err(|e| by_key(e, &this.source))?;
+            let scene = Py::new(
+                py,
+                Scene::new(
+                    read,
+                    FileText::Toml(text),
+                    this.source.clone(),
+                    this.read_as.clone(),
+                    this.base.clone(),
+                    o,
+                    this._arrays.clone(),
+                    lib::MeshCache::default(),
+                ),
+            )?;
+            // A few sizes at a time: a sweep over many keeps the latest.
+            if derived.len() >= 4 {
+                derived.remove(0);
+            }
+            derived.push((o, generation, scene.clone_ref(py)));
+            Ok(scene)
         })
     }
 

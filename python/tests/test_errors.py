@@ -146,3 +146,42 @@ sys.exit(3)
     )
     assert out.stdout.strip() == "refused: True", (out.stdout, out.stderr)
     assert out.returncode == 3, (out.returncode, out.stderr)
+
+
+@pytest.mark.parametrize(
+    "keyword, value",
+    [("width", -1), ("height", -3), ("samples", 2**40), ("max_depth", 0), ("width", 10**40)],
+)
+def test_a_whole_number_keyword_out_of_range_is_a_value_error_naming_it(keyword, value):
+    # They raised OverflowError "out of range integral type conversion
+    # attempted", naming nothing.
+    path = ROOT / "scenes" / "seed-fig3.toml"
+    with pytest.raises(ValueError, match=f"{keyword}={value}: must be a whole number in 1..="):
+        glint.load(path, **{keyword: value})
+    with pytest.raises(ValueError, match=f"{keyword}="):
+        glint.Scene.from_dict(glint.load(path).to_dict(), **{keyword: value})
+    with pytest.raises(TypeError, match=f"{keyword}="):
+        glint.load(path, **{keyword: "3"})
+
+
+@gpu
+def test_a_sample_keyword_below_zero_is_a_value_error_naming_it(renderer):
+    with pytest.raises(ValueError, match="sample=-1"):
+        glint.explain(small("seed-fig3.toml", 16, 12), (1, 1), sample=-1, renderer=renderer)
+
+
+@gpu
+def test_a_reserved_define_is_refused_in_pythons_words():
+    # It raised "-D MAX_DEPTH: ...", the command line's words.
+    with pytest.raises(ValueError, match='defines: "MAX_DEPTH": glint defines MAX_DEPTH itself') as e:
+        glint.Renderer(defines={"MAX_DEPTH": "3"})
+    assert "-D" not in str(e.value)
+
+
+@pytest.mark.parametrize("dtype", ["int16", "int32", "int64", "uint32", "bool"])
+def test_a_texture_array_of_other_integers_is_refused_naming_its_dtype(dtype):
+    # Levels of 200 in an int16 array became texels of 200.0.
+    d = glint.load(ROOT / "scenes" / "seed-fig3.toml").to_dict()
+    d["textures"] = {"t": {"image": np.full((2, 2, 3), 1, dtype=dtype)}}
+    with pytest.raises(ValueError, match=f"textures.t.image: is an array of {dtype}"):
+        glint.Scene.from_dict(d)

@@ -361,3 +361,42 @@ def test_a_progress_callback_that_raises_stops_the_render():
 
     with pytest.raises(RuntimeError, match="stop at"):
         glint.render(scene, backend="cpu", progress=fail)
+
+
+QUAD = {"vertices": np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float), "faces": np.array([[0, 1, 2], [0, 2, 3]])}
+
+
+@pytest.mark.parametrize(
+    "change, words",
+    [
+        # A vertex past the coordinates' bound once scaled.
+        (lambda d: d["meshes"][0].update(scale=1e17, vertices=QUAD["vertices"] * 100), "meshes[0]: face 0: vertex"),
+        (lambda d: d["meshes"][0].pop("material"), "meshes[0]: the mesh has no material: add material"),
+        (lambda d: d["meshes"][0].update(file="elsewhere.obj"), "gives both a file and arrays"),
+        (lambda d: d.update(textures={"t": {"image": np.ones((1, 8193, 3), np.float32)}}), "textures.t.image"),
+    ],
+)
+def test_an_array_error_names_the_arrays_not_glints_files(change, words):
+    # They named /tmp/glint-arrays-XXXX/1.obj, an MTL file there is none
+    # of, a .pfm's size, or TOML's "duplicate key `file`".
+    d = mesh_scene(dict(QUAD))
+    change(d)
+    with pytest.raises((glint.SceneError, ValueError)) as e:
+        glint.Scene.from_dict(d)
+    said = str(e.value)
+    assert words in said, said
+    assert "glint-arrays" not in said and ".pfm" not in said and "duplicate key" not in said, said
+
+
+def test_a_copy_of_an_array_scene_outlives_the_original():
+    # The copy named the original's temporary files; once the original was
+    # collected, every change to the copy failed.
+    import gc
+
+    original = glint.Scene.from_dict(mesh_scene(dict(QUAD)))
+    want = glint.render(original, backend="cpu")
+    copy = glint.Scene.from_dict(original.to_dict(), base=original.base)
+    del original
+    gc.collect()
+    copy.params["camera.vfov"] = 45.0
+    assert glint.render(copy, backend="cpu").tobytes() == want.tobytes()

@@ -3,6 +3,7 @@ and renders that show the change, compiling nothing where the shader it
 has can render it, and saying so where it cannot."""
 
 import logging
+import os
 
 import numpy as np
 import pytest
@@ -136,3 +137,82 @@ def test_a_prepared_scene_follows_its_scene_and_says_when_it_compiles(caplog):
     # A larger image: prepared again, its new size rendered.
     scene.params["image.width"] = 64
     assert prepared.render().shape == (36, 64, 3) and prepared.size == (64, 36)
+
+
+def test_every_listed_key_reads_back_even_a_name_with_quotes():
+    # A material named `say "hi"` (valid TOML) was listed under a key that
+    # `params` could not parse: dict() and repr() raised.
+    d = mesh_dict()
+    d["materials"]['say "hi"\\ \x01'] = d["materials"].pop("ball")
+    d["spheres"][0]["material"] = 'say "hi"\\ \x01'
+    scene = glint.Scene.from_dict(d, base=ROOT / "scenes")
+    values = dict(scene.params)
+    keys = [k for k in values if k.startswith("materials.") and "say" in k]
+    assert keys, values
+    for k in keys:
+        assert scene.params[k] == values[k]
+    repr(scene.params)
+    key = 'materials."say \\"hi\\"\\\\ \\u0001".diffuse'
+    assert key in values, keys
+    scene.params[key] = [0.1, 0.9, 0.1]
+    assert scene.params[key] == [0.1, 0.9, 0.1]
+
+
+def test_a_misspelt_entry_is_a_key_error_and_add_makes_one():
+    scene = glint.Scene.from_dict(mesh_dict(), base=ROOT / "scenes")
+    before = scene.to_dict()
+    # "rde" for "red": it made a material nothing used, silently.
+    with pytest.raises(KeyError, match="rde"):
+        scene.params["materials.rde.diffuse"] = [1, 0, 0]
+    with pytest.raises(KeyError, match="nope"):
+        scene.params.update({"materials.ball.diffuse": [0, 0, 1], "textures.nope.scale": 2})
+    assert scene.to_dict() == before and scene.generation == 0
+    # A section of the file is still made, and a table's missing key given.
+    scene.params["render.max_depth"] = 2
+    scene.params["materials.m.specular"] = [0.2, 0.2, 0.2]
+    scene.params.add("materials.blue.diffuse", [0, 0, 1])
+    scene.params["spheres[0].material"] = "blue"
+    assert scene.to_dict()["materials"]["blue"] == {"diffuse": [0, 0, 1]}
+
+
+def test_a_relative_scene_reads_its_files_from_where_it_was_loaded(tmp_path, monkeypatch):
+    # After os.chdir, a params change read the scene again relative to the
+    # new folder and took another folder's m.obj, silently.
+    a, b = tmp_path / "a", tmp_path / "b"
+    for folder, z in ((a, 0.0), (b, -3.0)):
+        folder.mkdir()
+        (folder / "m.obj").write_text(f"v 0 0 {z}\nv 1 0 {z}\nv 0 1 {z}\nf 1 2 3\n")
+        (folder / "s.toml").write_text(
+            '[image]\nwidth = 16\nheight = 12\n[camera]\neye = [0.3, 0.3, 4]\n'
+            'look_at = [0.3, 0.3, 0]\nvfov = 40\n[materials.m]\ndiffuse = [1, 1, 1]\n'
+            '[[meshes]]\nfile = "m.obj"\nmaterial = "m"\n'
+            '[[lights]]\ntype = "point"\nposition = [0, 0, 5]\n'
+        )
+    monkeypatch.chdir(a)
+    scene = glint.load("s.toml")
+    want = glint.render(glint.load(a / "s.toml"), backend="cpu")
+    monkeypatch.chdir(b)
+    scene.params["camera.vfov"] = 40.0
+    assert glint.render(scene, backend="cpu").tobytes() == want.tobytes()
+    assert os.path.isabs(scene.base)
+
+
+@gpu
+def test_stats_update_names_what_changed():
+    d = mesh_dict()
+    d["lights"] = [{"type": "point", "position": [2, 3, 4], "diffuse": [1, 1, 1]}]
+    scene = glint.Scene.from_dict(d, base=ROOT / "scenes")
+    r = glint.Renderer()
+    _, stats = r.render(scene, stats=True)
+    assert stats["update"].startswith("prepared: the first render"), stats["update"]
+    # A change the variant's name does not show (the SPD's ray tree).
+    scene.params["render.spd_rays"] = True
+    _, stats = r.render(scene, stats=True)
+    assert "spd_rays true (was false)" in stats["update"], stats["update"]
+    _, stats = r.render(scene, stats=True)
+    assert stats["update"] is None
+    # Rendered without stats, then changed, then with stats: it said None.
+    r.render(scene)
+    scene.params["image.samples"] = 3
+    _, stats = r.render(scene, stats=True)
+    assert stats["update"] is not None and "stats=False" in stats["update"], stats["update"]

@@ -139,3 +139,55 @@ def test_explain_agrees_on_a_scene_that_compares_well_and_names_a_near_tie(rende
     assert "(a near-tie)" in tie.divergence["cause"]
     with pytest.raises(ValueError, match="pixel 32,0 is outside the 32x24 image"):
         renderer.explain(glint.Scene.from_dict(d), (32, 0))
+
+
+@pytest.mark.parametrize("backend", ["cpu", pytest.param("gpu", marks=gpu)])
+def test_an_empty_aov_list_gives_the_dict_with_the_colour_alone(backend):
+    # It gave the bare image array.
+    scene = small("seed-fig3.toml", 16, 12)
+    out = glint.render(scene, backend=backend, aovs=[])
+    assert isinstance(out, dict) and list(out) == ["color"]
+    assert out["color"].tobytes() == glint.render(scene, backend=backend).tobytes()
+
+
+@pytest.mark.parametrize("backend", ["cpu", pytest.param("gpu", marks=gpu)])
+def test_a_tqdm_bar_or_its_update_follows_a_render(backend):
+    # progress=bar.update, as the docs showed it, raised TypeError: tqdm's
+    # update takes an increment, and glint passed (done, total).
+    tqdm = pytest.importorskip("tqdm")
+    import io
+
+    scene = small("seed-fig3.toml", 40, 30)
+    for given in ("update", "bar"):
+        bar = tqdm.tqdm(file=io.StringIO(), disable=False)
+        glint.render(scene, backend=backend, progress=bar.update if given == "update" else bar)
+        assert bar.total == 40 * 30 and bar.n == 40 * 30, (given, bar.n, bar.total)
+        bar.close()
+    calls = []
+    glint.render(scene, backend=backend, progress=lambda done, total: calls.append((done, total)))
+    assert calls and calls[-1] == (40 * 30, 40 * 30)
+
+
+@pytest.mark.parametrize("backend", ["cpu", pytest.param("gpu", marks=gpu)])
+def test_render_takes_another_size_and_sample_count_without_a_reload(backend):
+    path = ROOT / "scenes" / "seed-fig3.toml"
+    scene = glint.load(path, width=32, height=24)
+    image = glint.render(scene, backend=backend, width=20, height=15, samples=2)
+    want = glint.render(glint.load(path, width=20, height=15, samples=2), backend=backend)
+    assert image.shape == (15, 20, 3) and image.tobytes() == want.tobytes()
+    assert (scene.width, scene.height, scene.samples) == (32, 24, 1)
+    assert glint.render(scene, backend=backend).shape == (24, 32, 3)
+    with pytest.raises(ValueError, match="samples=0"):
+        glint.render(scene, backend=backend, samples=0)
+
+
+@gpu
+def test_a_scene_rendered_at_another_size_follows_its_changes_in_place():
+    scene = glint.load(ROOT / "scenes" / "seed-fig3.toml", width=32, height=24)
+    r = glint.Renderer()
+    r.render(scene, width=16, height=12, stats=True)
+    scene.params["spheres[0].radius"] = 4.0
+    image, stats = r.render(scene, width=16, height=12, stats=True)
+    assert stats["update"] == "updated in place", stats["update"]
+    fresh = glint.Scene.from_dict(scene.to_dict(), base=scene.base, width=16, height=12)
+    assert image.tobytes() == glint.Renderer().render(fresh).tobytes()

@@ -35,3 +35,29 @@ def test_a_file_name_with_a_folder_is_refused():
 def test_devices_lists_the_default_first(renderer):
     devices = glint.devices()
     assert devices and devices[0]["name"] == renderer.device
+
+
+def test_the_same_shader_texts_compile_once_across_renderers(tmp_path, root):
+    # Each Renderer wrote its texts into a folder of its own, and the cache
+    # key took that folder's path: a byte-identical entry each time, never
+    # found again.
+    import os
+    import subprocess
+    import sys
+
+    code = """
+import json, glint
+specular = open(%r).read() + "\\n// edited\\n"
+scene = glint.load(%r, width=32, height=24)
+cached = []
+for _ in range(3):
+    _, stats = glint.Renderer(include={"specular.glsl": specular}).render(scene, stats=True)
+    cached.append(stats["times"]["setup"]["spirv_cached"])
+print(json.dumps(cached))
+""" % (str(root / "shaders/specular.glsl"), str(root / "scenes/seed-fig5.toml"))
+    env = dict(os.environ, XDG_CACHE_HOME=str(tmp_path))
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[false, true, true]", done.stdout
+    entries = list((tmp_path / "glint" / "spirv").iterdir())
+    assert len(entries) == 1, entries

@@ -97,3 +97,45 @@ def test_ctrl_c_stops_a_long_render(backend):
     assert out.splitlines()[1] == "again (12, 16, 3)", (out, err)
     assert child.returncode == 0, err
     print(f"{backend}: stopped and exited {seconds:.3f} s after SIGINT")
+
+
+def test_two_threads_setting_one_scenes_params_finish():
+    # The second waited for the scene's lock with the GIL held while the
+    # first, holding the lock, waited for the GIL: the interpreter hung.
+    code = """
+import threading, glint
+scene = glint.load(%r, width=16, height=12)
+def move(dx):
+    for i in range(40):
+        x, y, z = scene.params["spheres[0].center"]
+        scene.params["spheres[0].center"] = [x + dx, y, z]
+threads = [threading.Thread(target=move, args=(d,)) for d in (0.001, -0.001, 0.002)]
+for t in threads: t.start()
+for t in threads: t.join()
+print(scene.generation)
+""" % str(ROOT / "scenes" / "seed-fig3.toml")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "120"
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_the_interpreter_exits_while_a_daemon_thread_renders(backend):
+    # CPython ended the daemon thread with pthread_exit as it came back
+    # for the GIL; glint's catch_unwind took that unwind for an exception:
+    # "FATAL: exception not rethrown", SIGABRT, exit 134, 3 of 3 times.
+    code = """
+import threading, time, glint
+scene = glint.load(%r, width=320, height=240)
+def work():
+    while True:
+        glint.render(scene, backend=%r)
+        scene.params["camera.vfov"] = 41.0
+threading.Thread(target=work, daemon=True).start()
+time.sleep(0.5)
+print("exiting")
+""" % (str(ROOT / "scenes" / "seed-fig5.toml"), backend)
+    for _ in range(3):
+        done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+        assert done.returncode == 0, (done.returncode, done.stderr[-2000:])
+        assert done.stdout.strip() == "exiting"

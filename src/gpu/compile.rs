@@ -206,13 +206,28 @@ impl Sources {
             h.write(name.as_bytes());
             h.write(text.as_bytes());
         }
-        let mut files: Vec<PathBuf> = self.main.iter().cloned().collect();
-        files.extend(crate::files::in_dirs(&self.dirs));
+        // The user's files by content and by where the compile finds
+        // them (which folder of the list, by its place, and the name in
+        // it), not by their paths: the same texts in another temporary
+        // folder (the Python module's `include={...}`, one a renderer)
+        // are the same compile, and found in the cache.
+        let mut files: Vec<(usize, std::ffi::OsString, PathBuf)> = self
+            .main
+            .iter()
+            .map(|m| (usize::MAX, "main".into(), m.clone()))
+            .collect();
+        for (i, dir) in self.dirs.iter().enumerate() {
+            for f in crate::files::in_dirs(std::slice::from_ref(dir)) {
+                let name = f.file_name().unwrap_or_default().to_owned();
+                files.push((i, name, f));
+            }
+        }
         // Read as every input is (a FIFO is not opened, a device not read
         // past the bound); a file that cannot be read is hashed by its error,
         // and refused only if a compile includes it.
-        for f in files {
-            h.write(f.display().to_string().as_bytes());
+        for (dir, name, f) in files {
+            h.write(&dir.to_le_bytes());
+            h.write(name.as_encoded_bytes());
             match crate::input::read(&f, crate::input::ReadAs::Shader) {
                 Ok(bytes) => h.write(&bytes),
                 Err(e) => h.write(e.to_string().as_bytes()),

@@ -53,6 +53,11 @@ pub fn check_define(name: &str, value: Option<&str>) -> Result<(), String> {
     if !ok {
         return Err("a define is NAME or NAME=VALUE, NAME made of letters, digits and _".into());
     }
+    if super::compile::reserved_define(name) {
+        return Err(format!(
+            "glint defines {name} itself for each scene (docs/shaders.md, Variants); choose another name"
+        ));
+    }
     let bad = value.and_then(|v| {
         v.chars()
             .find(|c| matches!(c, '"' | '\\' | '#') || c.is_control())
@@ -95,23 +100,13 @@ impl GpuOptions {
         super::features::check_experiment()?;
         for (name, value) in &self.defines {
             check_define(name, value.as_deref()).map_err(|e| {
-                GpuError::Unsupported(format!("define {}: {e}", crate::printable::text(name)))
+                GpuError::Unsupported(format!("-D {}: {e}", crate::printable::text(name)))
             })?;
         }
         for dir in &self.include_dirs {
             check_include_dir(dir).map_err(GpuError::Unsupported)?;
         }
-        match self
-            .defines
-            .iter()
-            .find(|(n, _)| super::compile::reserved_define(n))
-        {
-            Some((name, _)) => Err(GpuError::Unsupported(format!(
-                "-D {name}: glint defines {name} itself for each scene (docs/shaders.md, Variants); \
-                 choose another name"
-            ))),
-            None => Ok(()),
-        }
+        Ok(())
     }
 
     /// Validation is also switched on by GLINT_VALIDATION=1 (the tests set it).

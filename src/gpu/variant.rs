@@ -353,6 +353,76 @@ impl Variant {
         }
     }
 
+    /// What differs between this variant and `had`, a field each, as
+    /// `spd_rays true (was false)`: two variants of one name (which leaves
+    /// out what a scene rarely changes) are still told apart.
+    pub fn difference(&self, had: &Variant) -> String {
+        let mut out = Vec::new();
+        macro_rules! differing {
+            ($now:expr, $was:expr, [$($field:ident),*]) => {{
+                $(
+                    if $now.$field != $was.$field {
+                        out.push(format!(
+                            "{} {:?} (was {:?})",
+                            stringify!($field),
+                            $now.$field,
+                            $was.$field
+                        ));
+                    }
+                )*
+            }};
+        }
+        differing!(
+            self,
+            had,
+            [
+                intersect,
+                precision,
+                bvh_stack,
+                tables,
+                count,
+                record,
+                aovs,
+                power_filter,
+                refine,
+                contrast,
+                wavefront,
+                reads
+            ]
+        );
+        match (&self.features, &had.features) {
+            (Some(now), Some(was)) => differing!(
+                now,
+                was,
+                [
+                    kinds,
+                    lights,
+                    light_types,
+                    attenuation,
+                    shadows,
+                    transmits,
+                    spd_rays,
+                    textures,
+                    images,
+                    uvs,
+                    max_depth,
+                    samples,
+                    uniform_slots,
+                    unroll,
+                    table_slots,
+                    unroll_lights,
+                    canary,
+                    nodes
+                ]
+            ),
+            (now, was) if now.is_some() != was.is_some() => {
+                out.push(format!("generic {} (was {})", now.is_none(), was.is_none()));
+            }
+            _ => {}
+        }
+        out.join(", ")
+    }
+
     /// A short name for files and messages: the generic shader, or the
     /// features this variant keeps.
     pub fn name(&self) -> String {

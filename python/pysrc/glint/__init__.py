@@ -114,12 +114,15 @@ class Params(MutableMapping[str, Any]):
 
     Keys are paths into the scene file's tables, as an error names them:
     ``"spheres[0].center"``, ``"materials.red.diffuse"``,
-    ``"lights[1].position"``, ``"camera.eye"`` (a name with a dot or a
-    space in double quotes: ``'materials."red glass".diffuse'``).
+    ``"lights[1].position"``, ``"camera.eye"`` (a name with a dot, a
+    space or a quote in double quotes, with ``\\"`` and ``\\\\`` escaped as
+    TOML writes them: ``'materials."red glass".diffuse'``).
     Iterating lists every number and list of numbers of the file but the
     image's settings and ``render.max_depth``; any key of the file can be
     read and set, and a table's missing key (a material's ``specular``)
-    can be given. ``del params[key]`` takes a key back to its default.
+    can be given. A key naming an entry the scene does not have (a
+    misspelt material) is a KeyError; :meth:`add` makes new entries.
+    ``del params[key]`` takes a key back to its default.
 
     Setting a value reads the scene again, whole, with every check a file
     gets (its meshes' OBJ files are not read again while unchanged: their
@@ -161,6 +164,13 @@ class Params(MutableMapping[str, Any]):
         items.update(values)
         self._scene._set_params(items)
 
+    def add(self, key: str, value: Any) -> None:
+        """Sets ``key`` as ``params[key] = value`` does, making the
+        entries on its way that the scene does not have: ``add("materials.
+        blue.diffuse", [0, 0, 1])`` makes the material ``blue``. An
+        array's entry is never made (``to_dict`` and ``from_dict`` can)."""
+        self._scene._set_params({key: value}, True)
+
     def __repr__(self) -> str:
         return f"<glint.Params of {self._scene.source!r}: {dict(self)!r}>"
 
@@ -179,13 +189,53 @@ Aovs = Dict[str, npt.NDArray[Any]]
 
 
 def _result(
-    image: Image, raw: Optional[str], stats: bool, aovs: Optional[Dict[str, Any]] = None
+    image: Image, raw: Optional[str], stats: bool, aovs: Optional[Dict[str, Any]] = None,
+    asked: bool = False,
 ) -> Any:
-    out: Union[Image, Aovs] = image if aovs is None else {"color": image, **aovs}
+    # `aovs=[]` asks for the dict too, with the colour alone in it.
+    out: Union[Image, Aovs] = image if aovs is None and not asked else {"color": image, **(aovs or {})}
     if not stats:
         return out
     assert raw is not None, "a render asked for stats returns them"
     return out, cast(Stats, json.loads(raw))
+
+
+def _overridden(
+    scene: Scene, width: Optional[int], height: Optional[int], samples: Optional[int], max_depth: Optional[int]
+) -> Scene:
+    if width is None and height is None and samples is None and max_depth is None:
+        return scene
+    return scene._overridden(width, height, samples, max_depth)
+
+
+def _progress(progress: Any) -> Optional[Progress]:
+    """``progress`` as glint calls it, ``(pixels_done, pixels)``. A tqdm
+    bar (anything with ``update`` and ``total``), or its ``update`` method,
+    takes increments instead: the bar's total is set to the pixels and it
+    is moved by what was done since its last call (``progress=bar.update``
+    raised TypeError, glint passing two numbers to a one-number method)."""
+    if progress is None:
+        return None
+    bar = progress
+    if getattr(progress, "__name__", None) == "update" and hasattr(progress, "__self__"):
+        bar = progress.__self__
+    if not (hasattr(bar, "update") and hasattr(bar, "total")):
+        if not callable(progress):
+            raise TypeError(f"progress={progress!r}: a callable progress(done, total), or a tqdm bar")
+        return cast(Progress, progress)
+    shown = [0]
+
+    def moved(done: int, total: int) -> None:
+        if bar.total != total:
+            bar.total = total
+            refresh = getattr(bar, "refresh", None)
+            if callable(refresh):
+                refresh()
+        if done > shown[0]:
+            bar.update(done - shown[0])
+            shown[0] = done
+
+    return moved
 
 
 def _aovs(aovs: Optional[Sequence[str]]) -> Optional[List[str]]:
@@ -230,7 +280,7 @@ class PreparedScene:
         ``stats=True``, ``(image, stats)``: the times, and the ray counts
         where the scene was prepared with ``stats=True``. ``progress`` is
         called as ``progress(pixels_done, pixels)`` as tiles finish."""
-        image, raw, _ = self._native.render(_region(region), stats, progress)
+        image, raw, _ = self._native.render(_region(region), stats, _progress(progress))
         return cast(Union[Image, Tuple[Image, Stats]], _result(image, raw, stats))
 
     @property
@@ -293,21 +343,29 @@ class Renderer:
     def render(
         self, scene: Scene, precision: str = "f32", region: Optional[Region] = None,
         stats: Literal[False] = False, progress: Optional[Progress] = None, aovs: None = None,
+    width: Optional[int] = None, height: Optional[int] = None,
+    samples: Optional[int] = None, max_depth: Optional[int] = None,
     ) -> Image: ...
     @overload
     def render(
         self, scene: Scene, precision: str = "f32", region: Optional[Region] = None,
         *, stats: Literal[True], progress: Optional[Progress] = None, aovs: None = None,
+    width: Optional[int] = None, height: Optional[int] = None,
+    samples: Optional[int] = None, max_depth: Optional[int] = None,
     ) -> Tuple[Image, Stats]: ...
     @overload
     def render(
         self, scene: Scene, precision: str = "f32", region: Optional[Region] = None,
         stats: Literal[False] = False, progress: Optional[Progress] = None, *, aovs: Sequence[str],
+    width: Optional[int] = None, height: Optional[int] = None,
+    samples: Optional[int] = None, max_depth: Optional[int] = None,
     ) -> Aovs: ...
     @overload
     def render(
         self, scene: Scene, precision: str = "f32", region: Optional[Region] = None,
         *, stats: Literal[True], progress: Optional[Progress] = None, aovs: Sequence[str],
+    width: Optional[int] = None, height: Optional[int] = None,
+    samples: Optional[int] = None, max_depth: Optional[int] = None,
     ) -> Tuple[Aovs, Stats]: ...
 
     def render(
@@ -318,6 +376,10 @@ class Renderer:
         stats: bool = False,
         progress: Optional[Progress] = None,
         aovs: Optional[Sequence[str]] = None,
+        width: Optional[int] = None,
+        height: Optional[int] = None,
+        samples: Optional[int] = None,
+        max_depth: Optional[int] = None,
     ) -> Union[Image, Tuple[Image, Stats], Aovs, Tuple[Aovs, Stats]]:
         """The image, or ``(image, stats)``; with ``aovs``, a dict of the
         image (``"color"``) and the AOVs named (docs/python.md, AOVs) in
@@ -325,11 +387,16 @@ class Renderer:
         prepared (its buffers on the device) while it is given that scene
         again, with the same precision, stats and AOVs: a repeat render
         only traces, and one after a change of ``scene.params`` updates it
-        in place (:class:`Params`)."""
+        in place (:class:`Params`). ``width``, ``height``, ``samples`` and
+        ``max_depth`` render it as :func:`load` would have read it with
+        them, the scene unchanged."""
         image, raw, values = self._native.render(
-            scene, precision, _region(region), stats, progress, _aovs(aovs)
+            _overridden(scene, width, height, samples, max_depth), precision, _region(region), stats, _progress(progress), _aovs(aovs)
         )
-        return cast(Union[Image, Tuple[Image, Stats], Aovs, Tuple[Aovs, Stats]], _result(image, raw, stats, values))
+        return cast(
+            Union[Image, Tuple[Image, Stats], Aovs, Tuple[Aovs, Stats]],
+            _result(image, raw, stats, values, aovs is not None),
+        )
 
     def explain(
         self, scene: Scene, pixel: Tuple[int, int], sample: Optional[int] = None
@@ -402,24 +469,32 @@ def render(
     scene: Scene, backend: str = "gpu", precision: str = "f32", region: Optional[Region] = None,
     stats: Literal[False] = False, renderer: Optional[Renderer] = None,
     progress: Optional[Progress] = None, aovs: None = None,
+    width: Optional[int] = None, height: Optional[int] = None,
+    samples: Optional[int] = None, max_depth: Optional[int] = None,
 ) -> Image: ...
 @overload
 def render(
     scene: Scene, backend: str = "gpu", precision: str = "f32", region: Optional[Region] = None,
     *, stats: Literal[True], renderer: Optional[Renderer] = None,
     progress: Optional[Progress] = None, aovs: None = None,
+    width: Optional[int] = None, height: Optional[int] = None,
+    samples: Optional[int] = None, max_depth: Optional[int] = None,
 ) -> Tuple[Image, Stats]: ...
 @overload
 def render(
     scene: Scene, backend: str = "gpu", precision: str = "f32", region: Optional[Region] = None,
     stats: Literal[False] = False, renderer: Optional[Renderer] = None,
     progress: Optional[Progress] = None, *, aovs: Sequence[str],
+    width: Optional[int] = None, height: Optional[int] = None,
+    samples: Optional[int] = None, max_depth: Optional[int] = None,
 ) -> Aovs: ...
 @overload
 def render(
     scene: Scene, backend: str = "gpu", precision: str = "f32", region: Optional[Region] = None,
     *, stats: Literal[True], renderer: Optional[Renderer] = None,
     progress: Optional[Progress] = None, aovs: Sequence[str],
+    width: Optional[int] = None, height: Optional[int] = None,
+    samples: Optional[int] = None, max_depth: Optional[int] = None,
 ) -> Tuple[Aovs, Stats]: ...
 
 
@@ -432,6 +507,10 @@ def render(
     renderer: Optional[Renderer] = None,
     progress: Optional[Progress] = None,
     aovs: Optional[Sequence[str]] = None,
+    width: Optional[int] = None,
+    height: Optional[int] = None,
+    samples: Optional[int] = None,
+    max_depth: Optional[int] = None,
 ) -> Union[Image, Tuple[Image, Stats], Aovs, Tuple[Aovs, Stats]]:
     """Renders ``scene``: on the GPU through ``renderer`` (a default one,
     opened at the first call, where None), or with the CPU reference
@@ -444,19 +523,27 @@ def render(
     ``aovs`` names AOVs of the eye ray's first hit: ``"depth"``,
     ``"normal"``, ``"albedo"``, ``"prim_id"``, and ``"rays"``, the rays
     each pixel traced. With it, the image is a dict of ``"color"`` and
-    those arrays (docs/python.md, AOVs)."""
+    those arrays (docs/python.md, AOVs).
+
+    ``width``, ``height``, ``samples`` and ``max_depth`` render the scene
+    as :func:`load` would have read it with them (another size or sample
+    count without a reload); the scene itself is unchanged."""
+    scene = _overridden(scene, width, height, samples, max_depth)
     if backend == "gpu":
         r = renderer if renderer is not None else _default_renderer()
         image, raw, values = r._native.render(
-            scene, precision, _region(region), stats, progress, _aovs(aovs)
+            scene, precision, _region(region), stats, _progress(progress), _aovs(aovs)
         )
     elif backend == "cpu":
         image, raw, values = _glint.render_cpu(
-            scene, precision, _region(region), stats, progress, _aovs(aovs)
+            scene, precision, _region(region), stats, _progress(progress), _aovs(aovs)
         )
     else:
         raise ValueError(f'backend {backend!r}: glint renders with "gpu" or "cpu"')
-    return cast(Union[Image, Tuple[Image, Stats], Aovs, Tuple[Aovs, Stats]], _result(image, raw, stats, values))
+    return cast(
+        Union[Image, Tuple[Image, Stats], Aovs, Tuple[Aovs, Stats]],
+        _result(image, raw, stats, values, aovs is not None),
+    )
 
 
 @dataclass(frozen=True)

@@ -62,9 +62,8 @@ impl Prepared {
             .stage(self.shared.variant(traced, &s, &up, s.count).0);
         if variant != self.main.variant {
             return Ok(Update::Prepare(format!(
-                "it needs the shader variant {}, where it has {}",
-                variant.name(),
-                self.main.variant.name()
+                "it needs another shader variant: {}",
+                variant.difference(&self.main.variant)
             )));
         }
         let same_texels =
