@@ -149,6 +149,53 @@ fn a_mesh_is_its_triangles_placed() {
     );
 }
 
+/// A mesh's `rotate`: degrees about x, then y, then z, after the scale and
+/// before the translation, its normals turned with it.
+#[test]
+fn a_rotated_mesh_is_its_points_turned_x_then_y_then_z() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("tri.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n",
+    )
+    .unwrap();
+    let camera = "[camera]\neye = [0.5, 0.5, 6.0]\nlook_at = [0.5, 0.5, 0.0]\nvfov = 40.0\n";
+    let placed = |rotate: &str| {
+        scene_at(
+            dir.path(),
+            &format!(
+                "{CAMERA}{camera}[[meshes]]\nfile = \"tri.obj\"\nmaterial = \"m\"\n\
+                 scale = 2.0\nrotate = {rotate}\ntranslate = [1.0, 0.0, 0.0]\n"
+            ),
+        )
+        .prims
+        .triangles[0]
+            .clone()
+    };
+    let near = |a: glam::DVec3, b: [f64; 3]| (a - glam::DVec3::from(b)).length() < 1e-12;
+    // About x by 90, then y by 90: (0, 2, 0) goes to (0, 0, 2), then to
+    // (2, 0, 0); the other order would leave it at (0, 0, 2).
+    let t = placed("[90.0, 90.0, 0.0]");
+    assert!(near(t.vertices[2], [3.0, 0.0, 0.0]), "{:?}", t.vertices);
+    assert!(near(t.vertices[1], [1.0, 0.0, -2.0]), "{:?}", t.vertices);
+    let n = t.normals.expect("smooth normals")[0];
+    assert!(near(n, [0.0, -1.0, 0.0]), "{n:?}");
+    let t = placed("[0.0, 0.0, 90.0]");
+    assert!(near(t.vertices[1], [1.0, 2.0, 0.0]), "{:?}", t.vertices);
+    // A whole turn is where it started, to rounding.
+    let (turned, still) = (placed("[360.0, 0.0, 0.0]"), placed("[0.0, 0.0, 0.0]"));
+    for (a, b) in turned.vertices.iter().zip(&still.vertices) {
+        assert!((*a - *b).length() < 1e-12);
+    }
+    let e = error_of(
+        dir.path(),
+        &format!(
+            "{CAMERA}{camera}[[meshes]]\nfile = \"tri.obj\"\nmaterial = \"m\"\nrotate = [0.0, 1e7, 0.0]\n"
+        ),
+    );
+    assert!(e.contains("meshes[0].rotate") && e.contains("1e7"), "{e}");
+}
+
 fn error_of(dir: &Path, text: &str) -> String {
     let path = dir.join("bad.toml");
     std::fs::write(&path, text).unwrap();
@@ -196,9 +243,14 @@ fn bad_triangles_and_meshes_are_named() {
             "> 0",
         ),
         (
-            "[[meshes]]\nfile = \"broken.obj\"\nmaterial = \"m\"\nrotate = 1.0\n",
-            "rotate",
+            "[[meshes]]\nfile = \"broken.obj\"\nmaterial = \"m\"\nspin = 1.0\n",
+            "spin",
             "unknown field",
+        ),
+        (
+            "[[meshes]]\nfile = \"broken.obj\"\nmaterial = \"m\"\nrotate = 1.0\n",
+            "meshes[0].rotate",
+            "expected a sequence",
         ),
     ] {
         let msg = error_of(dir.path(), &format!("{CAMERA}{camera}{table}"));

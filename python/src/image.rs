@@ -4,11 +4,13 @@
 
 use std::path::PathBuf;
 
-use numpy::{PyArray1, PyArray3, PyArrayMethods, PyReadonlyArray3, PyUntypedArrayMethods};
+use numpy::{
+    PyArray1, PyArray3, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods,
+};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use glint::raster::{diff, io, Image};
+use glint::raster::{diff, io, plane, Image};
 
 use crate::errors::{self, guard};
 
@@ -51,10 +53,43 @@ pub fn from_numpy(a: &PyReadonlyArray3<'_, f32>, what: &str) -> PyResult<Image> 
 
 #[pyfunction]
 #[pyo3(signature = (path, srgb=true))]
-pub fn read(py: Python<'_>, path: PathBuf, srgb: bool) -> PyResult<Bound<'_, PyArray3<f32>>> {
+pub fn read(py: Python<'_>, path: PathBuf, srgb: bool) -> PyResult<Bound<'_, PyAny>> {
     guard(|| {
+        // A one-channel PFM or EXR (an AOV written by `write`) comes back
+        // as the (height, width) array it was.
+        if plane::is_plane(&path).unwrap_or(false) {
+            let p = crate::gil::detach(py, || plane::read_plane(&path)).map_err(errors::image)?;
+            let shape = [p.height as usize, p.width as usize];
+            return Ok(PyArray1::from_vec(py, p.values).reshape(shape)?.into_any());
+        }
         let image = crate::gil::detach(py, || io::read_as(&path, srgb)).map_err(errors::image)?;
-        to_numpy(py, image)
+        Ok(to_numpy(py, image)?.into_any())
+    })
+}
+
+/// Writes a `(height, width)` float32 array as a one-channel PFM or EXR.
+#[pyfunction]
+pub fn write_plane(
+    py: Python<'_>,
+    values: PyReadonlyArray2<'_, f32>,
+    path: PathBuf,
+) -> PyResult<()> {
+    guard(|| {
+        let shape = values.shape();
+        let side = |s: usize| {
+            u32::try_from(s).map_err(|_| PyValueError::new_err("image: too large an image"))
+        };
+        if shape[0] == 0 || shape[1] == 0 {
+            return Err(PyValueError::new_err(format!(
+                "image: shape {shape:?}; an image has height, width > 0"
+            )));
+        }
+        let p = plane::Plane {
+            width: side(shape[1])?,
+            height: side(shape[0])?,
+            values: values.as_array().iter().copied().collect(),
+        };
+        crate::gil::detach(py, || plane::write_plane(&path, &p)).map_err(errors::image)
     })
 }
 

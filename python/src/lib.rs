@@ -36,6 +36,7 @@ fn _glint(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render::devices_json, m)?)?;
     m.add_function(wrap_pyfunction!(image::read, m)?)?;
     m.add_function(wrap_pyfunction!(image::write, m)?)?;
+    m.add_function(wrap_pyfunction!(image::write_plane, m)?)?;
     m.add_function(wrap_pyfunction!(image::diff_json, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare_raw, m)?)?;
     m.add_function(wrap_pyfunction!(test_panic, m)?)?;

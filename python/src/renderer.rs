@@ -278,11 +278,13 @@ impl Renderer {
         guard(|| {
             let stop = Arc::new(AtomicBool::new(false));
             let (now, generation) = scene.get().current();
-            let mut prepared = interruptible(py, &stop, || {
+            let prepared = interruptible(py, &stop, || {
                 lock(&self.inner)
                     .prepare(&now, &settings)
                     .map_err(errors::gpu)
-            })?;
+            });
+            log_cache_notices(py)?;
+            let mut prepared = prepared?;
             prepared.stop_when(stop.clone());
             Ok(PreparedScene {
                 inner: Mutex::new(Held {
@@ -323,6 +325,22 @@ pub struct PreparedScene {
     /// How its first render's scene was taken, where `Renderer.render`
     /// prepared it: its `stats["update"]`.
     note: Mutex<Option<String>>,
+}
+
+/// What the caches repaired (a damaged SPIR-V entry compiled again and
+/// replaced), each to the `glint` logger at INFO, as the binary prints it.
+fn log_cache_notices(py: Python<'_>) -> PyResult<()> {
+    let notices = gpu::sealed::notices();
+    if notices.is_empty() {
+        return Ok(());
+    }
+    let logger = py
+        .import("logging")?
+        .call_method1("getLogger", ("glint",))?;
+    for n in notices {
+        logger.call_method1("info", (n,))?;
+    }
+    Ok(())
 }
 
 /// Why `Renderer.render` prepared a scene rather than render the one it
@@ -461,6 +479,7 @@ impl PreparedScene {
                 aovs,
                 ..
             } = rendered;
+            log_cache_notices(py)?;
             let compiled = times.setup.compile_s > 0.0 || times.setup.pipeline_s > 0.0;
             if let Some(said) = followed
                 .as_deref()

@@ -127,3 +127,25 @@ def test_bad_aovs_are_refused_in_one_line():
         glint.render(contrast, backend="cpu", aovs=["depth"])
     # The plain render of the same scene is fine: one image, no AOVs.
     assert glint.render(contrast, backend="cpu").shape == (25, 33, 3)
+
+
+@pytest.mark.parametrize("backend", ["cpu", pytest.param("gpu", marks=gpu)])
+def test_a_one_channel_aov_is_shown_grey_and_written_and_read_as_itself(tmp_path, backend):
+    # glint.show and glint.write refused glint's own (h, w) AOVs.
+    scene = small("seed-fig3.toml", 16, 12)
+    out = glint.render(scene, backend=backend, aovs=["depth", "rays"])
+    for name in ("depth", "rays"):
+        for ext in ("exr", "pfm"):
+            path = tmp_path / f"{name}.{ext}"
+            glint.write(out[name], path)
+            back = glint.read(path)
+            assert back.shape == out[name].shape, (name, ext)
+            assert np.array_equal(back, out[name].astype(np.float32)), (name, ext)
+    png = glint.show(out["depth"], out["color"])._repr_png_()
+    assert png.startswith(b"\x89PNG")
+    grey = glint._grey(out["depth"])
+    assert grey.shape == (12, 16, 3) and grey.min() >= 0 and grey.max() <= 1
+    assert np.all(grey[..., 0] == grey[..., 1])
+    with pytest.raises(glint.ImageError, match="one channel"):
+        glint.write(out["depth"], tmp_path / "depth.png")
+    assert not (tmp_path / "depth.png").exists()

@@ -61,3 +61,29 @@ print(json.dumps(cached))
     assert done.stdout.strip() == "[false, true, true]", done.stdout
     entries = list((tmp_path / "glint" / "spirv").iterdir())
     assert len(entries) == 1, entries
+
+
+def test_a_damaged_cache_entry_is_compiled_again_and_logged(tmp_path, root):
+    # One flipped bit in a cached entry rendered a wrong image, silently.
+    import os
+    import subprocess
+    import sys
+
+    code = """
+import logging, sys, glint
+logging.basicConfig(level=logging.INFO, stream=sys.stderr)
+scene = glint.load(%r, width=32, height=24)
+sys.stdout.buffer.write(glint.Renderer().render(scene).tobytes())
+""" % str(root / "scenes/seed-fig3.toml")
+    env = dict(os.environ, XDG_CACHE_HOME=str(tmp_path))
+    run = lambda: subprocess.run([sys.executable, "-c", code], capture_output=True, env=env, timeout=300)
+    first = run()
+    assert first.returncode == 0, first.stderr
+    (entry,) = (tmp_path / "glint" / "spirv").iterdir()
+    data = bytearray(entry.read_bytes())
+    data[len(data) // 2] ^= 0x08
+    entry.write_bytes(bytes(data))
+    again = run()
+    assert again.returncode == 0, again.stderr
+    assert again.stdout == first.stdout
+    assert b"the cached SPIR-V" in again.stderr and b"damaged" in again.stderr, again.stderr

@@ -126,13 +126,16 @@ def test_the_interpreter_exits_while_a_daemon_thread_renders(backend):
     # "FATAL: exception not rethrown", SIGABRT, exit 134, 3 of 3 times.
     code = """
 import threading, time, glint
-scene = glint.load(%r, width=320, height=240)
+scene = glint.load(%r, width=16, height=12)
 def work():
+    i = 0
     while True:
-        glint.render(scene, backend=%r)
-        scene.params["camera.vfov"] = 41.0
+        i += 1
+        scene.params["spheres[0].radius"] = 1.0 + (i %% 7) * 0.01
+        if i %% 5 == 0:
+            glint.render(scene, backend=%r)
 threading.Thread(target=work, daemon=True).start()
-time.sleep(0.5)
+time.sleep(0.3)
 print("exiting")
 """ % (str(ROOT / "scenes" / "seed-fig5.toml"), backend)
     for _ in range(3):

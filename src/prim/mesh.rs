@@ -24,11 +24,40 @@ pub struct MeshFile {
     /// the OBJ's MTL file (`mtllib`, `usemtl`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
-    /// Uniform scale, applied before `translate`: p·scale + translate.
+    /// Uniform scale, applied first: R·(p·scale) + translate.
     #[serde(default = "one")]
     pub scale: f64,
+    /// Degrees about x, then y, then z (each axis through the origin,
+    /// counter-clockwise looking down it), after the scale and before the
+    /// translation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotate: Option<Triple>,
     #[serde(default)]
     pub translate: Option<Triple>,
+}
+
+/// The rotation `rotate` names: degrees about x, then y, then z; each
+/// angle finite and within ±1e6 degrees.
+fn rotation(at: &At<'_>, rotate: Option<Triple>) -> Result<glam::DMat3, SceneError> {
+    let Some(t) = rotate else {
+        return Ok(glam::DMat3::IDENTITY);
+    };
+    let d = at.position("rotate", t)?;
+    if d.abs().max_element() > 1e6 {
+        return at.invalid(
+            "rotate",
+            format!(
+                "degrees must be within ±1e6, got [{}, {}, {}]",
+                crate::printable::number(d.x),
+                crate::printable::number(d.y),
+                crate::printable::number(d.z)
+            ),
+        );
+    }
+    let r = d * (std::f64::consts::PI / 180.0);
+    Ok(glam::DMat3::from_rotation_z(r.z)
+        * glam::DMat3::from_rotation_y(r.y)
+        * glam::DMat3::from_rotation_x(r.x))
 }
 
 fn one() -> f64 {
@@ -93,6 +122,7 @@ pub fn load(
         .map(|m| at.material("material", m))
         .transpose()?;
     let scale = at.length("scale", f.scale)?;
+    let rotate = rotation(at, f.rotate)?;
     let translate = match f.translate {
         Some(t) => at.position("translate", t)?,
         None => DVec3::ZERO,
@@ -139,11 +169,13 @@ pub fn load(
         };
         let point = |i: u32| {
             let i = 3 * i as usize;
-            DVec3::new(m.positions[i], m.positions[i + 1], m.positions[i + 2]) * scale + translate
+            rotate * (DVec3::new(m.positions[i], m.positions[i + 1], m.positions[i + 2]) * scale)
+                + translate
         };
         let normal = |i: u32| {
             let i = 3 * i as usize;
-            DVec3::new(m.normals[i], m.normals[i + 1], m.normals[i + 2])
+            // A rotation keeps angles: it turns normals as it turns points.
+            rotate * DVec3::new(m.normals[i], m.normals[i + 1], m.normals[i + 2])
         };
         let smooth = m.normal_indices.len() == m.indices.len();
         // Texture coordinates where every corner has one (vt); tobj refuses

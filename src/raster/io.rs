@@ -76,6 +76,13 @@ pub enum ImageIoError {
         /// What is wrong with it.
         reason: String,
     },
+    /// A one-channel image and a file that cannot hold one (a PNG), or
+    /// a file of more channels read as one.
+    #[error(
+        "{}: a one-channel image (depth, ray counts) is a .pfm or .exr file of one channel",
+        crate::printable::path(.0)
+    )]
+    OneChannel(PathBuf),
     /// An output that may not be written.
     #[error(transparent)]
     Output(#[from] OutputError),

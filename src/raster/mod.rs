@@ -5,6 +5,7 @@ pub mod io;
 mod levels;
 pub mod memory;
 mod pfm;
+pub mod plane;
 pub mod region;
 
 /// A linear RGB image, rows top to bottom.

@@ -721,7 +721,8 @@ def explain(
 def read(path: PathLike, srgb: bool = True) -> Image:
     """A PNG, PFM or EXR file as a linear image. A PNG is sRGB-encoded, and
     its levels are decoded (``srgb=False``: read as level/255); PFM and EXR
-    are linear as stored (docs/scene-format.md, Colour)."""
+    are linear as stored (docs/scene-format.md, Colour). A one-channel PFM
+    or EXR (a depth :func:`write` wrote) is a ``(height, width)`` array."""
     return _glint.read(os.fspath(path), srgb)
 
 
@@ -730,7 +731,15 @@ def write(image: Any, path: PathLike, srgb: bool = True) -> None:
     (a temporary file renamed into place): a failed write leaves no file.
     A PNG is sRGB-encoded before its 8-bit quantization (``srgb=False``:
     linear levels), so it looks as the image should and :func:`read`
-    gives it back; PFM and EXR hold the values as they are."""
+    gives it back; PFM and EXR hold the values as they are. A ``(height,
+    width)`` array (an AOV's depth or ray counts) is written as a PFM or
+    EXR of one channel, its values as they are (``inf`` too)."""
+    a = np.asarray(image)
+    if a.ndim == 2:
+        if a.dtype == np.bool_ or not (np.issubdtype(a.dtype, np.number)):
+            raise ValueError(f"image: a {a.dtype} array; a one-channel image is numbers")
+        _glint.write_plane(np.ascontiguousarray(a, dtype=np.float32), os.fspath(path))
+        return
     _glint.write(_image(image, "image"), os.fspath(path), srgb)
 
 
@@ -770,7 +779,18 @@ def show(*images: Any) -> Shown:
     ``glint.show(glint.render(scene))``, or several side by side."""
     if not images:
         raise ValueError("show: give at least one image")
-    return Shown([_image(a, f"image {i}") for i, a in enumerate(images)])
+    return Shown([_grey(a) if np.ndim(a) == 2 else _image(a, f"image {i}") for i, a in enumerate(images)])
+
+
+def _grey(a: Any) -> Image:
+    # A (height, width) array (an AOV's depth, its rays) as grey: its
+    # finite values from their least (black) to their greatest (white),
+    # the rest (a depth's inf where nothing was met) black.
+    v = np.asarray(a, dtype=np.float64)
+    finite = np.isfinite(v)
+    lo, hi = (float(v[finite].min()), float(v[finite].max())) if finite.any() else (0.0, 1.0)
+    scaled = np.where(finite, (v - lo) / (hi - lo) if hi > lo else np.clip(v, 0.0, 1.0), 0.0)
+    return cast(Image, np.repeat(scaled[:, :, None], 3, axis=2).astype(np.float32))
 
 
 def devices() -> List[Dict[str, Any]]:

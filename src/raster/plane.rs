@@ -1,0 +1,254 @@
+//! One-channel images (an AOV's depth, a pixel's ray count): written and
+//! read as a PFM of one channel (`Pf`) or an EXR of one channel `Y`. A
+//! PNG has no float channel to hold a depth, so it is refused for them.
+
+use std::io::{Read, Write};
+use std::path::Path;
+
+use super::io::{io_err, Format, ImageIoError};
+use super::memory::check_size;
+
+/// A one-channel image: `values` row by row from the top.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plane {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Row by row, from the top.
+    pub values: Vec<f32>,
+}
+
+/// Whether the PFM or EXR file at `path` holds one channel (a PNG never
+/// does here: glint reads it as RGB).
+pub fn is_plane(path: &Path) -> Result<bool, ImageIoError> {
+    match Format::of(path)? {
+        Format::Png => Ok(false),
+        Format::Pfm => {
+            let mut head = [0u8; 2];
+            crate::input::open(path, crate::input::ReadAs::Pfm)
+                .and_then(|mut f| f.read_exact(&mut head))
+                .map_err(io_err(path))?;
+            Ok(&head == b"Pf")
+        }
+        Format::Exr => {
+            crate::input::check(path, crate::input::ReadAs::Image).map_err(io_err(path))?;
+            let meta =
+                exr::meta::MetaData::read_from_file(path, false).map_err(|e| exr_err(path, e))?;
+            Ok(meta
+                .headers
+                .first()
+                .is_some_and(|h| h.channels.list.len() == 1))
+        }
+    }
+}
+
+fn exr_err(path: &Path, e: exr::error::Error) -> ImageIoError {
+    ImageIoError::Codec {
+        path: path.to_owned(),
+        cause: image::ImageError::Decoding(image::error::DecodingError::new(
+            image::error::ImageFormatHint::Exact(image::ImageFormat::OpenExr),
+            e.to_string(),
+        )),
+    }
+}
+
+/// Writes `plane` as `path`'s format names (PFM or EXR), whole or not at
+/// all, as every output is.
+pub fn write_plane(path: &Path, plane: &Plane) -> Result<(), ImageIoError> {
+    let format = Format::of_output(path)?;
+    if format == Format::Png {
+        return Err(ImageIoError::OneChannel(path.to_owned()));
+    }
+    crate::output::write_one(path, &[], false, |out: &mut dyn Write| match format {
+        Format::Pfm => write_pfm(out, plane).map_err(io_err(path)),
+        _ => write_exr(out, plane, path),
+    })
+}
+
+fn write_pfm(out: &mut dyn Write, p: &Plane) -> std::io::Result<()> {
+    write!(out, "Pf\n{} {}\n-1.0\n", p.width, p.height)?;
+    for row in p.values.chunks(p.width.max(1) as usize).rev() {
+        for v in row {
+            out.write_all(&v.to_le_bytes())?;
+        }
+    }
+    Ok(())
+}
+
+fn write_exr(out: &mut dyn Write, p: &Plane, path: &Path) -> Result<(), ImageIoError> {
+    use exr::prelude::*;
+    let channel = AnyChannel::new("Y", FlatSamples::F32(p.values.clone()));
+    let layer = Layer::new(
+        Vec2(p.width as usize, p.height as usize),
+        LayerAttributes::default(),
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(SmallVec::from_vec(vec![channel])),
+    );
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    exr::prelude::Image::from_layer(layer)
+        .write()
+        .to_buffered(&mut bytes)
+        .map_err(|e| exr_err(path, e))?;
+    out.write_all(bytes.get_ref()).map_err(io_err(path))
+}
+
+/// Reads the one-channel PFM or EXR at `path`.
+pub fn read_plane(path: &Path) -> Result<Plane, ImageIoError> {
+    let bad = |reason: String| ImageIoError::BadPfm {
+        path: path.to_owned(),
+        reason,
+    };
+    match Format::of(path)? {
+        Format::Pfm => {
+            let mut bytes = Vec::new();
+            crate::input::open(path, crate::input::ReadAs::Pfm)
+                .and_then(|mut f| f.read_to_end(&mut bytes))
+                .map_err(io_err(path))?;
+            read_pfm(&bytes).map_err(bad)
+        }
+        Format::Exr => {
+            crate::input::check(path, crate::input::ReadAs::Image).map_err(io_err(path))?;
+            let image = exr::prelude::read_first_flat_layer_from_file(path)
+                .map_err(|e| exr_err(path, e))?;
+            let layer = image.layer_data;
+            let (w, h) = (layer.size.0 as u32, layer.size.1 as u32);
+            check_size(w, h).map_err(bad)?;
+            let [channel] = layer.channel_data.list.as_slice() else {
+                return Err(ImageIoError::OneChannel(path.to_owned()));
+            };
+            let values = match &channel.sample_data {
+                exr::prelude::FlatSamples::F16(v) => v.iter().map(|x| x.to_f32()).collect(),
+                exr::prelude::FlatSamples::F32(v) => v.clone(),
+                exr::prelude::FlatSamples::U32(v) => v.iter().map(|&x| x as f32).collect(),
+            };
+            Ok(Plane {
+                width: w,
+                height: h,
+                values,
+            })
+        }
+        Format::Png => Err(ImageIoError::OneChannel(path.to_owned())),
+    }
+}
+
+/// A one-channel PFM's plane (either byte order, rows bottom-up), or what
+/// is wrong with it.
+fn read_pfm(bytes: &[u8]) -> Result<Plane, String> {
+    let text = String::from_utf8_lossy(&bytes[..bytes.len().min(128)]).into_owned();
+    let mut words = text.split_ascii_whitespace();
+    if words.next() != Some("Pf") {
+        return Err("expected \"Pf\" (one channel)".into());
+    }
+    let mut number = |what: &str| {
+        words
+            .next()
+            .ok_or_else(|| format!("truncated header (no {what})"))
+    };
+    let w: u32 = number("width")?
+        .parse()
+        .map_err(|_| "bad width".to_owned())?;
+    let h: u32 = number("height")?
+        .parse()
+        .map_err(|_| "bad height".to_owned())?;
+    let scale_text = number("scale")?.to_owned();
+    let scale: f32 = scale_text.parse().map_err(|_| "bad scale".to_owned())?;
+    if !scale.is_finite() || scale == 0.0 {
+        return Err("bad scale (a finite non-zero number: negative for little-endian)".into());
+    }
+    check_size(w, h)?;
+    // The header's four words, then the one byte that ends it.
+    let mut pos = 0;
+    for _ in 0..4 {
+        while bytes.get(pos).is_some_and(u8::is_ascii_whitespace) {
+            pos += 1;
+        }
+        while bytes.get(pos).is_some_and(|b| !b.is_ascii_whitespace()) {
+            pos += 1;
+        }
+    }
+    pos += 1;
+    let count = w as usize * h as usize;
+    let data = bytes.get(pos..).unwrap_or_default();
+    if data.len() != count * 4 {
+        return Err(format!(
+            "expected {} bytes of values for {w}x{h}, found {}",
+            count * 4,
+            data.len()
+        ));
+    }
+    let mut values = vec![0.0f32; count];
+    for (k, c) in data.chunks_exact(4).enumerate() {
+        let b = [c[0], c[1], c[2], c[3]];
+        let v = if scale < 0.0 {
+            f32::from_le_bytes(b)
+        } else {
+            f32::from_be_bytes(b)
+        };
+        let (from_bottom, x) = (k / w as usize, k % w as usize);
+        values[(h as usize - 1 - from_bottom) * w as usize + x] = v;
+    }
+    Ok(Plane {
+        width: w,
+        height: h,
+        values,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> Plane {
+        Plane {
+            width: 3,
+            height: 2,
+            values: vec![0.5, f32::INFINITY, 1e30, -2.0, 0.0, 7.25],
+        }
+    }
+
+    #[test]
+    fn a_plane_reads_back_as_written_in_pfm_and_exr() {
+        let dir = tempfile::tempdir().unwrap();
+        for name in ["d.pfm", "d.exr"] {
+            let path = dir.path().join(name);
+            write_plane(&path, &sample()).unwrap();
+            assert!(is_plane(&path).unwrap(), "{name}");
+            assert_eq!(read_plane(&path).unwrap(), sample(), "{name}");
+        }
+        // The rows are bottom-up in a PFM: the first written is the last.
+        let bytes = std::fs::read(dir.path().join("d.pfm")).unwrap();
+        assert!(bytes.starts_with(b"Pf\n3 2\n-1.0\n"));
+        assert_eq!(
+            &bytes[bytes.len() - 12..bytes.len() - 8],
+            &0.5f32.to_le_bytes()
+        );
+    }
+
+    #[test]
+    fn a_png_takes_no_plane_and_a_colour_file_is_no_plane() {
+        let dir = tempfile::tempdir().unwrap();
+        let png = dir.path().join("d.png");
+        assert!(matches!(
+            write_plane(&png, &sample()),
+            Err(ImageIoError::OneChannel(_))
+        ));
+        assert!(!png.exists());
+        let colour = dir.path().join("c.pfm");
+        let image = crate::raster::Image::new(1, 1, vec![[1.0, 2.0, 3.0]]);
+        crate::raster::io::write(&colour, &image, false).unwrap();
+        assert!(!is_plane(&colour).unwrap());
+        let exr = dir.path().join("c.exr");
+        crate::raster::io::write(&exr, &image, false).unwrap();
+        assert!(!is_plane(&exr).unwrap());
+    }
+
+    #[test]
+    fn a_short_or_bad_pfm_is_refused() {
+        let mut bytes = Vec::new();
+        write_pfm(&mut bytes, &sample()).unwrap();
+        assert!(read_pfm(&bytes[..bytes.len() - 1]).is_err());
+        assert!(read_pfm(b"Pf\n1 1\n0\n\0\0\0\0").is_err());
+        assert!(read_pfm(b"PF\n1 1\n-1\n").is_err());
+    }
+}
