@@ -81,6 +81,15 @@ fn number(out: &mut String, x: f64) {
 /// docs/python.md makes one failed once the original was collected).
 static LIVE: Mutex<Vec<Weak<tempfile::TempDir>>> = Mutex::new(Vec::new());
 
+/// Whether `file` is one glint wrote from a dict's arrays (in a folder
+/// of a scene alive).
+pub fn is_written(file: &std::path::Path) -> bool {
+    let live = LIVE.lock().unwrap_or_else(|p| p.into_inner());
+    live.iter()
+        .filter_map(Weak::upgrade)
+        .any(|d| file.starts_with(d.path()))
+}
+
 /// The folders of other scenes' arrays that `text` names: a scene read
 /// from it keeps them as long as it lives.
 pub fn named_in(text: &str) -> Vec<Arc<tempfile::TempDir>> {

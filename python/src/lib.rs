@@ -15,6 +15,7 @@ mod errors;
 mod gil;
 mod image;
 mod keywords;
+mod mesh_params;
 mod params;
 mod render;
 #[cfg(feature = "gpu")]

@@ -32,7 +32,7 @@ pub struct Scene {
     pub base: PathBuf,
     /// The files a dict's arrays were written as (meshes, images), which
     /// its `to_dict` names: kept as long as the scene.
-    pub _arrays: Vec<std::sync::Arc<tempfile::TempDir>>,
+    pub _arrays: std::sync::Mutex<Vec<std::sync::Arc<tempfile::TempDir>>>,
     /// Its meshes' OBJ files, kept once `params` has read it again: a
     /// change of a value reads the scene file, not the meshes.
     meshes: lib::MeshCache,
@@ -86,7 +86,7 @@ impl Scene {
             source,
             read_as,
             base,
-            _arrays: arrays,
+            _arrays: std::sync::Mutex::new(arrays),
             meshes,
             setting: std::sync::Mutex::new(()),
             derived: std::sync::Mutex::new(Vec::new()),
@@ -559,6 +559,9 @@ impl Scene {
     fn _param<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Bound<'py, PyAny>> {
         guard(|| {
             let table = self.table()?;
+            if crate::mesh_params::array_key(key).is_some() {
+                return crate::mesh_params::get(py, &table, &self.base, &self.meshes, key);
+            }
             match params::get(&table, key)? {
                 Some(v) => to_python(py, v),
                 None => Err(PyKeyError::new_err(key.to_owned())),
@@ -578,6 +581,26 @@ impl Scene {
             // One change at a time: each starts from the last one's tables.
             let _one = lock_without_the_gil(py, &self.setting)?;
             let mut table = self.table()?;
+            // A numpy mesh's arrays first: its OBJ file written anew.
+            let mut arrays = Vec::new();
+            for (k, v) in items.iter() {
+                if let Ok(key) = k.extract::<String>() {
+                    if crate::mesh_params::array_key(&key).is_some() {
+                        arrays.push((key, v));
+                    }
+                }
+            }
+            let mut files = ArrayFiles::default();
+            if !arrays.is_empty() {
+                crate::mesh_params::set(
+                    py,
+                    &mut table,
+                    &self.base,
+                    &self.meshes,
+                    &arrays,
+                    &mut files,
+                )?;
+            }
             for (k, v) in items.iter() {
                 let key: String = k.extract().map_err(|_| {
                     PyTypeError::new_err(format!(
@@ -585,6 +608,9 @@ impl Scene {
                         k.repr().map_or_else(|_| "?".into(), |r| r.to_string())
                     ))
                 })?;
+                if crate::mesh_params::array_key(&key).is_some() {
+                    continue;
+                }
                 let value = if v.is_none() {
                     None
                 } else {
@@ -601,7 +627,14 @@ impl Scene {
                     Some(&self.meshes),
                 )
             })
-            .map_err(|e| by_key(e, &self.source))?;
+            .map_err(|e| by_key(arrays_named(e, &files), &self.source))?;
+            // The new files live as long as the scene.
+            if let Some(dir) = files.into_dir() {
+                self._arrays
+                    .lock()
+                    .unwrap_or_else(|p| p.into_inner())
+                    .push(dir);
+            }
             let mut now = self.now.write().unwrap_or_else(|p| p.into_inner());
             now.scene = Arc::new(scene);
             now.file = FileText::Toml(text);
@@ -671,7 +704,10 @@ impl Scene {
                     this.read_as.clone(),
                     this.base.clone(),
                     o,
-                    this._arrays.clone(),
+                    this._arrays
+                        .lock()
+                        .unwrap_or_else(|p| p.into_inner())
+                        .clone(),
                     lib::MeshCache::default(),
                 ),
             )?;

@@ -216,3 +216,30 @@ def test_stats_update_names_what_changed():
     scene.params["image.samples"] = 3
     _, stats = r.render(scene, stats=True)
     assert stats["update"] is not None and "stats=False" in stats["update"], stats["update"]
+
+
+@gpu
+def test_a_numpy_meshs_vertices_are_set_through_params_in_place():
+    # params["meshes[0].vertices"] said "unknown field `vertices`".
+    obj = ROOT / "scenes/meshes/icosphere-smooth.obj"
+    vertices = np.array([[float(x) for x in l.split()[1:4]] for l in open(obj) if l.startswith("v ")])
+    faces = np.array([[int(c.split("/")[0]) - 1 for c in l.split()[1:4]] for l in open(obj) if l.startswith("f ")])
+    d = mesh_dict()
+    d["meshes"] = [{"vertices": vertices, "faces": faces, "material": "m"}]
+    scene = glint.Scene.from_dict(d, base=ROOT / "scenes")
+    assert np.array_equal(scene.params["meshes[0].vertices"], vertices)
+    assert np.array_equal(scene.params["meshes[0].faces"], faces)
+    r = glint.Renderer()
+    r.render(scene, stats=True)
+    scene.params["meshes[0].vertices"] = vertices * 1.1
+    image, stats = r.render(scene, stats=True)
+    assert stats["update"] == "updated in place" and not stats["compiled"], stats
+    moved = dict(d, meshes=[{"vertices": vertices * 1.1, "faces": faces, "material": "m"}])
+    want = glint.Renderer().render(glint.Scene.from_dict(moved, base=ROOT / "scenes"))
+    assert image.tobytes() == want.tobytes()
+    with pytest.raises(ValueError, match=r"meshes\[0\]\.vertices: must be an array of shape"):
+        scene.params["meshes[0].vertices"] = [1, 2]
+    # A mesh read from its own OBJ file has no arrays to set.
+    filed = glint.Scene.from_dict(mesh_dict(), base=ROOT / "scenes")
+    with pytest.raises(KeyError, match="not a mesh given as arrays"):
+        filed.params["meshes[0].vertices"] = vertices

@@ -468,6 +468,30 @@ impl Cache {
         }
     }
 
+    /// The arrays of the mesh kept for `path` by [`Cache::insert_arrays`]
+    /// (or read from an OBJ of one object), where it is kept and its file
+    /// unchanged: what a change of one of them starts from.
+    pub fn arrays(&self, path: &Path) -> Option<Arrays> {
+        let entries = self.entries.lock().unwrap_or_else(|p| p.into_inner());
+        let e = entries
+            .iter()
+            .find(|e| e.path == path && e.stamps == vec![stamp(path)])?;
+        let [model] = e.parsed.models.as_slice() else {
+            return None;
+        };
+        let m = &model.mesh;
+        let per_corner = |indices: &Vec<u32>| indices.is_empty() || *indices == m.indices;
+        if !per_corner(&m.normal_indices) || !per_corner(&m.texcoord_indices) {
+            return None;
+        }
+        Some(Arrays {
+            positions: m.positions.clone(),
+            faces: m.indices.clone(),
+            normals: (!m.normal_indices.is_empty()).then(|| m.normals.clone()),
+            uvs: (!m.texcoord_indices.is_empty()).then(|| m.texcoords.clone()),
+        })
+    }
+
     /// Keeps `entry` in place of any of its path and material's, and
     /// forgets the oldest where the cache is full.
     fn keep(&self, entry: Entry) {
