@@ -48,6 +48,21 @@ fn as_array<'py>(v: &Bound<'py, PyAny>, dtype: &str) -> PyResult<Bound<'py, PyAn
 
 /// Rows of `width` numbers, as f64.
 fn rows(v: &Bound<'_, PyAny>, width: usize, at: &str) -> PyResult<Vec<f64>> {
+    // numpy would cast a complex array to its real parts, with a warning,
+    // and bools to 0 and 1: neither is a coordinate.
+    if let Ok(dtype) = v.getattr("dtype") {
+        let kind: String = dtype.getattr("kind")?.extract()?;
+        if !matches!(kind.as_str(), "f" | "i" | "u") {
+            let name: String = dtype.getattr("name")?.extract()?;
+            return Err(bad(
+                at,
+                format!(
+                    "is an array of {}: it must hold real numbers",
+                    glint::printable::text(&name)
+                ),
+            ));
+        }
+    }
     let a = as_array(v, "float64").map_err(|_| bad(at, "is not an array of numbers"))?;
     let a: PyReadonlyArray2<'_, f64> = a
         .extract()

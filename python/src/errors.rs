@@ -45,6 +45,12 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 /// rather than PyO3's `PanicException`, which is not a `glint.Error` and
 /// which a test's `except glint.Error` would miss.
 pub fn guard<T>(f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
+    // Once the interpreter is exiting, a call (a daemon thread's) parks
+    // here: inside, it could come back for the GIL after finalization
+    // began (`gil`).
+    if crate::gil::exiting() {
+        Python::attach(|py| crate::gil::park(py));
+    }
     match catch_unwind(AssertUnwindSafe(f)) {
         Ok(r) => r,
         Err(payload) => Err(Error::new_err(format!(

@@ -391,30 +391,42 @@ impl Variant {
             ]
         );
         match (&self.features, &had.features) {
-            (Some(now), Some(was)) => differing!(
-                now,
-                was,
-                [
-                    kinds,
-                    lights,
-                    light_types,
-                    attenuation,
-                    shadows,
-                    transmits,
-                    spd_rays,
-                    textures,
-                    images,
-                    uvs,
-                    max_depth,
-                    samples,
-                    uniform_slots,
-                    unroll,
-                    table_slots,
-                    unroll_lights,
-                    canary,
-                    nodes
-                ]
-            ),
+            (Some(now), Some(was)) => {
+                // Each kind and light type by its name: "spheres 41 (was 40)".
+                for ((kind, n), w) in KINDS.iter().zip(&now.kinds).zip(&was.kinds) {
+                    if n != w {
+                        out.push(format!("{} {n} (was {w})", kind.key));
+                    }
+                }
+                let types = crate::scene::LIGHT_TYPES.iter();
+                for ((t, n), w) in types.zip(&now.light_types).zip(&was.light_types) {
+                    if n != w {
+                        out.push(format!("{} lights {n} (was {w})", t.name));
+                    }
+                }
+                differing!(
+                    now,
+                    was,
+                    [
+                        lights,
+                        attenuation,
+                        shadows,
+                        transmits,
+                        spd_rays,
+                        textures,
+                        images,
+                        uvs,
+                        max_depth,
+                        samples,
+                        uniform_slots,
+                        unroll,
+                        table_slots,
+                        unroll_lights,
+                        canary,
+                        nodes
+                    ]
+                );
+            }
             (now, was) if now.is_some() != was.is_some() => {
                 out.push(format!("generic {} (was {})", now.is_none(), was.is_none()));
             }
