@@ -59,6 +59,13 @@ where
     }
 }
 
+/// Numbers as a message shows a list of them: `[1, -1e300, 0.5]`, each
+/// as [`number`] writes it.
+pub fn numbers(values: &[f64]) -> String {
+    let shown: Vec<String> = values.iter().map(|&v| number(v)).collect();
+    format!("[{}]", shown.join(", "))
+}
+
 /// A message that may span lines, on one line, cut to `MAX_MESSAGE_CHARS`:
 /// the names and paths in it are already cut to `MAX_CHARS` each, so a long
 /// name does not push out what the message says is wrong (issue 31,
@@ -111,5 +118,6 @@ mod tests {
         assert_eq!(number(1e30f32), "1e30");
         assert_eq!(number(0.1f32), "0.1");
         assert!(number(f64::MIN_POSITIVE / 3.0).len() < 30);
+        assert_eq!(numbers(&[1.0, -1e300, 0.5]), "[1, -1e300, 0.5]");
     }
 }

@@ -217,7 +217,7 @@ impl Sources {
             .map(|m| (usize::MAX, "main".into(), m.clone()))
             .collect();
         for (i, dir) in self.dirs.iter().enumerate() {
-            for f in crate::files::in_dirs(std::slice::from_ref(dir)) {
+            for f in crate::files::sorted(dir, |_| true).unwrap_or_default() {
                 let name = f.file_name().unwrap_or_default().to_owned();
                 files.push((i, name, f));
             }

@@ -58,9 +58,12 @@ fn checksum(content: &[u8]) -> u64 {
 /// Reads the sealed entry at `path`: its content; `None` where there is
 /// none, or where it is damaged (said in [`notices`], as `what`).
 pub fn read(path: &Path, what: &str) -> Option<Vec<u8>> {
-    let bytes = std::fs::read(path).ok()?;
+    let mut bytes = std::fs::read(path).ok()?;
     match open(&bytes) {
-        Ok(content) => Some(content.to_vec()),
+        Ok(_) => {
+            bytes.drain(..HEADER);
+            Some(bytes)
+        }
         Err(why) => {
             notice(format!(
                 "{what} {} was damaged ({why}): made again and replaced",
@@ -96,7 +99,7 @@ fn notice(line: String) {
 }
 
 /// What the caches repaired since the last call, a line each, for the
-/// command line to print at INFO level (and the Python module to warn).
+/// command line to print at INFO level (and the Python module to log).
 pub fn notices() -> Vec<String> {
     std::mem::take(&mut *NOTICES.lock().unwrap_or_else(|e| e.into_inner()))
 }

@@ -112,8 +112,8 @@ pub fn clean_up() {
 /// A run's temporary folder, `$TMPDIR/glint-<what>-<pid>-XXXXXX`: listed
 /// for an interrupted run to remove, and removed when dropped. Those of
 /// the same `what` that a run left behind and no longer runs (a SIGKILL's)
-/// are removed as it is made: a signal that no handler sees leaves one
-/// folder until the next run, not for ever.
+/// are removed as the first is made: a signal that no handler sees leaves
+/// one folder until the next run, not for ever.
 pub struct TempFolder(Option<tempfile::TempDir>);
 
 impl TempFolder {
@@ -149,8 +149,18 @@ fn folder_stem(what: &str) -> String {
 }
 
 /// Removes the `what` folders in the system's temporary folder whose run
-/// no longer runs.
+/// no longer runs: once a process for each `what` (`glint fuzz` makes a
+/// folder for every scene it checks, and a killed run's folders are gone
+/// after the first).
 fn remove_stale_folders(what: &str) {
+    static SWEPT: Mutex<Vec<String>> = Mutex::new(Vec::new());
+    {
+        let mut swept = SWEPT.lock().unwrap_or_else(|e| e.into_inner());
+        if swept.iter().any(|w| w == what) {
+            return;
+        }
+        swept.push(what.to_owned());
+    }
     let stem = folder_stem(what);
     let Ok(entries) = std::fs::read_dir(std::env::temp_dir()) else {
         return;

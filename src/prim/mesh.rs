@@ -10,6 +10,7 @@ use std::sync::Arc;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+pub use super::mtl::MtlMaterial;
 use super::triangle::{Triangle, MAX_UV};
 use crate::files::Stamp;
 use crate::input::error::SceneError;
@@ -28,8 +29,8 @@ pub struct MeshFile {
     #[serde(default = "one")]
     pub scale: f64,
     /// Degrees about x, then y, then z (each axis through the origin,
-    /// counter-clockwise looking down it), after the scale and before the
-    /// translation.
+    /// right-handed: counter-clockwise seen from the axis' positive end),
+    /// after the scale and before the translation.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rotate: Option<Triple>,
     #[serde(default)]
@@ -47,10 +48,8 @@ fn rotation(at: &At<'_>, rotate: Option<Triple>) -> Result<glam::DMat3, SceneErr
         return at.invalid(
             "rotate",
             format!(
-                "degrees must be within ±1e6, got [{}, {}, {}]",
-                crate::printable::number(d.x),
-                crate::printable::number(d.y),
-                crate::printable::number(d.z)
+                "degrees must be within ±1e6, got {}",
+                crate::printable::numbers(&d.to_array())
             ),
         );
     }
@@ -62,30 +61,6 @@ fn rotation(at: &At<'_>, rotate: Option<Triple>) -> Result<glam::DMat3, SceneErr
 
 fn one() -> f64 {
     1.0
-}
-
-/// One material of an OBJ's MTL file, its values checked (finite, colours
-/// and Ns ≥ 0, Ni > 0, d in [0, 1]); the scene maps it onto its own
-/// (docs/scene-format.md, Meshes).
-#[derive(Debug, Clone, PartialEq)]
-pub struct MtlMaterial {
-    /// The MTL file and the material's name in it, for messages.
-    pub name: String,
-    pub ka: DVec3,
-    pub kd: DVec3,
-    pub ks: DVec3,
-    /// The specular exponent; 1 where not given.
-    pub ns: f64,
-    /// The index of refraction; 1 where not given.
-    pub ni: f64,
-    /// The dissolve (opacity): `d`, or 1 − `Tr`; 1 where neither is given.
-    pub d: f64,
-    /// The illumination model, 0..=10; 2 where not given.
-    pub illum: u8,
-    /// `map_Kd`, `map_Ka`: image files (relative to the MTL file's folder
-    /// as written) whose texels, times Kd and Ka, give those colours.
-    pub map_kd: Option<PathBuf>,
-    pub map_ka: Option<PathBuf>,
 }
 
 /// What a mesh brought besides its triangles: the MTL materials its faces
@@ -317,7 +292,7 @@ fn read(path: &Path, scene_material: bool, at: &At) -> Result<Parsed, SceneError
         };
         let text = crate::input::read(&mtl, crate::input::ReadAs::Mesh)
             .map_err(|e| fail(format!("cannot read {name}: {e}")))?;
-        short_colour_line(&text).map_or(Ok(()), |(line, key, n)| {
+        super::mtl::short_colour_line(&text).map_or(Ok(()), |(line, key, n)| {
             Err(fail(format!(
                 "{name}:{line}: {key} needs three numbers (r g b), got {n}"
             )))
@@ -330,7 +305,7 @@ fn read(path: &Path, scene_material: bool, at: &At) -> Result<Parsed, SceneError
             let (parsed, _) = tobj::load_mtl_buf(&mut &block.text[..])
                 .map_err(|e| fail(format!("{name}: not a valid MTL file: {e}")))?;
             for m in &parsed {
-                if let Err(e) = mtl_material(m, &name, mtl_dir, at) {
+                if let Err(e) = super::mtl::material(m, &name, mtl_dir, at) {
                     bad_material.borrow_mut().get_or_insert(e);
                     return Err(tobj::LoadError::OpenFileFailed);
                 }
@@ -369,7 +344,7 @@ fn read(path: &Path, scene_material: bool, at: &At) -> Result<Parsed, SceneError
         .zip(owners)
         .map(|(m, file)| {
             let dir = file.parent().unwrap_or(&obj_dir);
-            mtl_material(m, &crate::printable::path(file), dir, at)
+            super::mtl::material(m, &crate::printable::path(file), dir, at)
         })
         .collect::<Result<Vec<_>, _>>()?;
     let files = reads.into_iter().map(|(file, _)| file).collect();
@@ -552,102 +527,4 @@ impl Cache {
         });
         Ok(parsed)
     }
-}
-
-/// The first line of an MTL file whose colour (Ka, Kd, Ks, Ke) has fewer
-/// than three values, which tobj cannot take: its number (from 1), its key
-/// and how many values it has.
-fn short_colour_line(text: &[u8]) -> Option<(usize, &'static str, usize)> {
-    text.split(|&b| b == b'\n')
-        .enumerate()
-        .find_map(|(i, line)| {
-            let mut words = line
-                .split(|b| b.is_ascii_whitespace())
-                .filter(|w| !w.is_empty());
-            let first = words.next()?;
-            let key = ["Ka", "Kd", "Ks", "Ke"]
-                .into_iter()
-                .find(|k| k.as_bytes() == first)?;
-            let n = words.take(3).count();
-            (n < 3).then_some((i + 1, key, n))
-        })
-}
-
-/// An MTL material's values, checked; `file`: the MTL file, for messages;
-/// `dir`: its folder, which its maps' files are relative to.
-fn mtl_material(
-    m: &tobj::Material,
-    file: &str,
-    dir: &Path,
-    at: &At,
-) -> Result<MtlMaterial, SceneError> {
-    let name = crate::printable::text(&m.name);
-    let bad = |what: &str, why: String| {
-        at.invalid::<MtlMaterial>("file", format!("{file}: material \"{name}\": {what} {why}"))
-    };
-    let map = |what: &str, v: &Option<String>| -> Result<Option<PathBuf>, SceneError> {
-        match v.as_deref().map(str::trim) {
-            None => Ok(None),
-            Some(f) if f.is_empty() || f.starts_with('-') => at.invalid(
-                "file",
-                format!(
-                    "{file}: material \"{name}\": {what} \"{}\": glint reads a map's file name \
-                     alone, without options",
-                    crate::printable::text(f)
-                ),
-            ),
-            Some(f) => Ok(Some(dir.join(f))),
-        }
-    };
-    let map_kd = map("map_Kd", &m.diffuse_texture)?;
-    let map_ka = map("map_Ka", &m.ambient_texture)?;
-    let colour = |what: &str, v: Option<[f64; 3]>| -> Result<DVec3, SceneError> {
-        let v = DVec3::from_array(v.unwrap_or_default());
-        if !v.is_finite() || v.min_element() < 0.0 {
-            bad(
-                what,
-                format!(
-                    "must be finite and >= 0, got [{}, {}, {}]",
-                    crate::printable::number(v.x),
-                    crate::printable::number(v.y),
-                    crate::printable::number(v.z)
-                ),
-            )?;
-        }
-        Ok(v)
-    };
-    let number = |what: &str, v: f64, ok: bool| -> Result<f64, SceneError> {
-        if !v.is_finite() || !ok {
-            bad(what, format!("is out of range: {v}"))?;
-        }
-        Ok(v)
-    };
-    let ns = m.shininess.unwrap_or(1.0);
-    let ns = number("Ns", ns, ns >= 0.0)?;
-    let ni = m.optical_density.unwrap_or(1.0);
-    let ni = number("Ni", ni, (1e-6..=1e6).contains(&ni))?;
-    let tr = m.unknown_param.get("Tr").map(|t| t.trim().parse::<f64>());
-    let d = match (m.dissolve, tr) {
-        (Some(d), _) => d,
-        (None, Some(Ok(tr))) => 1.0 - tr,
-        (None, Some(Err(_))) => return bad("Tr", "is not a number".to_owned()),
-        (None, None) => 1.0,
-    };
-    let d = number("d (or 1 - Tr)", d, (0.0..=1.0).contains(&d))?;
-    let illum = m.illumination_model.unwrap_or(2);
-    if illum > 10 {
-        return bad("illum", format!("must be in 0..=10, got {illum}"));
-    }
-    Ok(MtlMaterial {
-        name: format!("{file}: {name}"),
-        ka: colour("Ka", m.ambient)?,
-        kd: colour("Kd", m.diffuse)?,
-        ks: colour("Ks", m.specular)?,
-        ns,
-        ni,
-        d,
-        illum,
-        map_kd,
-        map_ka,
-    })
 }

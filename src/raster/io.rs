@@ -6,7 +6,7 @@ use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
 pub use super::pfm::read_pfm;
-use super::pfm::{pfm_header, write_pfm};
+use super::pfm::{pfm_header, write_pfm, Kind};
 use super::{quantize_pixels, Image};
 use crate::input::{MAX_PIXELS, MAX_SIDE};
 use crate::output::{self, OutputError, Outputs, TargetKind};
@@ -228,33 +228,11 @@ fn read_levels(path: &Path) -> Result<Image, ImageIoError> {
     let format = Format::of(path)?;
     match format {
         Format::Pfm => {
-            let bad = |reason| ImageIoError::BadPfm {
+            let bytes = pfm_file(path, Kind::Colour)?;
+            read_pfm(&bytes).map_err(|reason| ImageIoError::BadPfm {
                 path: path.to_owned(),
                 reason,
-            };
-            let mut file =
-                crate::input::open(path, crate::input::ReadAs::Pfm).map_err(io_err(path))?;
-            let mut bytes = Vec::new();
-            (&mut file)
-                .take(128)
-                .read_to_end(&mut bytes)
-                .map_err(io_err(path))?;
-            let (w, h, _, pos) = pfm_header(&bytes).map_err(bad)?;
-            // The bytes and the image made of them.
-            fits(path, w, h, 2 * 12)?;
-            // The pixels the header promises and one byte more, which shows
-            // any excess: a 1x1 header over a gigabyte is refused once 14
-            // bytes are read, not the gigabyte (issue 31).
-            let want = pos as u64 + u64::from(w) * u64::from(h) * 12;
-            file.take((want + 1).saturating_sub(bytes.len() as u64))
-                .read_to_end(&mut bytes)
-                .map_err(io_err(path))?;
-            if bytes.len() as u64 > want {
-                return Err(bad(format!(
-                    "the file is longer than the {w}x{h} pixels its header promises ({want} bytes)"
-                )));
-            }
-            read_pfm(&bytes).map_err(bad)
+            })
         }
         Format::Png | Format::Exr => {
             // The header is read once, within `HEADER_BYTES` (a colour
@@ -292,10 +270,43 @@ fn read_levels(path: &Path) -> Result<Image, ImageIoError> {
     }
 }
 
+/// The bytes of the PFM file of `kind` at `path`, read within what its
+/// header promises: a 1x1 header over a gigabyte is refused once 14 bytes
+/// are read, not the gigabyte (issue 31), and an image that does not fit
+/// in memory before its pixels are read.
+pub(super) fn pfm_file(path: &Path, kind: Kind) -> Result<Vec<u8>, ImageIoError> {
+    let bad = |reason| ImageIoError::BadPfm {
+        path: path.to_owned(),
+        reason,
+    };
+    let mut file = crate::input::open(path, crate::input::ReadAs::Pfm).map_err(io_err(path))?;
+    let mut bytes = Vec::new();
+    (&mut file)
+        .take(128)
+        .read_to_end(&mut bytes)
+        .map_err(io_err(path))?;
+    let (w, h, _, pos) = pfm_header(&bytes, kind).map_err(bad)?;
+    // The bytes and the image made of them.
+    let pixel = 4 * kind.channels() as u64;
+    fits(path, w, h, 2 * pixel)?;
+    // The pixels the header promises and one byte more, which shows any
+    // excess.
+    let want = pos as u64 + u64::from(w) * u64::from(h) * pixel;
+    file.take((want + 1).saturating_sub(bytes.len() as u64))
+        .read_to_end(&mut bytes)
+        .map_err(io_err(path))?;
+    if bytes.len() as u64 > want {
+        return Err(bad(format!(
+            "the file is longer than the {w}x{h} pixels its header promises ({want} bytes)"
+        )));
+    }
+    Ok(bytes)
+}
+
 /// Refuses to read `path`, a `w`×`h` image, where `per_pixel` bytes a
 /// pixel do not fit in this process's memory (issue 57, defect 7: a 783
 /// KB PNG that declares 16384² aborted the Python interpreter).
-fn fits(path: &Path, w: u32, h: u32, per_pixel: u64) -> Result<(), ImageIoError> {
+pub(super) fn fits(path: &Path, w: u32, h: u32, per_pixel: u64) -> Result<(), ImageIoError> {
     let pixels = (u64::from(w) * u64::from(h)).min(MAX_PIXELS);
     super::memory::check(
         || {
@@ -381,10 +392,11 @@ pub fn dimensions(path: &Path) -> Result<(u32, u32), ImageIoError> {
             crate::input::open(path, crate::input::ReadAs::Pfm)
                 .and_then(|f| f.take(128).read_to_end(&mut head))
                 .map_err(io_err(path))?;
-            let (w, h, _, _) = pfm_header(&head).map_err(|reason| ImageIoError::BadPfm {
-                path: path.to_owned(),
-                reason,
-            })?;
+            let (w, h, _, _) =
+                pfm_header(&head, Kind::Colour).map_err(|reason| ImageIoError::BadPfm {
+                    path: path.to_owned(),
+                    reason,
+                })?;
             Ok((w, h))
         }
         format @ (Format::Png | Format::Exr) => {

@@ -5,8 +5,9 @@
 use std::io::{Read, Write};
 use std::path::Path;
 
-use super::io::{io_err, Format, ImageIoError};
+use super::io::{fits, io_err, pfm_file, Format, ImageIoError};
 use super::memory::check_size;
+use super::pfm::{read_values, write_values, Kind};
 
 /// A one-channel image: `values` row by row from the top.
 #[derive(Debug, Clone, PartialEq)]
@@ -61,19 +62,10 @@ pub fn write_plane(path: &Path, plane: &Plane) -> Result<(), ImageIoError> {
         return Err(ImageIoError::OneChannel(path.to_owned()));
     }
     crate::output::write_one(path, &[], false, |out: &mut dyn Write| match format {
-        Format::Pfm => write_pfm(out, plane).map_err(io_err(path)),
+        Format::Pfm => write_values(out, Kind::Plane, plane.width, plane.height, &plane.values)
+            .map_err(io_err(path)),
         _ => write_exr(out, plane, path),
     })
-}
-
-fn write_pfm(out: &mut dyn Write, p: &Plane) -> std::io::Result<()> {
-    write!(out, "Pf\n{} {}\n-1.0\n", p.width, p.height)?;
-    for row in p.values.chunks(p.width.max(1) as usize).rev() {
-        for v in row {
-            out.write_all(&v.to_le_bytes())?;
-        }
-    }
-    Ok(())
 }
 
 fn write_exr(out: &mut dyn Write, p: &Plane, path: &Path) -> Result<(), ImageIoError> {
@@ -93,7 +85,8 @@ fn write_exr(out: &mut dyn Write, p: &Plane, path: &Path) -> Result<(), ImageIoE
     out.write_all(bytes.get_ref()).map_err(io_err(path))
 }
 
-/// Reads the one-channel PFM or EXR at `path`.
+/// Reads the one-channel PFM or EXR at `path`, within what its header
+/// promises and the memory there is, as a colour image is read.
 pub fn read_plane(path: &Path) -> Result<Plane, ImageIoError> {
     let bad = |reason: String| ImageIoError::BadPfm {
         path: path.to_owned(),
@@ -101,19 +94,34 @@ pub fn read_plane(path: &Path) -> Result<Plane, ImageIoError> {
     };
     match Format::of(path)? {
         Format::Pfm => {
-            let mut bytes = Vec::new();
-            crate::input::open(path, crate::input::ReadAs::Pfm)
-                .and_then(|mut f| f.read_to_end(&mut bytes))
-                .map_err(io_err(path))?;
-            read_pfm(&bytes).map_err(bad)
+            let bytes = pfm_file(path, Kind::Plane)?;
+            let (width, height, values) = read_values(&bytes, Kind::Plane).map_err(bad)?;
+            Ok(Plane {
+                width,
+                height,
+                values,
+            })
         }
         Format::Exr => {
             crate::input::check(path, crate::input::ReadAs::Image).map_err(io_err(path))?;
+            // The size from the header, checked before any pixel is read.
+            let meta =
+                exr::meta::MetaData::read_from_file(path, false).map_err(|e| exr_err(path, e))?;
+            let size = meta
+                .headers
+                .first()
+                .map_or((0, 0), |h| (h.layer_size.0, h.layer_size.1));
+            let (w, h) = (
+                u32::try_from(size.0).unwrap_or(u32::MAX),
+                u32::try_from(size.1).unwrap_or(u32::MAX),
+            );
+            check_size(w, h)
+                .map_err(|reason| exr_err(path, exr::error::Error::Invalid(reason.into())))?;
+            // The decode (its widest samples, 4 bytes) and the plane.
+            fits(path, w, h, 8)?;
             let image = exr::prelude::read_first_flat_layer_from_file(path)
                 .map_err(|e| exr_err(path, e))?;
             let layer = image.layer_data;
-            let (w, h) = (layer.size.0 as u32, layer.size.1 as u32);
-            check_size(w, h).map_err(bad)?;
             let [channel] = layer.channel_data.list.as_slice() else {
                 return Err(ImageIoError::OneChannel(path.to_owned()));
             };
@@ -130,69 +138,6 @@ pub fn read_plane(path: &Path) -> Result<Plane, ImageIoError> {
         }
         Format::Png => Err(ImageIoError::OneChannel(path.to_owned())),
     }
-}
-
-/// A one-channel PFM's plane (either byte order, rows bottom-up), or what
-/// is wrong with it.
-fn read_pfm(bytes: &[u8]) -> Result<Plane, String> {
-    let text = String::from_utf8_lossy(&bytes[..bytes.len().min(128)]).into_owned();
-    let mut words = text.split_ascii_whitespace();
-    if words.next() != Some("Pf") {
-        return Err("expected \"Pf\" (one channel)".into());
-    }
-    let mut number = |what: &str| {
-        words
-            .next()
-            .ok_or_else(|| format!("truncated header (no {what})"))
-    };
-    let w: u32 = number("width")?
-        .parse()
-        .map_err(|_| "bad width".to_owned())?;
-    let h: u32 = number("height")?
-        .parse()
-        .map_err(|_| "bad height".to_owned())?;
-    let scale_text = number("scale")?.to_owned();
-    let scale: f32 = scale_text.parse().map_err(|_| "bad scale".to_owned())?;
-    if !scale.is_finite() || scale == 0.0 {
-        return Err("bad scale (a finite non-zero number: negative for little-endian)".into());
-    }
-    check_size(w, h)?;
-    // The header's four words, then the one byte that ends it.
-    let mut pos = 0;
-    for _ in 0..4 {
-        while bytes.get(pos).is_some_and(u8::is_ascii_whitespace) {
-            pos += 1;
-        }
-        while bytes.get(pos).is_some_and(|b| !b.is_ascii_whitespace()) {
-            pos += 1;
-        }
-    }
-    pos += 1;
-    let count = w as usize * h as usize;
-    let data = bytes.get(pos..).unwrap_or_default();
-    if data.len() != count * 4 {
-        return Err(format!(
-            "expected {} bytes of values for {w}x{h}, found {}",
-            count * 4,
-            data.len()
-        ));
-    }
-    let mut values = vec![0.0f32; count];
-    for (k, c) in data.chunks_exact(4).enumerate() {
-        let b = [c[0], c[1], c[2], c[3]];
-        let v = if scale < 0.0 {
-            f32::from_le_bytes(b)
-        } else {
-            f32::from_be_bytes(b)
-        };
-        let (from_bottom, x) = (k / w as usize, k % w as usize);
-        values[(h as usize - 1 - from_bottom) * w as usize + x] = v;
-    }
-    Ok(Plane {
-        width: w,
-        height: h,
-        values,
-    })
 }
 
 #[cfg(test)]
@@ -244,11 +189,21 @@ mod tests {
     }
 
     #[test]
-    fn a_short_or_bad_pfm_is_refused() {
-        let mut bytes = Vec::new();
-        write_pfm(&mut bytes, &sample()).unwrap();
-        assert!(read_pfm(&bytes[..bytes.len() - 1]).is_err());
-        assert!(read_pfm(b"Pf\n1 1\n0\n\0\0\0\0").is_err());
-        assert!(read_pfm(b"PF\n1 1\n-1\n").is_err());
+    fn a_short_long_or_bad_pfm_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("d.pfm");
+        write_plane(&path, &sample()).unwrap();
+        let whole = std::fs::read(&path).unwrap();
+        let mut longer = whole.clone();
+        longer.push(0);
+        for bytes in [
+            &whole[..whole.len() - 1],
+            &longer[..],
+            b"Pf\n1 1\n0\n\0\0\0\0",
+            b"PF\n1 1\n-1\n\0\0\0\0\0\0\0\0\0\0\0\0",
+        ] {
+            std::fs::write(&path, bytes).unwrap();
+            assert!(read_plane(&path).is_err(), "{bytes:?}");
+        }
     }
 }

@@ -69,16 +69,19 @@ impl Generated {
 
     /// Where scene `i` is written.
     pub fn path(&self, i: u64) -> PathBuf {
-        self.dir.join(format!("case-{}-{i}.toml", self.seed))
+        self.dir.join(self.name(i))
+    }
+
+    /// Scene `i`'s file name.
+    fn name(&self, i: u64) -> String {
+        format!("case-{}-{i}.toml", self.seed)
     }
 
     /// Writes scene `i` and reads it back at `size`.
     pub fn scene(&self, i: u64, size: &Overrides) -> anyhow::Result<Scene> {
         let spec =
             glint::generate::space::random(glint::generate::case_seed(self.seed, i), 40, 16, 12);
-        let path = spec
-            .scene()
-            .write(&self.dir, &format!("case-{}-{i}.toml", self.seed))?;
+        let path = spec.scene().write(&self.dir, &self.name(i))?;
         let scene = Scene::load(&path, size)?;
         glint::cpu::bound::check(&scene)?;
         Ok(scene)
