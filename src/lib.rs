@@ -83,6 +83,7 @@ pub mod report;
 pub(crate) mod rng;
 pub mod scene;
 pub mod settings;
+pub mod spec_worst;
 #[cfg(feature = "gpu")]
 pub mod stability;
 pub mod stats;

@@ -70,20 +70,18 @@ vec3r sphere_normal(uint i, vec4r shape, vec3r p) {
     return abs(dot(n, n) - 1.0) > OFF_SURFACE ? normalize(n) : n;
 }
 
+#include "own_math.glsl"
+
 // Latitude and longitude, as SphereR::uv: u about the y axis from 0 at -z
 // through -x, +z (1/2) and +x; v from 0 at the -y pole to 1 at the +y pole.
-// GLSL has no double atan or asin: the f64 shader takes them in f32, an
-// error of about 1e-7 in uv.
+// glint's own atan2 and asin (own_math.glsl): a driver's may be 4096 ULP
+// off. They are f32 functions: the f64 shader takes them in f32, an error
+// of about 1e-7 in uv.
 vec2r sphere_uv(uint i, vec4r shape, vec3r p) {
     vec3r n = sphere_normal(i, shape, p);
     real y = clamp(n.y, -1.0, 1.0);
-#ifdef GLINT_F64
-    real lon = real(atan(float(n.x), float(n.z)));
-    real lat = real(asin(float(y)));
-#else
-    real lon = atan(n.x, n.z);
-    real lat = asin(y);
-#endif
+    real lon = real(own_atan2(float(n.x), float(n.z)));
+    real lat = real(own_asin(float(y)));
     const real PI = 3.14159265358979323846;
     return vec2r(0.5 + lon / (PI + PI), 0.5 + lat / PI);
 }

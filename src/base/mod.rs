@@ -10,6 +10,7 @@ pub mod aov;
 pub mod count;
 pub mod exact;
 pub mod interface;
+pub mod own_math;
 pub mod ray;
 pub mod real;
 pub mod record;

@@ -17,6 +17,11 @@ pub trait Real: Float + Debug + Send + Sync + AddAssign + sealed::Sealed + 'stat
     fn to_f32(self) -> f32;
     /// The value in f64, exactly.
     fn to_f64(self) -> f64;
+    /// atan2 as the shader takes it: glint's own in f32 (`own_math`), the
+    /// exact function in f64.
+    fn atan2_shader(self, x: Self) -> Self;
+    /// asin as the shader takes it (as `atan2_shader`).
+    fn asin_shader(self) -> Self;
 }
 
 mod sealed {
@@ -36,6 +41,12 @@ impl Real for f32 {
     fn to_f64(self) -> f64 {
         f64::from(self)
     }
+    fn atan2_shader(self, x: Self) -> Self {
+        super::own_math::atan2(self, x)
+    }
+    fn asin_shader(self) -> Self {
+        super::own_math::asin(self)
+    }
 }
 
 impl Real for f64 {
@@ -48,6 +59,12 @@ impl Real for f64 {
     }
     fn to_f64(self) -> f64 {
         self
+    }
+    fn atan2_shader(self, x: Self) -> Self {
+        self.atan2(x)
+    }
+    fn asin_shader(self) -> Self {
+        self.asin()
     }
 }
 

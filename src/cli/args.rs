@@ -125,6 +125,9 @@ pub struct DeviceArgs {
     /// Compile the shader afresh and keep no SPIR-V or pipeline cache.
     #[arg(long)]
     no_cache: bool,
+    /// Run the shader as the least precise conformant Vulkan driver may: each instruction the Vulkan spec bounds off by its bound, products fused or not, denormals flushed (docs/guarantees.md). Slow; for checking that a scene holds on any driver.
+    #[arg(long)]
+    pub spec_worst: bool,
     /// Wait at most SECONDS for the GPU to finish one tile [default: from the tile's work, at least 10 s].
     #[arg(long, value_name = "SECONDS")]
     timeout: Option<f64>,
@@ -177,6 +180,9 @@ impl DeviceArgs {
         if self.no_cache {
             v.push("--no-cache".into());
         }
+        if self.spec_worst {
+            v.push("--spec-worst".into());
+        }
         if let Some(t) = self.timeout {
             v.extend(["--timeout".into(), t.to_string().into()]);
         }
@@ -196,6 +202,7 @@ impl DeviceArgs {
             (self.shader.is_some(), "--shader"),
             (!self.include.is_empty(), "-I"),
             (!self.define.is_empty(), "-D"),
+            (self.spec_worst, "--spec-worst"),
         ];
         if let Some((_, name)) = given.iter().find(|(set, _)| *set) {
             anyhow::bail!(
@@ -229,6 +236,7 @@ impl DeviceArgs {
             .map(|d| parse_define(d))
             .collect::<anyhow::Result<_>>()?;
         options.settings.generic = self.generic;
+        options.spec_worst = self.spec_worst;
         options.settings.accel = self.accel;
         options.settings.schedule = self.schedule;
         if let Some(t) = self.timeout {

@@ -66,7 +66,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     let cpu32_err = diff::figures(&cpu32_image.scaled(unit), &reference.scaled(unit))?;
     let tolerance = Tolerance::default();
     let bar = super::progress::bar(
-        u64::from(scene.height) * u64::from(condition::TRIALS + 1),
+        u64::from(scene.height) * u64::from(condition::MOVED_TRIALS + 1),
         "conditioning",
     );
     let judgement = condition::judge(&scene, &gpu_image, &reference, &tolerance, accel, &|n| {
@@ -106,6 +106,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             "cpu_f32": { "seconds": cpu32_s, "setup_s": cpu32.setup_s, "error": cpu32_err },
             "cpu_f64": { "seconds": cpu64_s, "setup_s": cpu64.setup_s },
             "unit": unit,
+            "spec_worst": renderer.spec_worst(),
             "tolerance": tolerance,
             "conditioned": conditioned,
             "pass": violations.is_empty(),
@@ -117,9 +118,14 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         outln!("{}", super::scene_line(&a.scene.scene, &scene));
         outln!("device     {} ({}, {})", info.name, info.kind, info.driver);
         outln!(
-            "shader     {variant}{}",
+            "shader     {variant}{}{}",
             if setup.spirv_cached {
                 " (SPIR-V from the cache)"
+            } else {
+                ""
+            },
+            if renderer.spec_worst() {
+                ", run as the least precise conformant driver (--spec-worst)"
             } else {
                 ""
             }
@@ -151,9 +157,10 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         outln!("cpu32 err  {}", super::diff::format_figures(&cpu32_err));
         if let Some(c) = &conditioned {
             outln!(
-                "condition  {:.4}% of pixels ill-conditioned at f32 ({} perturbed f64 renders and the f32 one), {:.4}% over 1/255 among them",
+                "condition  {:.4}% of pixels ill-conditioned at f32 ({} perturbed f64 renders, {} at a driver's error, and the f32 one), {:.4}% over 1/255 among them",
                 100.0 * c.ill,
                 condition::TRIALS,
+                condition::DRIVER_TRIALS,
                 100.0 * c.over_and_ill
             );
             outln!("well-cond  {}", super::diff::format_figures(&c.error));

@@ -62,6 +62,9 @@ pub struct FuzzArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     json: bool,
+    /// Run the GPU's shader as the least precise conformant Vulkan driver may (docs/guarantees.md).
+    #[arg(long)]
+    spec_worst: bool,
 }
 
 /// The GPU's oracle, where this build and the backend have one.
@@ -70,7 +73,10 @@ fn device(a: &FuzzArgs) -> anyhow::Result<Option<Box<dyn Device>>> {
     if a.backend == Backend::Cpu {
         return Ok(None);
     }
-    let opts = glint::gpu::GpuOptions::from_env(a.device.clone());
+    let opts = glint::gpu::GpuOptions {
+        spec_worst: a.spec_worst,
+        ..glint::gpu::GpuOptions::from_env(a.device.clone())
+    };
     Ok(Some(Box::new(fuzz::GpuOracle::new(&opts)?)))
 }
 
@@ -157,6 +163,10 @@ fn check(a: &FuzzArgs) -> anyhow::Result<()> {
         a.objects,
         space::MAX_OBJECTS
     );
+    anyhow::ensure!(
+        !(a.spec_worst && a.backend == Backend::Cpu),
+        "--spec-worst applies to the GPU's shader, and --backend cpu reads none (drop --spec-worst, or fuzz the GPU)"
+    );
     Ok(())
 }
 
@@ -221,13 +231,14 @@ pub fn run(a: &FuzzArgs) -> anyhow::Result<ExitCode> {
         outln!(
             "{}",
             serde_json::json!({ "set": format!("{:?}", a.set).to_lowercase(), "seed": a.seed,
-                "cases": run, "seconds": seconds, "failures": failures })
+                "spec_worst": a.spec_worst, "cases": run, "seconds": seconds, "failures": failures })
         );
     } else {
         outln!(
-            "{run} generated scenes ({:?} set, seed {}) in {seconds:.1} s: {} failing",
+            "{run} generated scenes ({:?} set, seed {}{}) in {seconds:.1} s: {} failing",
             a.set,
             a.seed,
+            if a.spec_worst { ", --spec-worst" } else { "" },
             found.len()
         );
         for ((case, index, checks), path) in found.iter().zip(&written) {

@@ -36,7 +36,12 @@ pub struct GpuRender {
 impl GpuRender {
     /// `GPU f32 on <device>`.
     pub fn label(&self, precision: Precision) -> String {
-        label(precision, &self.renderer.device_info().name)
+        let l = label(precision, &self.renderer.device_info().name);
+        if self.renderer.spec_worst() {
+            l + " run as the least precise conformant driver (--spec-worst)"
+        } else {
+            l
+        }
     }
 }
 

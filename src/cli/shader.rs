@@ -102,7 +102,14 @@ pub fn run(a: &ShaderArgs) -> anyhow::Result<ExitCode> {
             let glsl = output.join(format!("{name}.comp"));
             let spv = output.join(format!("{name}.spv"));
             let mut outputs = Outputs::new(super::inputs(&scene_args.scene, &scene, device), false);
-            let compiled = compile::compile(&sources, &defines)?;
+            let mut compiled = compile::compile(&sources, &defines)?;
+            if options.spec_worst {
+                let (words, report) =
+                    glint::spec_worst::apply(&compiled.spirv, &glint::spec_worst::BOUNDS)
+                        .map_err(GpuError::Shader)?;
+                compiled.spirv = words;
+                errln!("--spec-worst: {}", report.line());
+            }
             std::fs::create_dir_all(output)
                 .with_context(|| format!("cannot create {}", output.display()))?;
             let header: String = defines

@@ -228,7 +228,14 @@ pub fn divergence(
                     number::show(bound),
                     b.stage.name(),
                     if f32_within {
-                        format!(" (the CPU's f32 is within the bound: {gpu} computes this stage less accurately)")
+                        format!(
+                            " (the CPU's f32 is within the bound: {gpu} computes this stage less accurately{})",
+                            if tree.renderer.ends_with(super::worst::SUFFIX) {
+                                super::worst::clause(&b.label)
+                            } else {
+                                String::new()
+                            }
+                        )
                     } else {
                         String::new()
                     }

@@ -103,9 +103,12 @@ pub fn explain_on_gpu(
         precision: Precision::F32,
         ..*settings
     };
-    let mut trees = vec![record_on_gpu(
-        renderer, scene, &settings, sample, "gpu f32",
-    )?];
+    let name = if renderer.spec_worst() {
+        format!("gpu f32{}", super::worst::SUFFIX)
+    } else {
+        "gpu f32".to_owned()
+    };
+    let mut trees = vec![record_on_gpu(renderer, scene, &settings, sample, &name)?];
     trees.extend(others);
     Ok(Reference::new(scene, settings.accel, sample)?.explain(trees))
 }

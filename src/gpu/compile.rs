@@ -32,6 +32,7 @@ pub const BUILTIN: &[(&str, &str)] = builtin_files![
     "ray.glsl",
     "intersect.glsl",
     "exact.glsl",
+    "own_math.glsl",
     "scans.glsl",
     "shade.glsl",
     "specular.glsl",

@@ -26,6 +26,9 @@ pub struct GpuOptions {
     pub main_builtin: Option<String>,
     /// Defines added after the variant's own (-D NAME=VALUE).
     pub defines: Vec<(String, Option<String>)>,
+    /// Run the shader as the least precise conformant driver may
+    /// (`crate::spec_worst`; docs/guarantees.md).
+    pub spec_worst: bool,
     /// The settings of `Renderer::render`; `Renderer::prepare` takes any.
     pub settings: RenderSettings,
     /// Where compiled SPIR-V and the Vulkan pipeline cache are kept between

@@ -72,6 +72,7 @@ impl Renderer {
             },
             defines: opts.defines.clone(),
             cache_dir: opts.cache_dir.as_ref().map(|d| d.join("spirv")),
+            spec_worst: opts.spec_worst,
             settings: opts.settings,
             device_s: t0.elapsed().as_secs_f64(),
             timeout: opts.timeout,
@@ -82,6 +83,12 @@ impl Renderer {
         Ok(Self {
             shared: Arc::new(shared),
         })
+    }
+
+    /// Whether the shader runs as the least precise conformant driver may
+    /// (`GpuOptions::spec_worst`).
+    pub fn spec_worst(&self) -> bool {
+        self.shared.spec_worst
     }
 
     /// What the renderer's device is and supports.

@@ -88,6 +88,8 @@ pub(crate) struct Shared {
     pub(super) sources: compile::Sources,
     pub(super) defines: Vec<(String, Option<String>)>,
     pub(super) cache_dir: Option<PathBuf>,
+    /// Every pipeline's SPIR-V rewritten by `crate::spec_worst`.
+    pub(super) spec_worst: bool,
     /// The settings of `Renderer::render`.
     pub(super) settings: RenderSettings,
     /// Seconds spent opening the device.
@@ -187,6 +189,15 @@ impl Shared {
         let t0 = Instant::now();
         let (spirv, cached) =
             compile::compile_cached(&sources, fingerprint, defines, self.cache_dir.as_deref())?;
+        // The rewrite follows the cache: the cached SPIR-V is glslang's,
+        // shared by native and --spec-worst renders.
+        let spirv = if self.spec_worst {
+            crate::spec_worst::apply(&spirv, &crate::spec_worst::BOUNDS)
+                .map_err(GpuError::Shader)?
+                .0
+        } else {
+            spirv
+        };
         let t1 = Instant::now();
         let push_bytes = std::mem::size_of::<TileRect>() as u32;
         let raw = ComputePipeline::new(

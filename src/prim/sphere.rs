@@ -180,13 +180,16 @@ impl<R: Real> Shape<R> for SphereR<R> {
     /// Latitude and longitude (docs/scene-format.md, Textures): u runs
     /// about the y axis from 0 at −z through −x (¼), +z (½) and +x (¾),
     /// so that an image faces +z unmirrored; v from 0 at the −y pole to 1
-    /// at the +y pole.
+    /// at the +y pole. glint's own atan2 and asin in f32, as the shader.
     fn uv(&self, p: Vec3<R>) -> Option<[R; 2]> {
         let n = self.normal(p);
         let half = R::of(0.5);
         let pi = R::of(std::f64::consts::PI);
         let y = n.y.max(-R::one()).min(R::one());
-        Some([half + n.x.atan2(n.z) / (pi + pi), half + y.asin() / pi])
+        Some([
+            half + n.x.atan2_shader(n.z) / (pi + pi),
+            half + y.asin_shader() / pi,
+        ])
     }
 
     fn material(&self) -> usize {

@@ -80,7 +80,15 @@ impl PatternType for Image {
 /// 0..n-1 where the rounding of a huge x would leave it outside.
 fn wrap<R: Real>(x: R, n: u32) -> u32 {
     let nr = R::of(f64::from(n));
-    let m = x - nr * (x / nr).floor();
+    let mut m = x - nr * (x / nr).floor();
+    // As the shader: a quotient a driver rounds a few ULP below a whole
+    // number leaves m = n.
+    if m >= nr {
+        m = m - nr;
+    }
+    if m < R::zero() {
+        m += nr;
+    }
     m.max(R::zero())
         .min(R::of(f64::from(n - 1)))
         .to_u32()
