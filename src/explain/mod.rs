@@ -229,7 +229,7 @@ impl Reference {
         // time.
         let mut bounds = flat::floor_bounds(&entries);
         flat::widen(&mut bounds, &entries, &flat::entries(&f32));
-        for t in 0..crate::condition::MOVED_TRIALS {
+        for t in 0..crate::condition::TRIALS {
             let (moved, moves) = crate::condition::trial(scene, t);
             let events = Probe::<f64>::moved(&moved, accel, moves).record(sample.traced);
             flat::widen(

@@ -147,13 +147,7 @@ fn asin_of_magnitude(e: &mut Emit, a: Val) -> Val {
     let as_ = mul(e, a, s);
     let asq = mul(e, as_, q);
     let near = add(e, a, asq);
-    let (w, ws) = half_angle(e, a);
-    let wq = poly(e, ws, &ASIN);
-    let wsw = mul(e, w, ws);
-    let t = mul(e, wsw, wq);
-    let inner = add(e, w, t);
-    let two = k(e, a, 2.0);
-    let twice = mul(e, two, inner);
+    let twice = twice_asin_of_half_angle(e, a);
     let half_pi = k(e, a, std::f32::consts::FRAC_PI_2);
     let far = sub(e, half_pi, twice);
     let half = k(e, a, 0.5);
@@ -161,14 +155,20 @@ fn asin_of_magnitude(e: &mut Emit, a: Val) -> Val {
     bit_select(e, small, near, far)
 }
 
-/// w = √((1 − a)/2) and w² for a in [0, 1] (1 − a exact for a ≥ ½).
-fn half_angle(e: &mut Emit, a: Val) -> (Val, Val) {
+/// 2·asin(w), w = √((1 − a)/2), for a in [0, 1] (1 − a exact for a ≥ ½):
+/// π/2 − asin(a), and acos(a).
+fn twice_asin_of_half_angle(e: &mut Emit, a: Val) -> Val {
     let one = k(e, a, 1.0);
     let half = k(e, a, 0.5);
     let d = sub(e, one, a);
-    let s = mul(e, d, half);
-    let w = e.ext(glsl::SQRT, a.shape, &[s.id]);
-    (w, s)
+    let ws = mul(e, d, half);
+    let w = e.ext(glsl::SQRT, a.shape, &[ws.id]);
+    let wq = poly(e, ws, &ASIN);
+    let wsw = mul(e, w, ws);
+    let t = mul(e, wsw, wq);
+    let inner = add(e, w, t);
+    let two = k(e, a, 2.0);
+    mul(e, two, inner)
 }
 
 /// acos(y) for y in [−1, 1]: π/2 − asin(y) within ½ of zero, else from
@@ -178,13 +178,7 @@ pub fn acos(e: &mut Emit, y: Val) -> Val {
     let half_pi = k(e, y, std::f32::consts::FRAC_PI_2);
     let middle = sub(e, half_pi, middle_asin);
     let a = e.ext(glsl::FABS, y.shape, &[y.id]);
-    let (w, ws) = half_angle(e, a);
-    let wq = poly(e, ws, &ASIN);
-    let wsw = mul(e, w, ws);
-    let t = mul(e, wsw, wq);
-    let inner = add(e, w, t);
-    let two = k(e, y, 2.0);
-    let near_one = mul(e, two, inner);
+    let near_one = twice_asin_of_half_angle(e, a);
     let pi = k(e, y, std::f32::consts::PI);
     let near_minus_one = sub(e, pi, near_one);
     let negative = e.sign_bit(y);
