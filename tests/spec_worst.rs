@@ -257,6 +257,19 @@ fn glints_own_atan2_and_asin_are_within_4_ulp_on_the_device() {
     assert!(atan2 <= 4.0 && asin <= 4.0, "{atan2} {asin}");
 }
 
+/// `image` of `scene` held to its f64 reference as `glint compare` holds it.
+fn judge(scene: &glint::scene::Scene, image: &glint::raster::Image) -> glint::condition::Judgement {
+    let reference = glint::cpu::render::<f64>(scene);
+    glint::condition::judge(
+        scene,
+        image,
+        &reference,
+        &glint::raster::diff::Tolerance::default(),
+        glint::accel::Accel::Auto,
+        &|_| {},
+    )
+}
+
 /// `path` at `width` × `height` (at most its own size).
 fn load_small(path: &std::path::Path, width: u32, height: u32) -> glint::scene::Scene {
     let full = glint::scene::Scene::load(path, &glint::scene::Overrides::default())
@@ -306,15 +319,7 @@ fn every_scene_holds_under_the_worst_conformant_driver() {
     for path in &files {
         let scene = load_small(path, 160, 120);
         let image = worst.render(&scene, &|_| {}).unwrap().0;
-        let reference = glint::cpu::render::<f64>(&scene);
-        let j = glint::condition::judge(
-            &scene,
-            &image,
-            &reference,
-            &glint::raster::diff::Tolerance::default(),
-            glint::accel::Accel::Auto,
-            &|_| {},
-        );
+        let j = judge(&scene, &image);
         if !j.pass() {
             failures.push(format!("{}: {:?}", path.display(), j.violations));
         }
@@ -342,20 +347,12 @@ fn a_perturbed_worst_image_fails_the_check() {
     });
     let scene = load_small(&common::repo().join("scenes/seed-fig3.toml"), 160, 120);
     let mut image = worst.render(&scene, &|_| {}).unwrap().0;
-    let reference = glint::cpu::render::<f64>(&scene);
     for y in 40..60 {
         for x in 60..90 {
             image.pixels[y * 160 + x][1] += 0.02;
         }
     }
-    let j = glint::condition::judge(
-        &scene,
-        &image,
-        &reference,
-        &glint::raster::diff::Tolerance::default(),
-        glint::accel::Accel::Auto,
-        &|_| {},
-    );
+    let j = judge(&scene, &image);
     assert!(!j.pass(), "{j:?}");
 }
 

@@ -204,9 +204,10 @@ fn offset(e: &mut Emit, inst: u32, x: Val, delta: f32, salt: u32) -> Val {
 /// from glint's own log2 (`own::log2`; log = log2 · ln 2).
 fn log(e: &mut Emit, x: Val, natural: bool, bounds: &Bounds, salt: u32) -> Val {
     let inst = if natural { glsl::LOG } else { glsl::LOG2 };
+    // The driver's value where x is not a positive normal (own::log2 and
+    // the natural log's select below both take it there).
     let native = e.ext(inst, x.shape, &[x.id]);
-    let native2 = e.ext(glsl::LOG2, x.shape, &[x.id]);
-    let mut base = own::log2(e, x, native2);
+    let mut base = own::log2(e, x, native);
     if natural {
         let ln2 = e.constant(x.shape, std::f32::consts::LN_2);
         let scaled = e.arith(op::F_MUL, x.shape, &[base.id, ln2.id]);
