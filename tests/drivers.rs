@@ -907,3 +907,39 @@ fn a_size_that_does_not_fit_is_refused_before_rendering() {
     common::assert_user_error(&o, "ulimit -v");
     assert!(!out.exists());
 }
+
+/// Debian unstable's lavapipe, in the tree `ci/sid-lavapipe` makes, is a
+/// column of its own: its children run through the tree's loader
+/// (`glint::drivers::tree`), and it passes. Skipped where the tree was
+/// not made (ci/test makes it before the lanes where the archive can be
+/// reached).
+#[test]
+fn the_unstable_lavapipe_is_a_column_where_its_tree_is_made() {
+    let root = std::env::var_os("XDG_CACHE_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
+        .map(|c| c.join("glint-sid"));
+    let icd = root
+        .map(|r| glint::drivers::tree::icd_files(&r))
+        .and_then(|files| files.into_iter().find(|f| f.ends_with("lvp_icd.json")));
+    let Some(icd) = icd else {
+        common::skip(
+            "drivers on Debian unstable's lavapipe",
+            "ci/sid-lavapipe made no tree",
+        );
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("m");
+    let o = drivers(&["--quick", "scenes/seed-fig3.toml"], &[&icd], &out, &[]);
+    common::assert_ok(&o);
+    let m = matrix(&out);
+    let c = column(&m, &icd);
+    let identity = &m["columns"][c]["identity"];
+    assert!(
+        identity["driver"].as_str().unwrap().contains("Mesa"),
+        "{identity}"
+    );
+    assert_eq!(cell(&m, "seed-fig3", c)["result"], "pass", "{m}");
+    assert_eq!(m["columns"][c]["name"], "glint-sid/lvp_icd", "{m}");
+}

@@ -10,6 +10,7 @@ mod common;
 
 use std::collections::BTreeSet;
 
+use glint::accel::Accel;
 use glint::cpu;
 use glint::fuzz::{self, Device, Failure, Property};
 use glint::generate::{space, Spec};
@@ -237,7 +238,12 @@ struct Planted {
 }
 
 impl Device for Planted {
-    fn check(&mut self, scene: &Scene, reference: &Image, wanted: fuzz::Wanted) -> Vec<Failure> {
+    fn check(
+        &mut self,
+        scene: &Scene,
+        reference: &fuzz::Reference,
+        wanted: fuzz::Wanted,
+    ) -> Vec<Failure> {
         let mut img = cpu::render::<f32>(scene);
         if (self.when)(scene) {
             (self.defect)(&mut img);
@@ -245,7 +251,7 @@ impl Device for Planted {
         if !wanted(Property::GpuCompare) {
             return vec![];
         }
-        fuzz::compare_failure(scene, &img, reference)
+        fuzz::compare_failure(scene, &img, &reference.image)
             .map(|detail| Failure {
                 property: Property::GpuCompare,
                 detail,
@@ -346,17 +352,27 @@ fn the_found_scenes_stay_fixed() {
     for path in files {
         let scene = Scene::load(&path, &Overrides::default())
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let reference = cpu::render::<f64>(&scene);
-        let f32 = cpu::render::<f32>(&scene);
-        assert!(
-            fuzz::compare_failure(&scene, &f32, &reference).is_none(),
-            "{} CPU f32",
-            path.display()
-        );
+        let f32_of = |s: &Scene| cpu::render_sampled::<f32>(s, Accel::Auto, &|_| {});
+        let (image, sampled) = cpu::render_sampled::<f64>(&scene, Accel::Auto, &|_| {});
+        let reference = fuzz::Reference { image, sampled };
+        let (f32, sampled) = f32_of(&scene);
+        let replay = |s: &Scene| Ok::<_, std::convert::Infallible>(f32_of(s));
+        let verdict = fuzz::compare_rendered(&scene, (&f32, sampled.as_ref()), &reference, replay);
+        assert!(verdict.is_none(), "{} CPU f32: {verdict:?}", path.display());
         #[cfg(feature = "gpu")]
         {
-            let img = gpu.render(&scene, &|_| {}).unwrap().0;
-            let verdict = fuzz::compare_failure(&scene, &img, &reference);
+            let settings = gpu.settings();
+            let rendered = gpu
+                .prepare(&scene, &settings)
+                .unwrap()
+                .render(None, &|_| {});
+            let rendered = rendered.unwrap();
+            let replay = |s: &Scene| {
+                let r = gpu.prepare(s, &settings)?.render(None, &|_| {})?;
+                Ok::<_, glint::gpu::GpuError>((r.image, r.sampled))
+            };
+            let own = (&rendered.image, rendered.sampled.as_ref());
+            let verdict = fuzz::compare_rendered(&scene, own, &reference, replay);
             assert!(verdict.is_none(), "{}: {verdict:?}", path.display());
         }
     }

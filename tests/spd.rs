@@ -84,7 +84,7 @@ fn judge(scene: &Scene, image: &glint::raster::Image) -> Judgement {
 /// and the GPU passes `glint compare`: over every pixel, or where mirror
 /// chains or coincident faces make some pixels ill-conditioned at f32
 /// (balls, gears and rings), over the well-conditioned ones
-/// (src/condition.rs).
+/// (src/condition/).
 #[test]
 #[cfg(feature = "gpu")]
 fn the_databases_pass_the_comparison() {

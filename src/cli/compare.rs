@@ -51,7 +51,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     let (gpu_image, mut renderer, mut prepared) = (first.image, first.renderer, first.prepared);
     let first = first.times;
     let warm = prepared.render(None, &|_| {})?;
-    let (warm_image, gpu_times) = (warm.image, warm.times);
+    let (warm_image, gpu_times, gpu_sampled) = (warm.image, warm.times, warm.sampled);
     anyhow::ensure!(
         warm_image == gpu_image,
         "two GPU renders of the same scene differ"
@@ -59,6 +59,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
     let accel = a.device.accel;
     let cpu64 = render_cpu_timed(&scene, Precision::F64, accel, false)?;
     let cpu32 = render_cpu_timed(&scene, Precision::F32, accel, false)?;
+    let reference_sampled = cpu64.sampled;
     let (reference, cpu32_image, cpu64, cpu32) =
         (cpu64.image, cpu32.image, cpu64.times, cpu32.times);
     let (cpu64_s, cpu32_s) = (cpu64.render_s, cpu32.render_s);
@@ -69,12 +70,29 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         u64::from(scene.height) * u64::from(condition::MOVED_TRIALS + 1),
         "conditioning",
     );
-    let judgement = condition::judge(&scene, &gpu_image, &reference, &tolerance, accel, &|n| {
-        bar.inc(n)
-    });
+    let settings = renderer.settings();
+    let replay = |replaying: &glint::scene::Scene| {
+        let r = renderer
+            .prepare(replaying, &settings)?
+            .render(None, &|_| {})?;
+        Ok::<_, glint::gpu::GpuError>((r.image, r.sampled))
+    };
+    let judgement = condition::judge_rendered(
+        &scene,
+        (&gpu_image, gpu_sampled.as_ref()),
+        (&reference, reference_sampled.as_ref()),
+        replay,
+        &tolerance,
+        accel,
+        &|n| bar.inc(n),
+    )?;
     bar.finish_and_clear();
-    let (gpu_err, conditioned, violations) =
-        (judgement.error, judgement.conditioned, judgement.violations);
+    let (gpu_err, conditioned, decisions, violations) = (
+        judgement.error,
+        judgement.conditioned,
+        judgement.decisions,
+        judgement.violations,
+    );
     super::diff::write_heat_map(outputs, a.diff_out.as_deref(), &gpu_image, &reference)?;
     let explanations = match a.explain {
         Some(n) if !violations.is_empty() => {
@@ -109,6 +127,7 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             "spec_worst": renderer.spec_worst(),
             "tolerance": tolerance,
             "conditioned": conditioned,
+            "decisions": decisions,
             "pass": violations.is_empty(),
             "violations": violations,
             "explanations": explanations,
@@ -155,6 +174,12 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         }
         outln!("gpu error  {}", super::diff::format_figures(&gpu_err));
         outln!("cpu32 err  {}", super::diff::format_figures(&cpu32_err));
+        if let Some(d) = &decisions {
+            outln!("{}", super::diff::format_decisions(d));
+            if let Some(plain) = &d.plain {
+                outln!("plain err  {}", super::diff::format_figures(plain));
+            }
+        }
         if let Some(c) = &conditioned {
             outln!(
                 "condition  {:.4}% of pixels ill-conditioned at f32 ({} perturbed f64 renders{} and the f32 one), {:.4}% over 1/255 among them",

@@ -69,6 +69,27 @@ pub fn format_figures(f: &ErrorFigures) -> String {
     )
 }
 
+/// The sampling line of `compare`: how many decisions the renderer took
+/// otherwise than the reference on its samples, how many of those the
+/// trials explain, and how much of its own image it sampled otherwise.
+#[cfg(feature = "gpu")]
+pub fn format_decisions(d: &glint::condition::DecisionCheck) -> String {
+    let mut line = format!(
+        "sampling   {} decisions on the reference's samples, {} taken otherwise",
+        d.decisions, d.otherwise
+    );
+    if d.otherwise > 0 {
+        line.push_str(&format!(" ({} not by any trial)", d.unexplained));
+    }
+    if d.sampled_otherwise > 0.0 {
+        line.push_str(&format!(
+            "; its own decisions sampled {:.4}% of pixels otherwise, so the error below is of its replay of the reference's",
+            100.0 * d.sampled_otherwise
+        ));
+    }
+    line
+}
+
 /// Writes the heat map of `img` against `reference` to `path` where one
 /// was asked for (`--diff-out`), through `outputs`, which holds it alone.
 pub(super) fn write_heat_map(

@@ -11,6 +11,7 @@ use glint::accel::Accel;
 use glint::cpu;
 use glint::output::{self, Outputs};
 use glint::raster::{io, Image};
+use glint::scene::decisions::Sampled;
 use glint::scene::Scene;
 use glint::settings::Choice;
 use glint::stats::{Counts, RayCounts, Work};
@@ -276,6 +277,10 @@ pub struct CpuRender {
     pub label: String,
     pub times: CpuTimes,
     pub counts: Option<Counts>,
+    /// What adaptive or contrast sampling decided: `compare` replays the
+    /// reference's, and the CPU-only build has no `compare`.
+    #[cfg_attr(not(feature = "gpu"), allow(dead_code))]
+    pub sampled: Option<Sampled>,
 }
 
 pub fn render_cpu_timed(
@@ -295,7 +300,7 @@ pub fn render_cpu_timed(
         count: bool,
         start: Instant,
         progress: &(dyn Fn(u64) + Sync),
-    ) -> (Image, Option<Counts>, f64, f64) {
+    ) -> (Image, Option<Counts>, Option<Sampled>, f64, f64) {
         let prepared = progress::waiting("preparing the scene (BVH)", || {
             cpu::Prepared::<R>::new(scene, accel)
         });
@@ -303,13 +308,14 @@ pub fn render_cpu_timed(
         let tables_s = prepared.tables_s();
         if count {
             let (image, counts) = prepared.render_counted(progress);
-            (image, Some(counts), setup_s, tables_s)
+            (image, Some(counts), None, setup_s, tables_s)
         } else {
-            (prepared.render(progress), None, setup_s, tables_s)
+            let (image, sampled) = prepared.render_sampled(progress);
+            (image, None, sampled, setup_s, tables_s)
         }
     }
     let progress = |n| bar.inc(n);
-    let (image, counts, setup_s, tables_s) = match precision {
+    let (image, counts, sampled, setup_s, tables_s) = match precision {
         Precision::F32 => go::<f32>(scene, accel, count, start, &progress),
         Precision::F64 => go::<f64>(scene, accel, count, start, &progress),
     };
@@ -326,5 +332,6 @@ pub fn render_cpu_timed(
             render_s,
         },
         counts,
+        sampled,
     })
 }

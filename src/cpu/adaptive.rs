@@ -14,6 +14,7 @@ use super::world::World;
 use crate::base::real::{Real, Vec3};
 use crate::raster::region::Region;
 use crate::raster::Image;
+use crate::scene::decisions::Log;
 use crate::scene::refine::{refine_image, Point};
 use crate::scene::Adaptive;
 use crate::stats::Tally;
@@ -21,14 +22,15 @@ use crate::stats::Tally;
 /// The pixels of the image of corners `grid` (traced over `traced`, the
 /// corners of a region): each the mean of its corners, or refined where
 /// they differ by more than `threshold` steps (chosen as the GPU chooses,
-/// by `Adaptive::splits` on the f32 corners).
+/// by `Adaptive::splits` on the f32 corners, or replayed: `World::decider`),
+/// and the decisions taken.
 pub fn resolve<R: Real, T: Tally>(
     w: &World<R>,
     grid: &Image,
     traced: Region,
     threshold: R,
     levels: u32,
-) -> (Image, T) {
+) -> (Image, T, Log) {
     let choice = Adaptive {
         threshold: threshold.to_f64() / Adaptive::STEPS,
         levels,
@@ -43,8 +45,9 @@ pub fn resolve<R: Real, T: Tally>(
     let put = |place: usize, v: Vec3<R>| {
         image.pixels[place] = v.to_rgb();
     };
-    let Ok(()) = refine_image(grid, (traced.x, traced.y), &choice, threshold, trace, put);
-    (image, counts)
+    let origin = (traced.x, traced.y);
+    let Ok(log) = refine_image(grid, origin, (&choice, w.decider()), threshold, trace, put);
+    (image, counts, log)
 }
 
 /// The colours of `points` (in pixels of the image, as the corner grid's

@@ -15,16 +15,18 @@ use crate::base::tally::tree_word;
 use crate::raster::region::Region;
 use crate::raster::Image;
 use crate::scene::contrast::{refine_levels, sample_at, Batch, Entry};
+use crate::scene::decisions::Log;
 use crate::scene::Contrast;
 use crate::stats::{Counter, RayType, Tally};
 
-/// The pixels of `region`, sampled as `contrast` says.
+/// The pixels of `region`, sampled as `contrast` says, and the decisions
+/// taken (its own, or replayed: `World::decider`).
 pub fn render<R: Real, T: Tally>(
     w: &World<R>,
     region: Region,
     contrast: &Contrast,
     progress: &(dyn Fn(u64) + Sync),
-) -> (Image, T) {
+) -> (Image, T, Log) {
     let mut counts = T::default();
     let trace_entries = |entries: &[Entry]| {
         let parts: Vec<(Vec<Batch<R>>, T)> = entries
@@ -46,9 +48,10 @@ pub fn render<R: Real, T: Tally>(
         }
         Ok::<_, std::convert::Infallible>(batches)
     };
-    let Ok(pixels) = refine_levels(contrast, region, (w.width, w.height), trace_entries);
+    let size = (w.width, w.height);
+    let Ok((pixels, log)) = refine_levels((contrast, w.decider()), region, size, trace_entries);
     progress(u64::from(region.height));
-    (Image::new(region.width, region.height, pixels), counts)
+    (Image::new(region.width, region.height, pixels), counts, log)
 }
 
 /// A batch of nothing traced (a stopped render's).

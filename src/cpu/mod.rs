@@ -19,6 +19,7 @@ use rayon::prelude::*;
 use crate::accel::Accel;
 use crate::raster::region::Region;
 use crate::raster::Image;
+use crate::scene::decisions::{Kind, Sampled};
 use crate::scene::{PastBound, Scene};
 
 pub use crate::base::real::Real;
@@ -39,19 +40,30 @@ pub fn render_rows<R: Real>(scene: &Scene, accel: Accel, progress: &(dyn Fn(u64)
     render_world(&World::<R>::new(scene, accel), progress)
 }
 
+/// As [`render_rows`], with what its sampling decided (`Scene::replay`):
+/// None where the scene's sampling decides nothing.
+pub fn render_sampled<R: Real>(
+    scene: &Scene,
+    accel: Accel,
+    progress: &(dyn Fn(u64) + Sync),
+) -> (Image, Option<Sampled>) {
+    Prepared::<R>::new(scene, accel).render_sampled(progress)
+}
+
 /// The conditioning check's trial (`glint::condition`): `scene` in f64
 /// with every hit point and the direction of every ray that leaves a
 /// surface moved by `share` of its size, each its own way, as f32 rounds
-/// them (`World::hit_move`).
+/// them (`World::hit_move`); and what its sampling decided.
 pub(crate) fn render_moved(
     scene: &Scene,
     accel: Accel,
     (seed, share): (u64, f64),
     progress: &(dyn Fn(u64) + Sync),
-) -> Image {
+) -> (Image, Option<Sampled>) {
     let mut world = World::<f64>::new(scene, accel);
     world.hit_move = Some((seed, share));
-    render_world(&world, progress)
+    let (image, (), sampled) = render_tallied(&world, None, progress);
+    (image, sampled)
 }
 
 /// The pixels of `region` of `scene`'s image (which must hold it): bit
@@ -123,9 +135,16 @@ impl<R: Real> Prepared<R> {
         render_world(&self.0, progress)
     }
 
+    /// The image, with what its sampling decided (`cpu::render_sampled`).
+    pub fn render_sampled(&self, progress: &(dyn Fn(u64) + Sync)) -> (Image, Option<Sampled>) {
+        let (image, (), sampled) = render_tallied(&self.0, None, progress);
+        (image, sampled)
+    }
+
     /// The image, with the rays it cast and the tests they cost.
     pub fn render_counted(&self, progress: &(dyn Fn(u64) + Sync)) -> (Image, Counts) {
-        render_tallied(&self.0, None, progress)
+        let (image, counts, _) = render_tallied(&self.0, None, progress);
+        (image, counts)
     }
 
     /// `region` of the image and the render's counts of rays, tests and
@@ -135,7 +154,8 @@ impl<R: Real> Prepared<R> {
         region: Region,
         progress: &(dyn Fn(u64) + Sync),
     ) -> (Image, Counts) {
-        render_tallied(&self.0, Some(region), progress)
+        let (image, counts, _) = render_tallied(&self.0, Some(region), progress);
+        (image, counts)
     }
 
     /// The direction of the eye ray through sample (i, j) of pixel (x, y),
@@ -161,12 +181,13 @@ pub fn render_counted<R: Real>(
     Prepared::<R>::new(scene, accel).render_counted(progress)
 }
 
-/// Renders `region` of the world's image (None: all of it).
+/// Renders `region` of the world's image (None: all of it), with its
+/// counts and what its sampling decided, where it decides.
 fn render_tallied<R: Real, T: Tally>(
     world: &World<R>,
     region: Option<Region>,
     progress: &(dyn Fn(u64) + Sync),
-) -> (Image, T) {
+) -> (Image, T, Option<Sampled>) {
     // The pixels traced: the region's corners where the world samples them.
     let traced = match region {
         Some(r) if world.corners => r.corners(),
@@ -174,7 +195,8 @@ fn render_tallied<R: Real, T: Tally>(
         None => Region::whole(world.width, world.height),
     };
     if let Some(c) = &world.contrast {
-        return contrast::render(world, traced, c, progress);
+        let (image, counts, log) = contrast::render(world, traced, c, progress);
+        return (image, counts, Some(log.sampled(Kind::Contrast)));
     }
     let (width, height, samples) = (traced.width, traced.height, world.samples);
     let inv = R::one() / R::of(f64::from(samples * samples));
@@ -207,15 +229,15 @@ fn render_tallied<R: Real, T: Tally>(
         .reduce(T::default, T::merge);
     let image = Image::new(width, height, pixels);
     if world.stopped() {
-        return (image, counts);
+        return (image, counts, None);
     }
     match world.adaptive {
         Some((threshold, levels)) => {
-            let (image, more) = adaptive::resolve(world, &image, traced, threshold, levels);
-            (image, counts.merge(more))
+            let (image, more, log) = adaptive::resolve(world, &image, traced, threshold, levels);
+            (image, counts.merge(more), Some(log.sampled(Kind::Adaptive)))
         }
-        None if world.corners => (image.corner_mean(), counts),
-        None => (image, counts),
+        None if world.corners => (image.corner_mean(), counts, None),
+        None => (image, counts, None),
     }
 }
 

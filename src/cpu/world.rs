@@ -48,9 +48,18 @@ pub struct World<R: Real> {
     pub hit_move: Option<(u64, f64)>,
     /// Once set, rows not yet begun are skipped (`cpu::Prepared::stop_when`).
     pub stop: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
+    /// The sampling decisions to replay (`Scene::replay`), where set.
+    pub replay: Option<std::sync::Arc<crate::scene::decisions::Decisions>>,
 }
 
 impl<R: Real> World<R> {
+    /// How its sampling takes decisions: its own, or those it replays.
+    pub fn decider(&self) -> crate::scene::decisions::Decider<'_> {
+        crate::scene::decisions::Decider {
+            replay: self.replay.as_deref(),
+        }
+    }
+
     /// Whether a stop was asked for: the render is then cut short.
     pub fn stopped(&self) -> bool {
         self.stop
@@ -103,6 +112,7 @@ impl<R: Real> World<R> {
             contrast: scene.contrast_sampling(),
             hit_move: None,
             stop: None,
+            replay: scene.replay.clone(),
         }
     }
 }

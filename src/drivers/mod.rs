@@ -10,6 +10,7 @@ mod error;
 pub mod probe;
 pub mod repro;
 pub mod shrink;
+pub mod tree;
 pub mod verdict;
 
 pub use error::DriversError;

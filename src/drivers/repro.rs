@@ -174,8 +174,9 @@ pub fn write_load(
     let _ = std::fs::copy(stderr, dir.join("stderr.txt"));
     let absolute = std::path::absolute(icd).unwrap_or_else(|_| icd.to_owned());
     let command = format!(
-        "VK_DRIVER_FILES={} glint info",
-        quote(&absolute.to_string_lossy())
+        "VK_DRIVER_FILES={} {} info",
+        quote(&absolute.to_string_lossy()),
+        glint_on(icd)
     );
     write_file(&dir.join("command.sh"), format!("#!/bin/sh\n{command}\n"))?;
     let readme = format!(
@@ -223,7 +224,7 @@ fn command_line(f: &Failure, scene_copy: &Path) -> String {
     if let Ok(e) = std::env::var("GLINT_EXPERIMENT") {
         words.push(format!("GLINT_EXPERIMENT={}", quote(&e)));
     }
-    words.push("glint compare".into());
+    words.push(format!("{} compare", glint_on(f.icd)));
     words.push(quote(
         &scene_copy
             .file_name()
@@ -233,6 +234,24 @@ fn command_line(f: &Failure, scene_copy: &Path) -> String {
     words.extend(f.size.args());
     words.extend(f.device_args.iter().map(|a| quote(&a.to_string_lossy())));
     words.join(" ")
+}
+
+/// How a command line runs glint on the driver of `icd`: `glint`, or for
+/// a driver of another system's tree, glint through that tree's loader,
+/// which takes the program by its path (`drivers::tree`).
+fn glint_on(icd: &Path) -> String {
+    match super::tree::root_of(icd) {
+        Some(root) => {
+            let launcher = super::tree::launcher(&root);
+            let mut words: Vec<String> = launcher
+                .iter()
+                .map(|w| quote(&w.to_string_lossy()))
+                .collect();
+            words.push("\"$(command -v glint)\"".into());
+            words.join(" ")
+        }
+        None => "glint".into(),
+    }
 }
 
 /// A word as sh reads it.
@@ -349,6 +368,32 @@ mod tests {
         assert_eq!(
             seen,
             vec![(32, 24, None), (16, 12, None), (16, 12, Some(1))]
+        );
+    }
+
+    /// A driver of another system's tree is run through its loader, the
+    /// machine's own with the glint on the path.
+    #[test]
+    fn a_trees_driver_runs_glint_through_its_loader() {
+        let dir = tempfile::tempdir().unwrap();
+        let root = dir.path().join("sid");
+        let icd = root.join("usr/share/vulkan/icd.d/lvp_icd.json");
+        std::fs::create_dir_all(icd.parent().unwrap()).unwrap();
+        std::fs::create_dir_all(root.join("lib64")).unwrap();
+        std::fs::write(&icd, "{}").unwrap();
+        std::fs::write(root.join(super::super::tree::LOADER), "").unwrap();
+        let words = glint_on(&icd);
+        assert!(
+            words.starts_with(&format!(
+                "{} --library-path ",
+                root.join("lib64/ld-linux-x86-64.so.2").display()
+            )),
+            "{words}"
+        );
+        assert!(words.ends_with(" \"$(command -v glint)\""), "{words}");
+        assert_eq!(
+            glint_on(Path::new("/usr/share/vulkan/icd.d/lvp_icd.json")),
+            "glint"
         );
     }
 

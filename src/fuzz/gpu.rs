@@ -2,7 +2,7 @@
 //! and against its own other forms (scene managements, schedules, a
 //! region, a second render, the counting variant).
 
-use super::{compare_failure, first_difference, Device, Failure, Property, Wanted};
+use super::{compare_rendered, first_difference, Device, Failure, Property, Reference, Wanted};
 use crate::accel::Accel;
 use crate::cpu;
 use crate::gpu::{GpuError, GpuOptions, RenderSettings, Renderer};
@@ -82,16 +82,16 @@ fn count_differences(gpu: &Counts, cpu: &Counts) -> Vec<String> {
 }
 
 impl Device for GpuOracle {
-    fn check(&mut self, scene: &Scene, reference: &Image, wanted: Wanted) -> Vec<Failure> {
+    fn check(&mut self, scene: &Scene, reference: &Reference, wanted: Wanted) -> Vec<Failure> {
         let mut out = Vec::new();
         let mut fail = |property, detail: String| out.push(Failure { property, detail });
         let plain = RenderSettings::default();
         // One prepared scene for the plain image, its second render and its
         // region (`gpu-region`).
         let prepared = self.renderer.prepare(scene, &plain);
-        let (mut prepared, image) = match prepared.and_then(|mut p| {
-            let image = p.render(None, &|_| {})?.image;
-            Ok((p, image))
+        let (mut prepared, (image, sampled)) = match prepared.and_then(|mut p| {
+            let r = p.render(None, &|_| {})?;
+            Ok((p, (r.image, r.sampled)))
         }) {
             Ok(done) => done,
             Err(e) => {
@@ -100,7 +100,12 @@ impl Device for GpuOracle {
             }
         };
         if wanted(Property::GpuCompare) {
-            if let Some(d) = compare_failure(scene, &image, reference) {
+            let replay = |s: &Scene| {
+                let r = self.renderer.prepare(s, &plain)?.render(None, &|_| {})?;
+                Ok::<_, GpuError>((r.image, r.sampled))
+            };
+            let own = (&image, sampled.as_ref());
+            if let Some(d) = compare_rendered(scene, own, reference, replay) {
                 fail(Property::GpuCompare, d);
             }
         }

@@ -13,12 +13,13 @@ mod shrink;
 use std::path::Path;
 
 use crate::accel::Accel;
-use crate::condition::judge;
+use crate::condition::{judge, judge_rendered, Judgement};
 use crate::cpu;
 use crate::generate::{LightSpec, Spec};
 use crate::output::interrupt::TempFolder;
 use crate::raster::diff::Tolerance;
 use crate::raster::Image;
+use crate::scene::decisions::Sampled;
 use crate::scene::Scene;
 
 #[cfg(feature = "gpu")]
@@ -158,6 +159,44 @@ pub fn compare_failure(scene: &Scene, img: &Image, reference: &Image) -> Option<
         Accel::Auto,
         &|_| {},
     );
+    verdict(&j)
+}
+
+/// The f64 reference of a scene, and what its sampling decided.
+pub struct Reference {
+    /// Its image.
+    pub image: Image,
+    /// Its adaptive or contrast sampling's decisions.
+    pub sampled: Option<Sampled>,
+}
+
+/// [`compare_failure`] for a renderer whose own render (and decisions)
+/// is `plain`, on the reference's samples where the scene's sampling
+/// decides: `replay` renders the scene it is given as `plain` was
+/// (`condition::judge_rendered`).
+pub fn compare_rendered<E: std::fmt::Display>(
+    scene: &Scene,
+    plain: (&Image, Option<&Sampled>),
+    reference: &Reference,
+    replay: impl FnOnce(&Scene) -> Result<(Image, Option<Sampled>), E>,
+) -> Option<String> {
+    let j = judge_rendered(
+        scene,
+        plain,
+        (&reference.image, reference.sampled.as_ref()),
+        replay,
+        &Tolerance::default(),
+        Accel::Auto,
+        &|_| {},
+    );
+    match j {
+        Ok(j) => verdict(&j),
+        Err(e) => Some(format!("the render of the reference's samples failed: {e}")),
+    }
+}
+
+/// A judgement's verdict as text, where it fails.
+fn verdict(j: &Judgement) -> Option<String> {
     (!j.pass()).then(|| {
         format!(
             "max_abs {:.3e}, rmse {:.3e}, {:.2} % over 1/255, {} non-finite: {}",
@@ -182,8 +221,8 @@ pub fn load(spec: &Spec) -> Result<(Scene, TempFolder), String> {
 /// test's own.
 pub trait Device {
     /// The failures of `scene` among the properties `wanted`, its f64
-    /// image being `reference`.
-    fn check(&mut self, scene: &Scene, reference: &Image, wanted: Wanted) -> Vec<Failure>;
+    /// render being `reference`.
+    fn check(&mut self, scene: &Scene, reference: &Reference, wanted: Wanted) -> Vec<Failure>;
 }
 
 /// The properties of `spec` among those `wanted`: the CPU's, then the
@@ -199,17 +238,22 @@ pub fn check(spec: &Spec, device: Option<&mut dyn Device>, wanted: Wanted) -> Ve
             return out;
         }
     };
-    let reference = cpu::render::<f64>(&scene);
+    let f32_of = |s: &Scene| cpu::render_sampled::<f32>(s, Accel::Auto, &|_| {});
+    let f64_of = |s: &Scene| cpu::render_sampled::<f64>(s, Accel::Auto, &|_| {});
+    let (image, sampled) = f64_of(&scene);
+    let reference = Reference { image, sampled };
+    let ok = |r| Ok::<_, std::convert::Infallible>(r);
     if wanted(Property::CpuF32) {
-        let img = cpu::render::<f32>(&scene);
-        if let Some(d) = compare_failure(&scene, &img, &reference) {
+        let (img, sampled) = f32_of(&scene);
+        let plain = (&img, sampled.as_ref());
+        if let Some(d) = compare_rendered(&scene, plain, &reference, |s| ok(f32_of(s))) {
             fail(&mut out, Property::CpuF32, d);
         }
     }
     if wanted(Property::CpuAccel) {
         for accel in [Accel::None, Accel::Bvh, Accel::Tables] {
             let img = cpu::render_rows::<f64>(&scene, accel, &|_| {});
-            if let Some(d) = first_difference(&img, &reference) {
+            if let Some(d) = first_difference(&img, &reference.image) {
                 fail(
                     &mut out,
                     Property::CpuAccel,
@@ -224,11 +268,20 @@ pub fn check(spec: &Spec, device: Option<&mut dyn Device>, wanted: Wanted) -> Ve
             fail(out, property, "the changed scene does not load".into());
             return;
         };
-        let img = cpu::render::<f64>(&other);
+        let (img, sampled) = f64_of(&other);
         let verdict = if exact {
-            first_difference(&img, &reference)
+            first_difference(&img, &reference.image)
         } else {
-            compare_failure(&scene, &img, &reference)
+            // The changed scene replays the reference's decisions: the
+            // replayed scene's own with the other's objects.
+            let replay = |s: &Scene| {
+                let replaying = Scene {
+                    replay: s.replay.clone(),
+                    ..other.clone()
+                };
+                ok(f64_of(&replaying))
+            };
+            compare_rendered(&scene, (&img, sampled.as_ref()), &reference, replay)
         };
         if let Some(d) = verdict {
             fail(out, property, d);

@@ -30,6 +30,7 @@ use crate::base::record;
 use crate::raster::region::Region;
 use crate::raster::Image;
 use crate::scene::contrast::Entry;
+use crate::scene::decisions::{Decisions, Sampled};
 use crate::scene::{Adaptive, Contrast, Scene};
 use crate::stats::{Counter, Counts};
 
@@ -76,6 +77,8 @@ pub struct Prepared {
     /// The texels uploaded (shared with the scene, not copied), which an
     /// update writes again only where the scene's differ.
     texels: Arc<Vec<[f32; 3]>>,
+    /// The sampling decisions its renders replay (`Scene::replay`).
+    replay: Option<Arc<Decisions>>,
 }
 
 /// How a pixel's colour comes from what the shader traces.
@@ -133,6 +136,8 @@ pub struct Rendered {
     /// The region's pixels' AOVs, row by row, where the scene was
     /// prepared to give them (`RenderSettings::aovs`).
     pub aovs: Option<Vec<Aov>>,
+    /// What adaptive or contrast sampling decided (`Scene::replay`).
+    pub sampled: Option<Sampled>,
 }
 
 /// One pipeline and the buffers bound to it through a set of its own.
@@ -240,6 +245,7 @@ impl Prepared {
             settings: *settings,
             shape: up.shape.clone(),
             texels: traced.texels.clone(),
+            replay: scene.replay.clone(),
         };
         let driver_compile_s = prepared.compile_on_driver(false)?;
         prepared.pending = Some(RenderTimes {
@@ -314,6 +320,7 @@ impl Prepared {
                     counts,
                     record: self.record.take(),
                     aovs: self.aovs.take(),
+                    sampled: None,
                 }
             }
             Gather::Corners | Gather::Adaptive(_) => {
@@ -326,6 +333,7 @@ impl Prepared {
                     counts,
                     record: self.record.take(),
                     aovs: None,
+                    sampled: None,
                 };
                 if let Gather::Adaptive(a) = self.gather {
                     match self.precision {

@@ -118,6 +118,11 @@ impl Region {
         u64::from(self.width) * u64::from(self.height)
     }
 
+    /// Whether pixel (x, y) of the image lies within it.
+    pub fn contains(&self, x: u32, y: u32) -> bool {
+        (self.x..self.x + self.width).contains(&x) && (self.y..self.y + self.height).contains(&y)
+    }
+
     /// The region of an image's corner grid (`Scene::corner_grid`) whose
     /// means are this region's pixels: one more corner each way.
     pub fn corners(self) -> Self {

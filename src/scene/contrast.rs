@@ -13,6 +13,7 @@
 
 use rayon::prelude::*;
 
+use super::decisions::{key, Decider, Log};
 use crate::base::real::{Real, Vec3};
 use crate::base::tally::tree_word;
 use crate::input::error::SceneError;
@@ -366,12 +367,15 @@ fn quantise(v: f32) -> u8 {
 /// the region and `Contrast::MARGIN` pixels around it within the image,
 /// so that a region's pixels are the whole image's. Each pixel's colour is
 /// the sum of its batches, in order, times one over its samples.
+/// `decider` takes the choice of each pixel of the region at each level
+/// (the margin's replay it too, or take their own); the decisions come
+/// back with the colours.
 pub fn refine_levels<R: Real, E>(
-    contrast: &Contrast,
+    (contrast, decider): (&Contrast, Decider),
     region: Region,
     size: (u32, u32),
     mut trace: impl FnMut(&[Entry]) -> Result<Vec<Batch<R>>, E>,
-) -> Result<Vec<[f32; 3]>, E> {
+) -> Result<(Vec<[f32; 3]>, Log), E> {
     let m = Contrast::MARGIN;
     let (x0, y0) = (region.x.saturating_sub(m), region.y.saturating_sub(m));
     let x1 = (region.x + region.width + m).min(size.0);
@@ -381,6 +385,8 @@ pub fn refine_levels<R: Real, E>(
     let mut sums = vec![Vec3::<R>::zero(); (w * h) as usize];
     let mut going: Vec<u32> = (0..w * h).collect();
     let levels = contrast.levels();
+    let mut log = Log::default();
+    let inside = |x: u32, y: u32| region.contains(x, y);
     for (level, &reach) in levels.iter().enumerate() {
         // One entry a pixel: its new samples, summed in order on either
         // renderer, then added to its sum.
@@ -413,7 +419,18 @@ pub fn refine_levels<R: Real, E>(
         if level + 1 == levels.len() {
             break;
         }
-        going = contrast.next(level, &pixels, w, &going);
+        let own = contrast.next(level, &pixels, w, &going);
+        let mut own = own.into_iter().peekable();
+        going.retain(|&i| {
+            let goes = own.next_if_eq(&i).is_some();
+            let (x, y) = (x0 + i % w, y0 + i / w);
+            let k = key(level as u32, x, y);
+            match decider.replay {
+                _ if inside(x, y) => decider.decide(k, goes, &mut log),
+                Some(r) => r.holds(k),
+                None => goes,
+            }
+        });
         if going.is_empty() {
             break;
         }
@@ -426,7 +443,7 @@ pub fn refine_levels<R: Real, E>(
             out.push((sums[i] * (R::one() / n)).to_rgb());
         }
     }
-    Ok(out)
+    Ok((out, log))
 }
 
 impl Validator<'_> {

@@ -6,6 +6,7 @@ mod brightness;
 pub mod camera;
 pub mod contrast;
 mod corners;
+pub mod decisions;
 mod file;
 pub mod images;
 pub mod light;

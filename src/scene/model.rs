@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
+use super::decisions::Decisions;
 use super::{texture, Adaptive, Camera, Contrast, Light, Material, Prims, Sampling};
 
 /// The largest width or height, in pixels.
@@ -71,6 +72,10 @@ pub struct Scene {
     /// The image textures' texels, rows top to bottom, image after image
     /// (`texture::Texels` says where each lies); linear RGB.
     pub texels: Arc<Vec<[f32; 3]>>,
+    /// Where set, adaptive or contrast sampling replays these decisions
+    /// rather than taking its own (`Scene::replaying`): how `glint
+    /// compare` holds a renderer to the reference on the same samples.
+    pub replay: Option<Arc<Decisions>>,
 }
 
 impl Scene {
@@ -82,6 +87,21 @@ impl Scene {
         self.materials
             .iter()
             .any(|m| image(m.texture) || image(m.ambient_texture))
+    }
+
+    /// The scene with its sampling's decisions replayed from `decisions`
+    /// (a render's `Sampled::taken`), not taken anew.
+    pub fn replaying(&self, decisions: &Decisions) -> Scene {
+        Scene {
+            replay: Some(Arc::new(decisions.clone())),
+            ..self.clone()
+        }
+    }
+
+    /// Whether its sampling takes decisions (adaptive or contrast
+    /// sampling), which a render can replay.
+    pub fn decides(&self) -> bool {
+        matches!(self.sampling, Sampling::Adaptive | Sampling::Contrast)
     }
 
     /// The adaptive sampling the renderers follow: where `sampling` is

@@ -37,6 +37,7 @@ impl Scene {
                 .collect(),
             input_files: self.input_files.clone(),
             texels: self.texels.clone(),
+            replay: self.replay.clone(),
             ..*self
         }
     }

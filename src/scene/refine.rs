@@ -8,6 +8,7 @@
 
 use rayon::prelude::*;
 
+use super::decisions::{key, Decider, Log};
 use super::Adaptive;
 use crate::base::real::{Real, Vec3};
 use crate::raster::Image;
@@ -49,8 +50,9 @@ pub type Pixel<R> = ((u32, u32), [Vec3<R>; 4]);
 /// bits of path), and its share of the pixel's colour.
 type Leaf<R> = (u64, Vec3<R>);
 
-/// What a run of squares became: the quarters split again, and the leaves.
-type Quartered<R> = (Vec<Square<R>>, Vec<Leaf<R>>);
+/// What a run of squares became: the quarters split again, the leaves,
+/// and the decisions taken.
+type Quartered<R> = (Vec<Square<R>>, Vec<Leaf<R>>, Log);
 
 /// A square waiting to be resolved: the pixel it belongs to (its place in
 /// the list), its corner on its level's lattice, its level, its place in
@@ -70,41 +72,54 @@ struct Square<R> {
 /// those `adaptive` splits (`Adaptive::splits`, on the f32 corners), in
 /// the image's order, in runs of at most `RUN_PIXELS`. `put(place,
 /// colour)` receives each refined pixel's colour and its place in the
-/// region's pixels.
+/// region's pixels. `decider` takes each split: the test's own, or the
+/// decisions `Scene::replay` replays; the decisions taken come back.
 pub fn refine_image<R: Real, E>(
     corners: &Image,
     origin: (u32, u32),
-    adaptive: &Adaptive,
+    (adaptive, decider): (&Adaptive, Decider),
     threshold: R,
     trace: impl FnMut(&[Point]) -> Result<Vec<Vec3<R>>, E>,
     put: impl FnMut(usize, Vec3<R>),
-) -> Result<(), E> {
-    refine_in_runs(corners, origin, adaptive, threshold, RUN_PIXELS, trace, put)
+) -> Result<Log, E> {
+    refine_in_runs(
+        corners,
+        origin,
+        (adaptive, decider),
+        threshold,
+        RUN_PIXELS,
+        trace,
+        put,
+    )
 }
 
 /// `refine_image`, in runs of at most `run_pixels`.
 fn refine_in_runs<R: Real, E>(
     corners: &Image,
     origin: (u32, u32),
-    adaptive: &Adaptive,
+    (adaptive, decider): (&Adaptive, Decider),
     threshold: R,
     run_pixels: usize,
     mut trace: impl FnMut(&[Point]) -> Result<Vec<Vec3<R>>, E>,
     mut put: impl FnMut(usize, Vec3<R>),
-) -> Result<(), E> {
+) -> Result<Log, E> {
     let (w, h) = (corners.width - 1, corners.height - 1);
     let (mut run, mut places) = (Vec::new(), Vec::new());
+    let mut log = Log::default();
     for y in 0..h {
         for x in 0..w {
             let c = corners.corners_of(x, y);
-            if adaptive.splits(&c) {
+            let (px, py) = (origin.0 + x, origin.1 + y);
+            if decider.decide(key(0, px, py), adaptive.splits(&c), &mut log) {
                 let c = c.map(Vec3::of_rgb);
-                run.push(((origin.0 + x, origin.1 + y), c));
+                run.push(((px, py), c));
                 places.push((y * w + x) as usize);
             }
             let last = y + 1 == h && x + 1 == w;
             if run.len() == run_pixels || last && !run.is_empty() {
-                let colours = refine(&run, threshold, adaptive.levels, &mut trace)?;
+                let (colours, more) =
+                    refine(&run, threshold, adaptive.levels, decider, &mut trace)?;
+                log = log.merge(more);
                 for (&place, colour) in places.iter().zip(colours) {
                     put(place, colour);
                 }
@@ -113,18 +128,20 @@ fn refine_in_runs<R: Real, E>(
             }
         }
     }
-    Ok(())
+    Ok(log)
 }
 
 /// The colours of `pixels`, every one split, its squares split again where
 /// their contrast passes `threshold` steps, down to `levels` splits.
-/// `trace` gives the colours of a level's points, in their order.
+/// `trace` gives the colours of a level's points, in their order;
+/// `decider` takes each split. The colours, and the decisions taken.
 pub fn refine<R: Real, E>(
     pixels: &[Pixel<R>],
     threshold: R,
     levels: u32,
+    decider: Decider,
     mut trace: impl FnMut(&[Point]) -> Result<Vec<Vec3<R>>, E>,
-) -> Result<Vec<Vec3<R>>, E> {
+) -> Result<(Vec<Vec3<R>>, Log), E> {
     debug_assert!(levels <= Adaptive::MAX_LEVELS);
     let mut splitting: Vec<Square<R>> = pixels
         .iter()
@@ -139,6 +156,7 @@ pub fn refine<R: Real, E>(
         })
         .collect();
     let mut leaves: Vec<Leaf<R>> = Vec::new();
+    let mut log = Log::default();
     let quarter = R::of(0.25);
     while let Some(first) = splitting.first() {
         let k = first.level + 1;
@@ -154,6 +172,7 @@ pub fn refine<R: Real, E>(
             .zip(five.par_chunks(chunk))
             .map(|(squares, fives)| {
                 let (mut next, mut shares) = (Vec::new(), Vec::new());
+                let mut log = Log::default();
                 for (s, five) in squares.iter().zip(fives) {
                     let [t, l, m, r, b] = five.map(|i| colours[i]);
                     let [tl, tr, bl, br] = s.corners;
@@ -166,7 +185,13 @@ pub fn refine<R: Real, E>(
                     ];
                     for (q, (x, y, corners)) in quarters.into_iter().enumerate() {
                         let path = s.path | (q as u32) << shift;
-                        if k < levels && Adaptive::contrast(&corners) > threshold {
+                        let split = k < levels
+                            && decider.decide(
+                                key(k, x, y),
+                                Adaptive::contrast(&corners) > threshold,
+                                &mut log,
+                            );
+                        if split {
                             next.push(Square {
                                 pixel: s.pixel,
                                 x,
@@ -182,17 +207,18 @@ pub fn refine<R: Real, E>(
                         }
                     }
                 }
-                (next, shares)
+                (next, shares, log)
             })
             .collect();
         let mut next = Vec::new();
-        for (squares, shares) in parts {
+        for (squares, shares, more) in parts {
             next.extend(squares);
             leaves.extend(shares);
+            log = log.merge(more);
         }
         splitting = next;
     }
-    Ok(sums_in_order(leaves, pixels.len()))
+    Ok((sums_in_order(leaves, pixels.len()), log))
 }
 
 /// The points of level `k` that `squares` (of level k - 1) split into:
@@ -288,10 +314,17 @@ mod tests {
     fn shared_points_are_traced_once() {
         let corners = [grey(0.5); 4];
         let mut traced = Vec::new();
-        let sums = refine(&[((3, 2), corners), ((4, 2), corners)], 1.0, 1, |points| {
-            traced.extend_from_slice(points);
-            Ok::<_, ()>(vec![grey(0.5); points.len()])
-        })
+        let own = Decider { replay: None };
+        let (sums, _) = refine(
+            &[((3, 2), corners), ((4, 2), corners)],
+            1.0,
+            1,
+            own,
+            |points| {
+                traced.extend_from_slice(points);
+                Ok::<_, ()>(vec![grey(0.5); points.len()])
+            },
+        )
         .unwrap();
         assert_eq!(sums, vec![grey(0.5); 2]);
         // 5 + 5, less the right midpoint of the first, the left of the second.
@@ -328,7 +361,7 @@ mod tests {
             refine_in_runs(
                 &corners,
                 (10, 20),
-                &adaptive,
+                (&adaptive, Decider { replay: None }),
                 adaptive.threshold_steps(),
                 run,
                 |points| {
@@ -346,6 +379,67 @@ mod tests {
         assert!(results[0].1 > results[1].1 && results[1].1 > results[2].1);
     }
 
+    /// A refinement that replays another's decisions splits the squares
+    /// it was given, whatever its own colours say, and notes where its own
+    /// test said otherwise; replaying its own decisions changes nothing.
+    #[test]
+    fn a_replay_splits_the_replayed_squares() {
+        use crate::scene::decisions::{Decisions, Kind};
+        let corners = Image::new(
+            3,
+            2,
+            vec![[0.0; 3], [1.0; 3], [0.0; 3], [0.0; 3], [1.0; 3], [0.0; 3]],
+        );
+        let adaptive = Adaptive {
+            threshold: 0.1,
+            levels: 3,
+        };
+        let colour_at = |p: &Point| {
+            let (x, y) = p.at::<f64>();
+            grey(if x + 0.3 * y > 1.1 { 1.0 } else { 0.0 })
+        };
+        let run = |decider: Decider| {
+            let mut image = vec![grey(-1.0); 2];
+            let log = refine_image(
+                &corners,
+                (0, 0),
+                (&adaptive, decider),
+                adaptive.threshold_steps(),
+                |points| Ok::<_, ()>(points.iter().map(colour_at).collect()),
+                |place, v| image[place] = v,
+            )
+            .unwrap();
+            (image, log.sampled(Kind::Adaptive))
+        };
+        let (own_image, own) = run(Decider { replay: None });
+        assert!(own.otherwise.is_empty() && own.taken.len() > 2);
+        let (again, replayed) = run(Decider {
+            replay: Some(&own.taken),
+        });
+        assert_eq!((again, &replayed.taken), (own_image.clone(), &own.taken));
+        assert!(replayed.otherwise.is_empty());
+        // The first pixel alone split, at its first level only.
+        let fewer = Decisions::new(Kind::Adaptive, vec![key(0, 0, 0)]);
+        let (image, sampled) = run(Decider {
+            replay: Some(&fewer),
+        });
+        assert_eq!(sampled.taken, fewer);
+        assert_ne!(image, own_image);
+        assert_eq!(image[1], grey(-1.0), "the second pixel is not refined");
+        // Its own test is noted wherever the replay decided: the second
+        // pixel, and the first pixel's quarters, whose own test split some;
+        // not the squares the replay never reached.
+        let reached = |k: &u64| match k >> 56 {
+            0 => true,
+            1 => own.taken.pixel_of(*k) == (0, 0),
+            _ => false,
+        };
+        let at_reached = own.taken.keys().iter().copied().filter(reached);
+        let expected = Decisions::new(Kind::Adaptive, at_reached.collect()).without(&fewer);
+        assert!(expected.len() >= 2 && expected.len() < own.taken.len() - 1);
+        assert_eq!(sampled.otherwise, expected);
+    }
+
     /// A square splits again where its corners differ, down to the levels
     /// asked for and no further.
     #[test]
@@ -353,7 +447,8 @@ mod tests {
         let corners = [grey(0.0), grey(1.0), grey(0.0), grey(1.0)];
         for levels in 1..=Adaptive::MAX_LEVELS {
             let mut passes = 0;
-            refine(&[((0, 0), corners)], 1.0, levels, |points| {
+            let own = Decider { replay: None };
+            refine(&[((0, 0), corners)], 1.0, levels, own, |points| {
                 passes += 1;
                 Ok::<_, ()>(points.iter().map(|p| grey(f64::from(p.x % 2))).collect())
             })

@@ -285,6 +285,7 @@ impl Validator<'_> {
             lights,
             input_files,
             texels: std::sync::Arc::new(images.texels),
+            replay: None,
         })
     }
 }

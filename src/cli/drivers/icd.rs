@@ -50,19 +50,24 @@ pub fn loader_files() -> Vec<PathBuf> {
         .collect()
 }
 
-/// The lavapipes `ci/old-lavapipe` unpacked: `<cache>/glint-drivers/*/*.json`.
+/// The lavapipes `ci/old-lavapipe` unpacked (`<cache>/glint-drivers/*/*.json`)
+/// and the one of Debian unstable's tree `ci/sid-lavapipe` made
+/// (`<cache>/glint-sid`, run through its loader: `glint::drivers::tree`).
 pub fn unpacked_files() -> Vec<PathBuf> {
     let cache = std::env::var_os("XDG_CACHE_HOME")
         .map(PathBuf::from)
         .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")));
-    let Some(root) = cache.map(|c| c.join("glint-drivers")) else {
+    let Some(cache) = cache else {
         return Vec::new();
     };
-    glint::files::sorted(&root, |p| p.is_dir())
-        .unwrap_or_default()
-        .iter()
-        .flat_map(|d| manifests(d))
-        .collect()
+    let mut files: Vec<PathBuf> =
+        glint::files::sorted(&cache.join("glint-drivers"), |p| p.is_dir())
+            .unwrap_or_default()
+            .iter()
+            .flat_map(|d| manifests(d))
+            .collect();
+    files.extend(glint::drivers::tree::icd_files(&cache.join("glint-sid")));
+    files
 }
 
 /// The .json files in `dir`, by name; none where it cannot be read.
@@ -83,6 +88,15 @@ pub fn once(files: impl IntoIterator<Item = PathBuf>) -> Vec<PathBuf> {
 /// `lvp_icd` for /usr/share/vulkan/icd.d/lvp_icd.json, and the folder too
 /// where `ci/old-lavapipe` unpacked it (`mesa-22.3.6-1+deb12u2/lvp_icd`).
 pub fn short_name(file: &Path) -> String {
+    if let Some(root) = glint::drivers::tree::root_of(file) {
+        let tree = root
+            .file_name()
+            .map_or("tree".into(), |n| n.to_string_lossy());
+        let stem = file
+            .file_stem()
+            .map_or("icd".into(), |s| s.to_string_lossy());
+        return format!("{tree}/{stem}");
+    }
     let stem = file
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())

@@ -230,7 +230,17 @@ impl Job<'_> {
 /// hide it; the device is the first the ICD offers.
 pub fn on_driver(icd: &Path) -> anyhow::Result<Command> {
     let exe = std::env::current_exe().context("cannot find glint's own executable")?;
-    let mut c = Command::new(exe);
+    // A driver of another system's tree: glint through that tree's loader
+    // (`glint::drivers::tree`).
+    let mut c = match glint::drivers::tree::root_of(icd) {
+        Some(root) => {
+            let mut words = glint::drivers::tree::launcher(&root).into_iter();
+            let mut c = Command::new(words.next().expect("the loader"));
+            c.args(words).arg(exe);
+            c
+        }
+        None => Command::new(exe),
+    };
     c.env("VK_DRIVER_FILES", icd)
         .env("VK_ICD_FILENAMES", icd)
         .env_remove("VK_LOADER_DRIVERS_SELECT")

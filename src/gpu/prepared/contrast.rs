@@ -15,6 +15,7 @@ use crate::gpu::GpuError;
 use crate::raster::region::Region;
 use crate::raster::Image;
 use crate::scene::contrast::{refine_levels, Batch, Entry};
+use crate::scene::decisions::{Decider, Kind};
 use crate::scene::Contrast;
 use crate::stats::Counts;
 
@@ -31,7 +32,11 @@ impl Prepared {
         let host = HostShare::start(&times);
         let mut counts: Option<Counts> = None;
         let size = self.size;
-        let pixels = refine_levels(contrast, region, size, |entries| {
+        let replay = self.replay.clone();
+        let decider = Decider {
+            replay: replay.as_deref(),
+        };
+        let (pixels, log) = refine_levels((contrast, decider), region, size, |entries| {
             self.trace_entries::<R>(entries, &mut times, &mut counts)
         })?;
         host.end(&mut times);
@@ -41,6 +46,7 @@ impl Prepared {
             counts,
             record: None,
             aovs: None,
+            sampled: Some(log.sampled(Kind::Contrast)),
         })
     }
 

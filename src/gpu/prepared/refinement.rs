@@ -16,6 +16,7 @@ use crate::gpu::work::RAYS_PER_DISPATCH;
 use crate::gpu::GpuError;
 use crate::raster::region::Region;
 use crate::raster::Image;
+use crate::scene::decisions::{Decider, Kind};
 use crate::scene::refine::Point;
 use crate::scene::Adaptive;
 use crate::stats::{Counts, Tally};
@@ -37,14 +38,19 @@ impl Prepared {
         let threshold = R::of(adaptive.threshold_steps());
         let (times, counts) = (&mut rendered.times, &mut rendered.counts);
         let image = &mut rendered.image;
-        crate::scene::refine::refine_image(
+        let replay = self.replay.clone();
+        let decider = Decider {
+            replay: replay.as_deref(),
+        };
+        let log = crate::scene::refine::refine_image(
             corners,
             (region.x, region.y),
-            adaptive,
+            (adaptive, decider),
             threshold,
             |points| self.trace_points::<R>(points, times, counts),
             |place, v: Vec3<R>| image.pixels[place] = v.to_rgb(),
         )?;
+        rendered.sampled = Some(log.sampled(Kind::Adaptive));
         host.end(&mut rendered.times);
         Ok(())
     }

@@ -30,6 +30,8 @@
 //! `glint compare` holds an image to the tolerance over every pixel, and
 //! only where that fails, over the well-conditioned ones ([`judge`]).
 
+mod decided;
+
 use glam::DVec3;
 
 use crate::accel::Accel;
@@ -38,7 +40,10 @@ use crate::cpu;
 use crate::raster::diff::{figures, figures_where, pixel_errors, ErrorFigures, Tolerance};
 use crate::raster::Image;
 use crate::rng::Xorshift;
+use crate::scene::decisions::{Decisions, Sampled};
 use crate::scene::Scene;
+
+pub use decided::{judge_rendered, DecisionCheck};
 
 /// Perturbed renders of the reference (and then the f32 one). Without the
 /// f32 trial, on balls at 512×512, 4 trials of 2 ulp leave 0.21 % of its
@@ -96,33 +101,67 @@ pub fn ill_conditioned(
     accel: Accel,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Vec<bool> {
-    let mut ill = vec![false; reference.pixels.len()];
-    for trial in 0..=TRIALS {
-        let moved = if trial == TRIALS {
-            cpu::render_rows::<f32>(scene, accel, progress)
-        } else {
-            let (moved, moves) = self::trial(scene, trial);
-            cpu::render_moved(&moved, accel, moves, progress)
-        };
-        mark(&mut ill, &moved, reference, unit);
-    }
-    ill
+    trials(scene, reference, unit, accel, progress).ill
 }
 
-/// `ill` with the pixels the driver's trials move too: where a conformant
-/// driver's errors, larger than f32's roundings, may change the image.
-pub fn driver_ill_conditioned(
+/// What the trials found: the pixels they move past 1/255, and where the
+/// scene replays the reference's sampling decisions (`Scene::replay`),
+/// the decisions some trial would have taken otherwise on those samples.
+struct Found {
+    ill: Vec<bool>,
+    otherwise: Decisions,
+}
+
+/// The trials of f32's roundings, as [`ill_conditioned`] runs them.
+fn trials(
     scene: &Scene,
     reference: &Image,
     unit: f64,
     accel: Accel,
     progress: &(dyn Fn(u64) + Sync),
-    ill: &mut [bool],
+) -> Found {
+    let mut found = Found {
+        ill: vec![false; reference.pixels.len()],
+        otherwise: Decisions::default(),
+    };
+    for trial in 0..=TRIALS {
+        let moved = if trial == TRIALS {
+            cpu::render_sampled::<f32>(scene, accel, progress)
+        } else {
+            let (moved, moves) = self::trial(scene, trial);
+            cpu::render_moved(&moved, accel, moves, progress)
+        };
+        found.add(moved, reference, unit);
+    }
+    found
+}
+
+impl Found {
+    /// Marks what a trial's render moved.
+    fn add(&mut self, (moved, sampled): (Image, Option<Sampled>), reference: &Image, unit: f64) {
+        mark(&mut self.ill, &moved, reference, unit);
+        if let Some(s) = sampled {
+            self.otherwise = self.otherwise.union(&s.otherwise);
+        }
+    }
+}
+
+/// The driver's trials, added to `found`.
+fn driver_trials(
+    scene: &Scene,
+    reference: &Image,
+    unit: f64,
+    accel: Accel,
+    progress: &(dyn Fn(u64) + Sync),
+    found: &mut Found,
 ) {
     for trial in TRIALS..MOVED_TRIALS {
         let (moved, moves) = self::trial(scene, trial);
-        let moved = cpu::render_moved(&moved, accel, moves, progress);
-        mark(ill, &moved, reference, unit);
+        found.add(
+            cpu::render_moved(&moved, accel, moves, progress),
+            reference,
+            unit,
+        );
     }
 }
 
@@ -244,6 +283,10 @@ pub struct Judgement {
     pub error: ErrorFigures,
     /// Over the well-conditioned pixels, where the whole image fails.
     pub conditioned: Option<Conditioned>,
+    /// Where the scene's sampling takes decisions: the image judged is the
+    /// renderer's replay of the reference's, and this checks its own
+    /// ([`judge_rendered`]).
+    pub decisions: Option<DecisionCheck>,
     /// Empty when it passes.
     pub violations: Vec<String>,
 }
@@ -258,6 +301,8 @@ impl Judgement {
 /// Holds `img` to `tolerance` against `reference`, the f64 image of
 /// `scene`, in units of [`unit()`]: over every pixel, and where that fails,
 /// over the well-conditioned ones (`progress(rows)` as the trials render).
+/// Where the scene's sampling takes decisions, [`judge_rendered`] holds
+/// the renderer to the reference on the same samples.
 pub fn judge(
     scene: &Scene,
     img: &Image,
@@ -266,34 +311,72 @@ pub fn judge(
     accel: Accel,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Judgement {
+    judge_replayed(scene, img, None, reference, tolerance, accel, progress)
+}
+
+/// [`judge`], where `img` replayed the reference's sampling decisions
+/// (`scene.replay`) and `sampled` says which it would have taken
+/// otherwise: those are held to the trials', which replay them too.
+fn judge_replayed(
+    scene: &Scene,
+    img: &Image,
+    sampled: Option<&Sampled>,
+    reference: &Image,
+    tolerance: &Tolerance,
+    accel: Accel,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Judgement {
     let unit = unit(reference);
     let (img_u, reference_u) = (&img.scaled(unit), &reference.scaled(unit));
     let error = figures(img_u, reference_u).expect("the same size");
-    let violations = tolerance.violations(&error);
-    if violations.is_empty() {
+    let passes_whole = tolerance.violations(&error).is_empty();
+    let undecided = sampled.is_none_or(|s| s.otherwise.is_empty());
+    let decisions = |found: Option<&Found>| {
+        sampled.map(|s| {
+            DecisionCheck::of(
+                s,
+                found.map(|f| &f.otherwise),
+                (img.width, img.height),
+                tolerance,
+            )
+        })
+    };
+    if passes_whole && undecided {
         return Judgement {
             unit,
             error,
             conditioned: None,
-            violations,
+            decisions: decisions(None),
+            violations: Vec::new(),
         };
     }
-    let mut ill = ill_conditioned(scene, reference, unit, accel, progress);
-    let mut c = Conditioned::of(img_u, reference_u, &ill, tolerance);
+    let mut found = trials(scene, reference, unit, accel, progress);
+    let mut c = Conditioned::of(img_u, reference_u, &found.ill, tolerance);
+    let mut d = decisions(Some(&found));
     // Held to f32's roundings first; where that fails, to a conformant
     // driver's errors too (docs/guarantees.md, On any conformant driver).
     // An image the first accepts, the second would.
-    if !c.violations.is_empty() {
-        driver_ill_conditioned(scene, reference, unit, accel, progress, &mut ill);
+    let fails = |c: &Conditioned, d: &Option<DecisionCheck>| {
+        !passes_whole && !c.violations.is_empty() || d.as_ref().is_some_and(|d| !d.pass())
+    };
+    if fails(&c, &d) {
+        driver_trials(scene, reference, unit, accel, progress, &mut found);
         c = Conditioned {
             driver_trials: true,
-            ..Conditioned::of(img_u, reference_u, &ill, tolerance)
+            ..Conditioned::of(img_u, reference_u, &found.ill, tolerance)
         };
+        d = decisions(Some(&found));
     }
+    let conditioned = (!passes_whole).then_some(c);
+    let mut violations = conditioned
+        .as_ref()
+        .map_or_else(Vec::new, |c| c.violations.clone());
+    violations.extend(d.iter().flat_map(|d| d.violations.clone()));
     Judgement {
         unit,
         error,
-        violations: c.violations.clone(),
-        conditioned: Some(c),
+        conditioned,
+        decisions: d,
+        violations,
     }
 }
