@@ -172,3 +172,52 @@ fn aovs_that_would_be_wrong_are_refused() {
     // Without AOVs it renders.
     assert!(r.prepare(&plain, &r.settings()).is_ok());
 }
+
+/// The AOVs without a tolerance (the primitive met first, the rays
+/// traced) are held to the f64 reference's where the trials leave them
+/// alone (`condition::judge_aovs`): on the scenes above and the extreme
+/// ones where a near-tie decides them (triangle-slivers' faces that meet,
+/// light-on-surface's light in the floor's plane) the GPU's differ only
+/// where a trial's do, and somewhere they do differ. A primitive changed
+/// on a pixel no trial moves fails the check.
+#[cfg(feature = "gpu")]
+#[test]
+fn the_gpus_aovs_differ_from_the_references_only_at_near_ties() {
+    use glint::condition::judge_aovs;
+    use glint::gpu::RenderSettings;
+    let mut r = common::gpu();
+    let settings = RenderSettings {
+        aovs: true,
+        ..r.settings()
+    };
+    let o = Overrides {
+        width: Some(80),
+        height: Some(60),
+        ..Overrides::default()
+    };
+    let extreme = ["triangle-slivers.toml", "light-on-surface.toml"]
+        .map(|n| Scene::load(&common::repo().join("scenes/extreme").join(n), &o).unwrap());
+    let mut differing = 0;
+    for scene in scenes().into_iter().chain(extreme) {
+        let mut prepared = r.prepare(&scene, &settings).unwrap();
+        let gpu = prepared.render(None, &|_| {}).unwrap().aovs.unwrap();
+        let check = judge_aovs(&scene, &gpu, Accel::Auto);
+        assert!(check.pass(), "unexplained at {:?}", check.unexplained);
+        differing += check.differing.len();
+    }
+    assert!(
+        differing > 0,
+        "no near-tie met: the check was not exercised"
+    );
+    let scene = &scenes()[0];
+    let mut prepared = r.prepare(scene, &settings).unwrap();
+    let mut gpu = prepared.render(None, &|_| {}).unwrap().aovs.unwrap();
+    let centre = (scene.height / 2 * scene.width + scene.width / 2) as usize;
+    let hit = gpu[centre]
+        .hit
+        .as_mut()
+        .expect("the middle pixel meets something");
+    hit.prim.1 += 1;
+    let check = judge_aovs(scene, &gpu, Accel::Auto);
+    assert_eq!(check.unexplained, vec![centre]);
+}

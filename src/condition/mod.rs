@@ -30,6 +30,7 @@
 //! `glint compare` holds an image to the tolerance over every pixel, and
 //! only where that fails, over the well-conditioned ones ([`judge`]).
 
+mod aovs;
 mod decided;
 
 use glam::DVec3;
@@ -43,6 +44,7 @@ use crate::rng::Xorshift;
 use crate::scene::decisions::{Decisions, Sampled};
 use crate::scene::Scene;
 
+pub use aovs::{judge_aovs, AovCheck};
 pub use decided::{judge_rendered, DecisionCheck};
 
 /// Perturbed renders of the reference (and then the f32 one). Without the

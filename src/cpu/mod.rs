@@ -66,6 +66,19 @@ pub(crate) fn render_moved(
     (image, sampled)
 }
 
+/// A conditioning trial's AOVs (`condition::judge_aovs`): `scene` in f64
+/// with its hit points and leaving directions moved as `render_moved`
+/// moves them.
+pub(crate) fn aovs_moved(
+    scene: &Scene,
+    accel: Accel,
+    (seed, share): (u64, f64),
+) -> Vec<crate::base::aov::Aov> {
+    let mut world = World::<f64>::new(scene, accel);
+    world.hit_move = Some((seed, share));
+    Prepared(world).render_aovs(None, &|_| {}).1
+}
+
 /// The pixels of `region` of `scene`'s image (which must hold it): bit
 /// for bit those of the whole render (docs/scale-out.md).
 pub fn render_region<R: Real>(
