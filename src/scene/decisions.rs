@@ -103,9 +103,15 @@ impl Decisions {
         }
     }
 
-    /// Both sets' keys.
+    /// Both sets' keys, of the kind of the one that holds any (an empty
+    /// set, as `Decisions::default()` starts one, has no kind to give).
     pub fn union(&self, other: &Decisions) -> Decisions {
-        Decisions::new(self.kind, [&self.keys[..], &other.keys].concat())
+        let kind = if self.keys.is_empty() {
+            other.kind
+        } else {
+            self.kind
+        };
+        Decisions::new(kind, [&self.keys[..], &other.keys].concat())
     }
 }
 
@@ -191,6 +197,8 @@ mod tests {
         assert_eq!(c.pixel_of(key(2, 13, 9)), (13, 9));
         assert_eq!(a.without(&b).keys(), &[key(2, 13, 9)]);
         assert_eq!(a.union(&b).len(), 3);
+        let empty = Decisions::default();
+        assert_eq!(empty.union(&c).pixel_of(key(2, 13, 9)), (13, 9));
     }
 
     /// A replaying decider takes the replayed decision and notes where its
