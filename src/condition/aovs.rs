@@ -8,7 +8,7 @@
 //! leave them alone; where some trial changes them too, a difference is
 //! a near-tie.
 
-use super::{trial, MOVED_TRIALS, TRIALS};
+use super::{conformant_trials, rounding_trials, trial, Trial};
 use crate::accel::Accel;
 use crate::base::aov::Aov;
 use crate::cpu;
@@ -49,18 +49,20 @@ pub fn judge_aovs(scene: &Scene, aovs: &[Aov], accel: Accel) -> AovCheck {
         .filter(|&i| !same_choices(&aovs[i], &reference[i]))
         .collect();
     let mut unexplained = differing.clone();
-    for t in 0..=MOVED_TRIALS {
+    for t in rounding_trials().chain(conformant_trials()) {
         if unexplained.is_empty() {
             break;
         }
-        let moved = if t == TRIALS {
-            cpu::Prepared::<f32>::new(scene, accel)
-                .render_aovs(None, &|_| {})
-                .1
-        } else {
-            let t = if t > TRIALS { t - 1 } else { t };
-            let (moved, moves) = trial(scene, t);
-            cpu::aovs_moved(&moved, accel, moves)
+        let moved = match t {
+            Trial::Moved(t) => {
+                let (moved, moves) = trial(scene, t);
+                cpu::aovs_moved(&moved, accel, moves)
+            }
+            Trial::F32 => {
+                cpu::Prepared::<f32>::new(scene, accel)
+                    .render_aovs(None, &|_| {})
+                    .1
+            }
         };
         unexplained.retain(|&i| same_choices(&moved[i], &reference[i]));
     }

@@ -114,6 +114,45 @@ struct Found {
     otherwise: Decisions,
 }
 
+/// One render of the conditioning check: a moved f64 render (its index
+/// among [`MOVED_TRIALS`], which says how far it moves), or the CPU's own
+/// f32.
+#[derive(Debug, Clone, Copy)]
+enum Trial {
+    Moved(u32),
+    F32,
+}
+
+/// f32's roundings' trials, in the order they run: the moved renders,
+/// then the CPU's own f32.
+fn rounding_trials() -> impl Iterator<Item = Trial> {
+    (0..TRIALS).map(Trial::Moved).chain([Trial::F32])
+}
+
+/// A conformant driver's trials ([`DRIVER_TRIALS`]), which run after
+/// f32's roundings' where those leave an image failing.
+fn conformant_trials() -> impl Iterator<Item = Trial> {
+    (TRIALS..MOVED_TRIALS).map(Trial::Moved)
+}
+
+impl Trial {
+    /// Its render of `scene`, with what its sampling decided.
+    fn render(
+        self,
+        scene: &Scene,
+        accel: Accel,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> (Image, Option<Sampled>) {
+        match self {
+            Trial::Moved(t) => {
+                let (moved, moves) = trial(scene, t);
+                cpu::render_moved(&moved, accel, moves, progress)
+            }
+            Trial::F32 => cpu::render_sampled::<f32>(scene, accel, progress),
+        }
+    }
+}
+
 /// The trials of f32's roundings, as [`ill_conditioned`] runs them.
 fn trials(
     scene: &Scene,
@@ -126,14 +165,8 @@ fn trials(
         ill: vec![false; reference.pixels.len()],
         otherwise: Decisions::default(),
     };
-    for trial in 0..=TRIALS {
-        let moved = if trial == TRIALS {
-            cpu::render_sampled::<f32>(scene, accel, progress)
-        } else {
-            let (moved, moves) = self::trial(scene, trial);
-            cpu::render_moved(&moved, accel, moves, progress)
-        };
-        found.add(moved, reference, unit);
+    for t in rounding_trials() {
+        found.add(t.render(scene, accel, progress), reference, unit);
     }
     found
 }
@@ -157,13 +190,8 @@ fn driver_trials(
     progress: &(dyn Fn(u64) + Sync),
     found: &mut Found,
 ) {
-    for trial in TRIALS..MOVED_TRIALS {
-        let (moved, moves) = self::trial(scene, trial);
-        found.add(
-            cpu::render_moved(&moved, accel, moves, progress),
-            reference,
-            unit,
-        );
+    for t in conformant_trials() {
+        found.add(t.render(scene, accel, progress), reference, unit);
     }
 }
 

@@ -57,13 +57,10 @@ pub fn render_sampled<R: Real>(
 pub(crate) fn render_moved(
     scene: &Scene,
     accel: Accel,
-    (seed, share): (u64, f64),
+    moves: (u64, f64),
     progress: &(dyn Fn(u64) + Sync),
 ) -> (Image, Option<Sampled>) {
-    let mut world = World::<f64>::new(scene, accel);
-    world.hit_move = Some((seed, share));
-    let (image, (), sampled) = render_tallied(&world, None, progress);
-    (image, sampled)
+    moved(scene, accel, moves).render_sampled(progress)
 }
 
 /// A conditioning trial's AOVs (`condition::judge_aovs`): `scene` in f64
@@ -72,11 +69,17 @@ pub(crate) fn render_moved(
 pub(crate) fn aovs_moved(
     scene: &Scene,
     accel: Accel,
-    (seed, share): (u64, f64),
+    moves: (u64, f64),
 ) -> Vec<crate::base::aov::Aov> {
+    moved(scene, accel, moves).render_aovs(None, &|_| {}).1
+}
+
+/// `scene` laid out in f64 for a trial: its hit points and leaving
+/// directions moved by `moves` (`World::hit_move`).
+fn moved(scene: &Scene, accel: Accel, moves: (u64, f64)) -> Prepared<f64> {
     let mut world = World::<f64>::new(scene, accel);
-    world.hit_move = Some((seed, share));
-    Prepared(world).render_aovs(None, &|_| {}).1
+    world.hit_move = Some(moves);
+    Prepared(world)
 }
 
 /// The pixels of `region` of `scene`'s image (which must hold it): bit

@@ -86,22 +86,20 @@ pub fn once(files: impl IntoIterator<Item = PathBuf>) -> Vec<PathBuf> {
 
 /// A short name for an ICD file, for folder names and the table:
 /// `lvp_icd` for /usr/share/vulkan/icd.d/lvp_icd.json, and the folder too
-/// where `ci/old-lavapipe` unpacked it (`mesa-22.3.6-1+deb12u2/lvp_icd`).
+/// where `ci/old-lavapipe` unpacked it (`mesa-22.3.6-1+deb12u2/lvp_icd`),
+/// and the tree's for a driver of another system's tree (`glint-sid/lvp_icd`).
 pub fn short_name(file: &Path) -> String {
-    if let Some(root) = glint::drivers::tree::root_of(file) {
-        let tree = root
-            .file_name()
-            .map_or("tree".into(), |n| n.to_string_lossy());
-        let stem = file
-            .file_stem()
-            .map_or("icd".into(), |s| s.to_string_lossy());
-        return format!("{tree}/{stem}");
-    }
     let stem = file
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "icd".into());
     let stem = stem.strip_suffix(".x86_64").unwrap_or(&stem).to_owned();
+    if let Some(root) = glint::drivers::tree::root_of(file) {
+        let tree = root
+            .file_name()
+            .map_or("tree".into(), |n| n.to_string_lossy());
+        return format!("{tree}/{stem}");
+    }
     match file.parent().and_then(|p| p.file_name()) {
         Some(parent) if parent != "icd.d" => format!("{}/{stem}", parent.to_string_lossy()),
         _ => stem,
