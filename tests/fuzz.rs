@@ -10,6 +10,8 @@
 //! property runs 256 cases from a fixed seed (see `config`; 24 or 8 where a
 //! case is a process or a compile), a few seconds in all.
 
+mod common;
+
 use std::path::Path;
 
 use proptest::prelude::*;
@@ -596,4 +598,111 @@ proptest! {
             prop_assert!(text.contains("past the bound of 512 KiB"), "{text}");
         }
     }
+}
+
+/// What an interrupted run may leave under `out`: whole files alone. No
+/// `.tmp` file of a write the signal met, every scene whole TOML, and
+/// nothing in its $TMPDIR (`tmp`) or among the processes.
+fn left_whole(out: &Path, tmp: &Path) -> Result<(), TestCaseError> {
+    fn walk(dir: &Path, found: &mut Vec<std::path::PathBuf>) {
+        for e in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                walk(&p, found);
+            } else {
+                found.push(p);
+            }
+        }
+    }
+    let mut files = Vec::new();
+    walk(out, &mut files);
+    for f in &files {
+        let name = f.to_string_lossy();
+        prop_assert!(
+            !name.ends_with(".tmp"),
+            "a temporary file was left: {}",
+            name
+        );
+        if name.ends_with(".toml") {
+            let text = std::fs::read_to_string(f).unwrap_or_default();
+            prop_assert!(
+                text.parse::<toml::Table>().is_ok(),
+                "{} is not whole ({} bytes)",
+                name,
+                text.len()
+            );
+        }
+    }
+    let mut temporary = Vec::new();
+    walk(tmp, &mut temporary);
+    prop_assert!(temporary.is_empty(), "left in $TMPDIR: {:?}", temporary);
+    let name = tmp.to_string_lossy().into_owned();
+    let children: Vec<String> = common::command_lines()
+        .into_iter()
+        .filter(|c| c.contains("driver-probe") && c.contains(&name))
+        .collect();
+    prop_assert!(children.is_empty(), "children left: {:?}", children);
+    Ok(())
+}
+
+/// Interrupted runs fuzzed: `glint fuzz --dump` (scenes of a few to tens
+/// of thousands of objects, so that a signal can meet a write) and, where
+/// the GPU is built, `glint drivers --generated`, each stopped by SIGINT,
+/// SIGTERM or SIGHUP after a random delay. Each run ends at once with
+/// exit 0 (done) or 130 (or by the signal, where it came before the
+/// handler), and leaves only whole files ([`left_whole`]).
+#[test]
+fn interrupted_runs_leave_only_whole_files() {
+    let commands = if cfg!(feature = "gpu") { 2 } else { 1 };
+    let cases = (0..commands, 0..3usize, 0..700u64, 0..3usize, 0..1000u64);
+    let config = ProptestConfig {
+        cases: 12,
+        ..config()
+    };
+    proptest!(config, |((command, sig, delay_ms, size, seed) in cases)| {
+        let dir = tempfile::tempdir().unwrap();
+        let (out, tmp) = (dir.path().join("out"), dir.path().join("tmp"));
+        std::fs::create_dir(&tmp).unwrap();
+        let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_glint"));
+        if command == 0 {
+            let objects = ["50", "5000", "40000"][size];
+            c.args(["fuzz", "--backend", "cpu", "--cases", "3", "--objects", objects])
+                .args(["--seed", &seed.to_string(), "--dump"])
+                .arg(&out);
+        } else {
+            c.current_dir(common::repo())
+                .args(["drivers", "--quick", "--generated", &(1 + size).to_string()])
+                .args(["--seed", &seed.to_string(), "-o"])
+                .arg(&out);
+        }
+        let mut child = c
+            .env("TMPDIR", &tmp)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(delay_ms));
+        let signal = [libc::SIGINT, libc::SIGTERM, libc::SIGHUP][sig];
+        // SAFETY: signals the child this test started.
+        unsafe { libc::kill(child.id() as libc::pid_t, signal) };
+        let asked = std::time::Instant::now();
+        let status = child.wait().unwrap();
+        prop_assert!(
+            asked.elapsed() < std::time::Duration::from_secs(20),
+            "it took {:?} to stop",
+            asked.elapsed()
+        );
+        // A signal before main installs the handler (the first thing it
+        // does) ends the process as the signal's default does: nothing is
+        // written by then, which `left_whole` checks.
+        use std::os::unix::process::ExitStatusExt;
+        prop_assert!(
+            status.success() || status.code() == Some(130) || status.signal() == Some(signal),
+            "{:?}",
+            status
+        );
+        // A probe that outlived glint would write its folder back by now.
+        std::thread::sleep(std::time::Duration::from_millis(200));
+        left_whole(&out, &tmp)?;
+    });
 }

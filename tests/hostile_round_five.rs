@@ -386,32 +386,6 @@ fn drivers_refuses_a_temporary_folder_without_room() {
     assert!(err.contains(full.to_str().unwrap()), "{err}");
 }
 
-/// Six nested glass spheres at depth 11 under 16 lights: one pixel's tree
-/// of hundreds of rays.
-#[cfg(feature = "gpu")]
-fn nested_glass() -> String {
-    let mut s = String::from(
-        "[image]\nwidth = 1\nheight = 1\n[render]\nmax_depth = 11\n[camera]\neye = [0, 0, 10]\n\
-         look_at = [0, 0, 0]\nvfov = 10\n[materials.g]\ndiffuse = [0.2, 0.2, 0.2]\n\
-         specular = [0.5, 0.5, 0.5]\nshininess = 50\nreflectivity = 0.3\ntransmittance = 0.6\nior = 1.5\n",
-    );
-    for i in 0..6 {
-        s += &format!(
-            "[[spheres]]\ncenter = [0, 0, 0]\nradius = {}\nmaterial = \"g\"\n",
-            3.0 - 0.4 * f64::from(i)
-        );
-    }
-    for k in 0..16 {
-        let a = f64::from(k) * std::f64::consts::TAU / 16.0;
-        s += &format!(
-            "[[lights]]\ntype = \"point\"\nposition = [{}, {}, 6]\ndiffuse = [0.1, 0.1, 0.1]\n",
-            8.0 * a.cos(),
-            8.0 * a.sin()
-        );
-    }
-    s
-}
-
 /// Defect 6: `explain` of one pixel whose tree has hundreds of rays held
 /// every trial's tree at once (0.7-1 GB in the issue's scene) and printed
 /// every ray (14.6 MB for this one's 549 rays). It folds the trials into the bounds one at a time and prints
@@ -422,7 +396,7 @@ fn nested_glass() -> String {
 fn explain_of_a_deep_tree_prints_a_summary() {
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("nested.toml");
-    std::fs::write(&scene, nested_glass()).unwrap();
+    std::fs::write(&scene, common::nested_glass(11)).unwrap();
     let o = explain(&scene, (0, 0), &[]);
     let out = String::from_utf8_lossy(&o.stdout);
     assert_eq!(

@@ -11,6 +11,7 @@ mod aovs;
 mod arrays;
 mod compare;
 mod dict;
+mod document;
 mod errors;
 mod gil;
 mod image;

@@ -117,50 +117,108 @@ fn is_setting(key: &str) -> bool {
     key.starts_with("image.") || key == "render.max_depth"
 }
 
-/// The keys and values `params` lists, in the file's order.
-pub fn listed(table: &toml::Table) -> Vec<(String, toml::Value)> {
-    fn walk(v: &toml::Value, at: String, out: &mut Vec<(String, toml::Value)>) {
-        match v {
-            v if is_value(v) && !is_setting(&at) => out.push((at, v.clone())),
-            v if is_value(v) => {}
-            toml::Value::Table(t) => {
-                for (k, x) in t {
-                    let key = if at.is_empty() {
-                        name(k)
-                    } else {
-                        format!("{at}.{}", name(k))
-                    };
-                    walk(x, key, out);
-                }
-            }
-            toml::Value::Array(a) => {
-                for (i, x) in a.iter().enumerate() {
-                    walk(x, format!("{at}[{i}]"), out);
-                }
-            }
-            _ => {}
-        }
-    }
-    let mut out = Vec::new();
-    walk(&toml::Value::Table(table.clone()), String::new(), &mut out);
-    out
+/// A key of `params`, read into its steps.
+pub struct Key<'k> {
+    text: &'k str,
+    steps: Vec<Step>,
 }
 
-/// The value at `key`, None where there is none.
-pub fn get<'t>(table: &'t toml::Table, key: &str) -> PyResult<Option<&'t toml::Value>> {
-    let mut at: Option<&toml::Value> = None;
-    for (n, step) in steps(key)?.into_iter().enumerate() {
-        at = match (n, at, step) {
-            (0, _, Step::Key(k)) => table.get(&k),
-            (_, Some(toml::Value::Table(t)), Step::Key(k)) => t.get(&k),
-            (_, Some(toml::Value::Array(a)), Step::Index(i)) => a.get(i),
+impl<'k> Key<'k> {
+    pub fn parse(text: &'k str) -> PyResult<Self> {
+        Ok(Key {
+            text,
+            steps: steps(text)?,
+        })
+    }
+
+    /// Whether its first name is the spheres' array.
+    pub fn of_spheres(&self) -> bool {
+        self.steps.first() == Some(&Step::Key(SPHERES.to_owned()))
+    }
+
+    /// The sphere whose value it names (`spheres[3].radius`: 3); None for
+    /// any other key, and for a sphere's whole table.
+    pub fn in_sphere(&self) -> Option<usize> {
+        match self.steps.as_slice() {
+            [Step::Key(k), Step::Index(i), _, ..] if k == SPHERES => Some(*i),
             _ => None,
-        };
-        if at.is_none() {
-            return Ok(None);
         }
     }
-    Ok(at)
+
+    /// The KeyError of a sphere the scene does not have.
+    pub fn no_sphere(&self) -> PyErr {
+        missing(self, 1)
+    }
+}
+
+/// The spheres' array: the one a large scene is made of, whose entries a
+/// scene's text keeps apart (`Document`).
+pub const SPHERES: &str = "spheres";
+
+/// The key of sphere `i`'s table, as `params` lists it.
+pub fn sphere_key(i: usize) -> String {
+    format!("{SPHERES}[{i}]")
+}
+
+/// A root key as `params` lists it.
+pub fn root_key(k: &str) -> String {
+    name(k)
+}
+
+/// Calls `out` with each key under `at` that `params` lists and its value,
+/// in the file's order (`v` is the value at `at`).
+pub fn list(
+    v: &toml::Value,
+    at: String,
+    out: &mut dyn FnMut(String, &toml::Value) -> PyResult<()>,
+) -> PyResult<()> {
+    match v {
+        v if is_value(v) && !is_setting(&at) => out(at, v),
+        v if is_value(v) => Ok(()),
+        toml::Value::Table(t) => {
+            for (k, x) in t {
+                let key = if at.is_empty() {
+                    name(k)
+                } else {
+                    format!("{at}.{}", name(k))
+                };
+                list(x, key, out)?;
+            }
+            Ok(())
+        }
+        toml::Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                list(x, format!("{at}[{i}]"), out)?;
+            }
+            Ok(())
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The value at `key` in the file's `table`, None where there is none.
+pub fn get<'t>(table: &'t toml::Table, key: &Key) -> Option<&'t toml::Value> {
+    get_from(table, key, 0)
+}
+
+/// The value at `key` (`key.in_sphere()`) in its sphere's own table.
+pub fn get_in_sphere<'t>(sphere: &'t toml::Table, key: &Key) -> Option<&'t toml::Value> {
+    get_from(sphere, key, 2)
+}
+
+/// The value at `key`'s steps from `from` on, in `table`.
+fn get_from<'t>(table: &'t toml::Table, key: &Key, from: usize) -> Option<&'t toml::Value> {
+    let mut at: Option<&toml::Value> = None;
+    for (n, step) in key.steps[from..].iter().enumerate() {
+        at = match (n, at, step) {
+            (0, _, Step::Key(k)) => table.get(k),
+            (_, Some(toml::Value::Table(t)), Step::Key(k)) => t.get(k),
+            (_, Some(toml::Value::Array(a)), Step::Index(i)) => a.get(*i),
+            _ => None,
+        };
+        at?;
+    }
+    at
 }
 
 /// Sets `key` in `table` to `value` (None: removes it). A key gives or
@@ -171,34 +229,56 @@ pub fn get<'t>(table: &'t toml::Table, key: &str) -> PyResult<Option<&'t toml::V
 /// `create` (`params.add`); a missing array entry is always one.
 pub fn set(
     table: &mut toml::Table,
-    key: &str,
+    key: &Key,
     value: Option<toml::Value>,
     create: bool,
 ) -> PyResult<()> {
-    let steps = steps(key)?;
+    set_from(table, key, 0, value, create)
+}
+
+/// As [`set`], in the sphere's own table that `key.in_sphere()` names.
+pub fn set_in_sphere(
+    sphere: &mut toml::Table,
+    key: &Key,
+    value: Option<toml::Value>,
+    create: bool,
+) -> PyResult<()> {
+    set_from(sphere, key, 2, value, create)
+}
+
+fn set_from(
+    table: &mut toml::Table,
+    key: &Key,
+    from: usize,
+    value: Option<toml::Value>,
+    create: bool,
+) -> PyResult<()> {
     let mut root = toml::Value::Table(std::mem::take(table));
-    let result = set_in(&mut root, &steps, 0, value, key, create);
+    let result = set_in(&mut root, key, from, value, create);
     if let toml::Value::Table(t) = root {
         *table = t;
     }
     result
 }
 
+/// The KeyError of a key whose steps up to `at` name nothing.
+fn missing(key: &Key, at: usize) -> PyErr {
+    PyKeyError::new_err(format!(
+        "{:?}: the scene has no {} (a key gives a value to an entry that the \
+         scene has; add entries with params.add, or to_dict and from_dict)",
+        key.text,
+        shown(&key.steps[..=at])
+    ))
+}
+
 fn set_in(
     v: &mut toml::Value,
-    steps: &[Step],
+    key: &Key,
     at: usize,
     value: Option<toml::Value>,
-    key: &str,
     create: bool,
 ) -> PyResult<()> {
-    let missing = || {
-        PyKeyError::new_err(format!(
-            "{key:?}: the scene has no {} (a key gives a value to an entry that the \
-             scene has; add entries with params.add, or to_dict and from_dict)",
-            shown(&steps[..=at])
-        ))
-    };
+    let steps = &key.steps;
     let step = &steps[at];
     if at + 1 == steps.len() {
         return match (v, step, value) {
@@ -208,16 +288,17 @@ fn set_in(
             }
             (toml::Value::Table(t), Step::Key(k), None) => match t.remove(k) {
                 Some(_) => Ok(()),
-                None => Err(missing()),
+                None => Err(missing(key, at)),
             },
             (toml::Value::Array(a), Step::Index(i), Some(x)) if *i < a.len() => {
                 a[*i] = x;
                 Ok(())
             }
             (toml::Value::Array(_), Step::Index(_), None) => Err(PyKeyError::new_err(format!(
-                "{key:?}: an array's entry cannot be removed (to_dict and from_dict can)"
+                "{:?}: an array's entry cannot be removed (to_dict and from_dict can)",
+                key.text
             ))),
-            _ => Err(missing()),
+            _ => Err(missing(key, at)),
         };
     }
     let next = match (v, step, &steps[at + 1]) {
@@ -233,7 +314,10 @@ fn set_in(
         (toml::Value::Array(a), Step::Index(i), _) => a.get_mut(*i),
         _ => None,
     };
-    set_in(next.ok_or_else(missing)?, steps, at + 1, value, key, create)
+    match next {
+        Some(next) => set_in(next, key, at + 1, value, create),
+        None => Err(missing(key, at)),
+    }
 }
 
 /// Steps written back as a key.

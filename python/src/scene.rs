@@ -1,21 +1,23 @@
 //! `glint.load`, `glint.loads`, `glint.Scene.from_dict` and the scene they
 //! return.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, RwLock};
 
 use pyo3::exceptions::{PyKeyError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
 
 use glint::scene::{self as lib, Overrides, SceneError as LibSceneError};
 
 use crate::arrays::ArrayFiles;
 use crate::dict::{self, to_python, top_level};
+use crate::document::{Document, Place, Root};
 use crate::errors::{self, guard};
 use crate::keywords;
-use crate::params;
+use crate::params::{self, Key};
 
 /// A scene read and checked: what `glint.render` and `Renderer.prepare`
 /// take. Its values change through `params` (`set_params`), each change a
@@ -110,29 +112,38 @@ impl Scene {
         self.now().scene.clone()
     }
 
-    /// The scene file's tables, with the keywords it was read with
-    /// written in: what `to_dict` gives and `params` reads.
-    fn table(&self) -> PyResult<toml::Table> {
+    /// The scene file's text as TOML (an NFF's converted), and the
+    /// keywords it was read with, which its head's tables take
+    /// ([`with_overrides`]).
+    fn text(&self) -> PyResult<(String, Overrides)> {
         let now = self.now();
-        let text = now.file.toml()?;
-        let mut table: toml::Table = toml::from_str(&text).map_err(errors::other)?;
-        let o = &now.overrides;
-        let mut set = |section: &str, key: &str, v: Option<u32>| {
-            if let Some(v) = v {
-                let t = table
-                    .entry(section)
-                    .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-                if let toml::Value::Table(t) = t {
-                    t.insert(key.to_owned(), toml::Value::Integer(v.into()));
-                }
-            }
-        };
-        set("image", "width", o.width);
-        set("image", "height", o.height);
-        set("image", "samples", o.samples);
-        set("render", "max_depth", o.max_depth);
-        Ok(table)
+        Ok((now.file.toml()?.into_owned(), now.overrides))
     }
+}
+
+/// `table` (a scene file's head) with the keywords `o` written in: what
+/// `to_dict` gives and `params` reads.
+fn with_overrides(mut table: toml::Table, o: &Overrides) -> toml::Table {
+    let mut set = |section: &str, key: &str, v: Option<u32>| {
+        if let Some(v) = v {
+            let t = table
+                .entry(section)
+                .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+            if let toml::Value::Table(t) = t {
+                t.insert(key.to_owned(), toml::Value::Integer(v.into()));
+            }
+        }
+    };
+    set("image", "width", o.width);
+    set("image", "height", o.height);
+    set("image", "samples", o.samples);
+    set("render", "max_depth", o.max_depth);
+    table
+}
+
+/// Whether any keyword was given.
+fn any(o: &Overrides) -> bool {
+    o.width.is_some() || o.height.is_some() || o.samples.is_some() || o.max_depth.is_some()
 }
 
 /// Takes `m`, waiting for it with the GIL released: its holder may be
@@ -532,10 +543,24 @@ impl Scene {
     /// convert` writes it, an OBJ with the view glint made around it.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         guard(|| {
-            let table = self.table()?;
+            let (text, o) = self.text()?;
+            let doc = Document::new(&text);
+            let head = with_overrides(doc.head()?, &o);
             let d = PyDict::new(py);
-            for (k, v) in &table {
-                d.set_item(k, to_python(py, v)?)?;
+            for root in doc.roots(&head) {
+                match root {
+                    Root::Head(k, v) => d.set_item(k, to_python(py, v)?)?,
+                    Root::Spheres => {
+                        // A block at a time: no document of them all.
+                        let spheres = PyList::empty(py);
+                        for i in 0..doc.spheres() {
+                            if let Some(t) = doc.sphere(i)? {
+                                spheres.append(to_python(py, &toml::Value::Table(t))?)?;
+                            }
+                        }
+                        d.set_item(params::SPHERES, spheres)?;
+                    }
+                }
             }
             Ok(d)
         })
@@ -543,13 +568,15 @@ impl Scene {
 
     /// `params`' keys and their values, as a dict: every number and list
     /// of numbers of the scene file but the image's settings and the ray
-    /// tree's depth (`params::listed`).
+    /// tree's depth (`params::list`).
     fn _params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         guard(|| {
+            let (text, o) = self.text()?;
+            let doc = Document::new(&text);
             let d = PyDict::new(py);
-            for (k, v) in params::listed(&self.table()?) {
-                d.set_item(k, to_python(py, &v)?)?;
-            }
+            doc.list(&with_overrides(doc.head()?, &o), &mut |k, v| {
+                d.set_item(k, to_python(py, v)?)
+            })?;
             Ok(d)
         })
     }
@@ -558,12 +585,22 @@ impl Scene {
     /// scene file has none.
     fn _param<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Bound<'py, PyAny>> {
         guard(|| {
-            let table = self.table()?;
+            let (text, o) = self.text()?;
+            let doc = Document::new(&text);
             if crate::mesh_params::array_key(key).is_some() {
-                return crate::mesh_params::get(py, &table, &self.base, &self.meshes, key);
+                let head = with_overrides(doc.head()?, &o);
+                return crate::mesh_params::get(py, &head, &self.base, &self.meshes, key);
             }
-            match params::get(&table, key)? {
-                Some(v) => to_python(py, v),
+            let parsed = Key::parse(key)?;
+            let value = match doc.place(&parsed) {
+                Place::Head => params::get(&with_overrides(doc.head()?, &o), &parsed).cloned(),
+                Place::Sphere(i) => doc
+                    .sphere(i)?
+                    .and_then(|t| params::get_in_sphere(&t, &parsed).cloned()),
+                Place::Whole => params::get(&doc.whole()?, &parsed).cloned(),
+            };
+            match value {
+                Some(v) => to_python(py, &v),
                 None => Err(PyKeyError::new_err(key.to_owned())),
             }
         })
@@ -578,29 +615,10 @@ impl Scene {
     #[pyo3(signature = (items, create=false))]
     fn _set_params(&self, py: Python<'_>, items: &Bound<'_, PyDict>, create: bool) -> PyResult<()> {
         guard(|| {
-            // One change at a time: each starts from the last one's tables.
+            // One change at a time: each starts from the last one's text.
             let _one = lock_without_the_gil(py, &self.setting)?;
-            let mut table = self.table()?;
-            // A numpy mesh's arrays first: its OBJ file written anew.
-            let mut arrays = Vec::new();
-            for (k, v) in items.iter() {
-                if let Ok(key) = k.extract::<String>() {
-                    if crate::mesh_params::array_key(&key).is_some() {
-                        arrays.push((key, v));
-                    }
-                }
-            }
-            let mut files = ArrayFiles::default();
-            if !arrays.is_empty() {
-                crate::mesh_params::set(
-                    py,
-                    &mut table,
-                    &self.base,
-                    &self.meshes,
-                    &arrays,
-                    &mut files,
-                )?;
-            }
+            let (old, o) = self.text()?;
+            let mut keys = Vec::with_capacity(items.len());
             for (k, v) in items.iter() {
                 let key: String = k.extract().map_err(|_| {
                     PyTypeError::new_err(format!(
@@ -608,17 +626,72 @@ impl Scene {
                         k.repr().map_or_else(|_| "?".into(), |r| r.to_string())
                     ))
                 })?;
-                if crate::mesh_params::array_key(&key).is_some() {
+                keys.push((key, v));
+            }
+            let mut doc = Document::new(&old);
+            let parsed = keys
+                .iter()
+                .map(|(k, _)| Key::parse(k))
+                .collect::<PyResult<Vec<_>>>()?;
+            if parsed.iter().any(|k| matches!(doc.place(k), Place::Whole)) {
+                // A key of the spheres' array itself: the file read as one.
+                doc = Document::whole_of(&old);
+            }
+            // The head's tables, read where a change needs them (and where
+            // the keywords the scene was read with are to be written in).
+            let mut head = if any(&o) {
+                Some(with_overrides(doc.head()?, &o))
+            } else {
+                None
+            };
+            let mut changed = BTreeMap::new();
+            // A numpy mesh's arrays first: its OBJ file written anew.
+            let arrays: Vec<_> = keys
+                .iter()
+                .filter(|(k, _)| crate::mesh_params::array_key(k).is_some())
+                .map(|(k, v)| (k.clone(), v.clone()))
+                .collect();
+            let mut files = ArrayFiles::default();
+            if !arrays.is_empty() {
+                let head = match &mut head {
+                    Some(h) => h,
+                    None => head.insert(doc.head()?),
+                };
+                crate::mesh_params::set(py, head, &self.base, &self.meshes, &arrays, &mut files)?;
+            }
+            for ((key, v), parsed) in keys.iter().zip(&parsed) {
+                if crate::mesh_params::array_key(key).is_some() {
                     continue;
                 }
                 let value = if v.is_none() {
                     None
                 } else {
-                    Some(dict::value(&v, &key)?)
+                    Some(dict::value(v, key)?)
                 };
-                params::set(&mut table, &key, value, create)?;
+                match doc.place(parsed) {
+                    Place::Sphere(i) => {
+                        let sphere = match changed.entry(i) {
+                            std::collections::btree_map::Entry::Occupied(e) => e.into_mut(),
+                            std::collections::btree_map::Entry::Vacant(e) => {
+                                e.insert(doc.sphere(i)?.ok_or_else(|| parsed.no_sphere())?)
+                            }
+                        };
+                        params::set_in_sphere(sphere, parsed, value, create)?;
+                    }
+                    Place::Head | Place::Whole => {
+                        let head = match &mut head {
+                            Some(h) => h,
+                            None => head.insert(doc.head()?),
+                        };
+                        params::set(head, parsed, value, create)?;
+                    }
+                }
             }
-            let text = toml::to_string(&table).map_err(errors::other)?;
+            let text = doc.written(head.as_ref(), &changed)?;
+            // Only the new text, the scene now and the one read next are
+            // kept while it is read.
+            drop((changed, head));
+            drop(old);
             let scene = crate::gil::detach(py, || {
                 lib::parse_cached(
                     &text,

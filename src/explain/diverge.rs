@@ -5,7 +5,7 @@
 
 use serde::Serialize;
 
-use super::flat::{Bound, Entry, Value};
+use super::flat::{self, Bound, Entry, Value};
 use super::tree::{Primitive, Tree};
 use super::{number, Geometry};
 
@@ -39,13 +39,14 @@ pub struct Divergence {
 
 /// The entry index of `tree`'s first divergence from the reference (`reference`,
 /// bounded by `bounds`); None where every quantity is within its bound.
-pub fn first(tree: &[Entry], reference: &[Entry], bounds: &[Bound]) -> Option<usize> {
-    let k = tree
-        .iter()
+/// The tree is walked an entry at a time ([`flat::walk`]).
+pub fn first(tree: &Tree, reference: &[Entry], bounds: &[Bound]) -> Option<usize> {
+    let k = flat::walk(tree)
         .zip(reference)
         .zip(bounds)
-        .position(|((a, b), bound)| a.label != b.label || b.judged && beyond(a, b, bound));
-    k.or_else(|| (tree.len() != reference.len()).then(|| tree.len().min(reference.len())))
+        .position(|((a, b), bound)| a.label != b.label || b.judged && beyond(&a, b, bound));
+    let len = flat::count(tree);
+    k.or_else(|| (len != reference.len()).then(|| len.min(reference.len())))
 }
 
 /// Whether `a` leaves the reference's `b` past `bound`.
@@ -70,25 +71,24 @@ fn who(renderer: &str) -> String {
 /// answers where the reference's rays meet other primitives.
 pub fn divergence(
     tree: &Tree,
-    entries: &[Entry],
     ref_tree: &Tree,
     reference: &[Entry],
     bounds: &[Bound],
     geometry: &dyn Geometry,
-    cpu_f32: &[Entry],
+    cpu_f32: &Tree,
 ) -> Option<Divergence> {
-    let k = first(entries, reference, bounds)?;
+    let k = first(tree, reference, bounds)?;
     let gpu = who(&tree.renderer);
-    let (Some(a), Some(b)) = (entries.get(k), reference.get(k)) else {
-        let (longer, extra) = if entries.len() > reference.len() {
-            (gpu.clone(), &entries[k])
-        } else {
-            ("the CPU".to_owned(), &reference[k])
+    let at = flat::entry(tree, k);
+    let (Some(a), Some(b)) = (at.as_ref(), reference.get(k)) else {
+        let (longer, extra) = match &at {
+            Some(e) => (gpu.clone(), e),
+            None => ("the CPU".to_owned(), &reference[k]),
         };
         return Some(Divergence {
-            quantity: extra.label.clone(),
+            quantity: extra.label.to_string(),
             stage: extra.stage.name(),
-            value: show(entries.get(k)),
+            value: show(at.as_ref()),
             reference: show(reference.get(k)),
             difference: None,
             bound: None,
@@ -101,7 +101,7 @@ pub fn divergence(
     };
     let unstable = bounds[k].unstable;
     let mut d = Divergence {
-        quantity: b.label.clone(),
+        quantity: b.label.to_string(),
         stage: b.stage.name(),
         value: show(Some(a)),
         reference: show(Some(b)),
@@ -117,14 +117,14 @@ pub fn divergence(
         );
         return Some(d);
     }
-    let ray = b.ray.map(|n| (&tree.rays[n], &ref_tree.rays[n]));
+    let ray = b.ray().map(|n| (&tree.rays[n], &ref_tree.rays[n]));
     let ill = if unstable {
         "; a conditioning trial (f32-sized moves of the scene) changes it too: the pixel is ill-conditioned"
     } else {
         ""
     };
-    d.cause = match (ray, b.label.rsplit(": ").next()) {
-        (Some((g, c)), Some("hit")) => {
+    d.cause = match (ray, b.label.what) {
+        (Some((g, c)), "hit") => {
             let kind = ray_name(c.kind);
             match (&g.hit, &c.hit) {
                 (Some(gh), Some(ch)) => {
@@ -132,7 +132,7 @@ pub fn divergence(
                     // The bound of the distance, the entry after a hit
                     // (`flat::entries`).
                     let tie_bound = bounds[k + 1].bound;
-                    debug_assert!(reference[k + 1].label.ends_with(": distance"));
+                    debug_assert_eq!(reference[k + 1].label.what, "distance");
                     let (cpu_t, gpu_t) = number::show_apart(ch.distance, gh.distance);
                     match other {
                         Some(t) if (t - ch.distance).abs() <= tie_bound => format!(
@@ -172,8 +172,8 @@ pub fn divergence(
                 (None, None) => unreachable!("both met nothing: the same value"),
             }
         }
-        (Some((g, c)), Some("shadow ray")) => {
-            let light = light_of(&b.label);
+        (Some((g, c)), "shadow ray") => {
+            let light = b.label.light().unwrap_or(0);
             let (gs, cs) = (shadow_of(g, light), shadow_of(c, light));
             match (gs.and_then(|s| s.blocker), cs.and_then(|s| s.blocker)) {
                 (Some(gb), cb) => {
@@ -216,9 +216,8 @@ pub fn divergence(
         }
         _ => match (d.difference, d.bound) {
             (Some(diff), Some(bound)) => {
-                let f32_within = cpu_f32
-                    .get(k)
-                    .is_some_and(|e| e.label == b.label && !beyond(e, b, &bounds[k]));
+                let f32_within = flat::entry(cpu_f32, k)
+                    .is_some_and(|e| e.label == b.label && !beyond(&e, b, &bounds[k]));
                 format!(
                     "{} is {} on {gpu} and {} on the CPU: {} apart, past its f32 bound of {}; the first value beyond f32 rounding, computed by {}{}{ill}",
                     b.label,
@@ -231,7 +230,7 @@ pub fn divergence(
                         format!(
                             " (the CPU's f32 is within the bound: {gpu} computes this stage less accurately{})",
                             if tree.renderer.ends_with(super::worst::SUFFIX) {
-                                super::worst::clause(&b.label)
+                                super::worst::clause(b.label.what)
                             } else {
                                 String::new()
                             }
@@ -273,16 +272,6 @@ fn ray_name(kind: &str) -> &'static str {
     }
 }
 
-/// The light a `ray n, light k: ...` label names.
-fn light_of(label: &str) -> u32 {
-    label
-        .split(", light ")
-        .nth(1)
-        .and_then(|rest| rest.split(':').next())
-        .and_then(|k| k.parse().ok())
-        .unwrap_or(0)
-}
-
 fn shadow_of(ray: &super::tree::TreeRay, light: u32) -> Option<&super::tree::Shadow> {
     ray.lights
         .iter()
@@ -294,7 +283,7 @@ fn shadow_of(ray: &super::tree::TreeRay, light: u32) -> Option<&super::tree::Sha
 pub fn show(e: Option<&Entry>) -> String {
     match e.map(|e| &e.value) {
         None => "-".to_owned(),
-        Some(Value::Exact(s)) => s.clone(),
+        Some(Value::Exact(s)) => s.to_string(),
         Some(Value::Num { v, .. }) => number::show_all(v),
     }
 }

@@ -226,17 +226,13 @@ impl Reference {
         )?;
         let entries = flat::entries(&f64);
         // The CPU's f32, then each trial, folded into the bounds one at a
-        // time.
+        // time, each walked an entry at a time.
         let mut bounds = flat::floor_bounds(&entries);
-        flat::widen(&mut bounds, &entries, &flat::entries(&f32));
+        flat::widen(&mut bounds, &entries, &f32);
         for t in 0..crate::condition::TRIALS {
             let (moved, moves) = crate::condition::trial(scene, t);
             let events = Probe::<f64>::moved(&moved, accel, moves).record(sample.traced);
-            flat::widen(
-                &mut bounds,
-                &entries,
-                &flat::entries(&tree("trial", events)?),
-            );
+            flat::widen(&mut bounds, &entries, &tree("trial", events)?);
         }
         Ok(Self {
             sample,
@@ -249,41 +245,54 @@ impl Reference {
     }
 
     /// The sample explained, with the trees of `others` (the GPU's, then
-    /// any other devices') in the columns before the CPU's.
+    /// any other devices') in the columns before the CPU's. Each tree is
+    /// walked beside the reference's entries, an entry at a time, so that
+    /// only the reference's are held whole; the table lays flat only the
+    /// rays it shows.
     pub fn explain(self, others: Vec<Tree>) -> Explanation {
         let mut divergences = Vec::new();
-        let mut trees = others;
-        trees.push(self.f32.clone());
-        // Each tree laid flat once, for the judging and the table alike.
-        let flats: Vec<Vec<flat::Entry>> = trees.iter().map(flat::entries).collect();
-        let cpu_f32 = flats.last().expect("the CPU's f32 tree");
         let mut marks = Vec::new();
         let mut focus = Vec::new();
-        for (t, entries) in trees.iter().zip(&flats) {
+        let mut look = |t: &Tree, marks: &mut Vec<Vec<bool>>| {
+            marks.push(table::marks(t, &self.entries, &self.bounds));
+            if let Some(k) = diverge::first(t, &self.entries, &self.bounds) {
+                focus.extend(self.entries.get(k).and_then(flat::Entry::ray));
+            }
+        };
+        for t in &others {
             divergences.push(diverge::divergence(
                 t,
-                entries,
                 &self.f64,
                 &self.entries,
                 &self.bounds,
                 &self,
-                cpu_f32,
+                &self.f32,
             ));
-            marks.push(table::marks(entries, &self.entries, &self.bounds));
-            if let Some(k) = diverge::first(entries, &self.entries, &self.bounds) {
-                focus.extend(self.entries.get(k).and_then(|e| e.ray));
-            }
+            look(t, &mut marks);
         }
         // The CPU's own f32 is one of the trials: it is shown, not judged.
-        divergences.pop();
+        look(&self.f32, &mut marks);
         marks.push(vec![false; self.entries.len()]);
-        trees.push(self.f64.clone());
-        let mut columns: Vec<&[flat::Entry]> = flats.iter().map(Vec::as_slice).collect();
-        columns.push(&self.entries);
         let shown = table::shown_rays(&self.f64, &focus);
-        let table = table::render(&trees, &columns, &self.bounds, &marks, shown.as_deref());
+        let Reference {
+            sample,
+            f64,
+            f32,
+            entries,
+            bounds,
+            ..
+        } = self;
+        let mut trees = others;
+        trees.push(f32);
+        let keep = |n: usize| shown.as_ref().is_none_or(|s| s[n]);
+        let flats: Vec<Vec<flat::Entry>> =
+            trees.iter().map(|t| flat::entries_of(t, keep)).collect();
+        trees.push(f64);
+        let mut columns: Vec<&[flat::Entry]> = flats.iter().map(Vec::as_slice).collect();
+        columns.push(&entries);
+        let table = table::render(&trees, &columns, &bounds, &marks, shown.as_deref());
         Explanation {
-            sample: self.sample,
+            sample,
             agree: divergences.iter().all(Option::is_none),
             render: None,
             divergences,

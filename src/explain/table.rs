@@ -6,22 +6,35 @@ use std::collections::HashMap;
 use std::fmt::Write;
 
 use super::diverge::show;
-use super::flat::{Bound, Entry, Value};
+use super::flat::{self, Bound, Entry, Label, Value};
 use super::number;
 use super::tree::Tree;
 
-/// Which of the reference's quantities `entries` (a tree's) leaves past
-/// its bound, or lacks.
-pub fn marks(entries: &[Entry], reference: &[Entry], bounds: &[Bound]) -> Vec<bool> {
-    let by_label: HashMap<&str, &Entry> = entries.iter().map(|e| (e.label.as_str(), e)).collect();
-    reference
-        .iter()
-        .zip(bounds)
-        .map(|(r, b)| match by_label.get(r.label.as_str()) {
-            None => r.judged,
-            Some(e) => r.judged && super::diverge::beyond(e, r, b),
-        })
-        .collect()
+/// Which of the reference's quantities `tree` leaves past its bound, or
+/// lacks: walked beside the reference while the two agree in shape, by
+/// label past where they part.
+pub fn marks(tree: &Tree, reference: &[Entry], bounds: &[Bound]) -> Vec<bool> {
+    let mark = |e: Option<&Entry>, r: &Entry, b: &Bound| match e {
+        None => r.judged,
+        Some(e) => r.judged && super::diverge::beyond(e, r, b),
+    };
+    let mut out = Vec::with_capacity(reference.len());
+    let mut walk = flat::walk(tree);
+    for (r, b) in reference.iter().zip(bounds) {
+        match walk.next() {
+            Some(e) if e.label == r.label => out.push(mark(Some(&e), r, b)),
+            _ => break,
+        }
+    }
+    let parted = out.len();
+    if parted < reference.len() {
+        let all = flat::entries(tree);
+        let by_label: HashMap<Label, &Entry> = all.iter().map(|e| (e.label, e)).collect();
+        for (r, b) in reference[parted..].iter().zip(&bounds[parted..]) {
+            out.push(mark(by_label.get(&r.label).copied(), r, b));
+        }
+    }
+    out
 }
 
 /// A tree of more rays than this is shown in part: the first ray, the
@@ -82,14 +95,20 @@ pub fn render(
     shown: Option<&[bool]>,
 ) -> String {
     let reference = *columns.last().expect("the reference's entries");
-    let flats: Vec<HashMap<&str, &Entry>> = columns
-        .iter()
-        .map(|c| c.iter().map(|e| (e.label.as_str(), e)).collect())
-        .collect();
     let full = |ray: Option<usize>| ray.is_none_or(|n| shown.is_none_or(|s| s[n]));
+    // Only the rows shown are looked up.
+    let flats: Vec<HashMap<Label, &Entry>> = columns
+        .iter()
+        .map(|c| {
+            c.iter()
+                .filter(|e| full(e.ray()))
+                .map(|e| (e.label, e))
+                .collect()
+        })
+        .collect();
     let mut rows: Vec<(Option<usize>, String, Vec<String>, String)> = Vec::new();
     for (k, r) in reference.iter().enumerate() {
-        if !full(r.ray) {
+        if !full(r.ray()) {
             continue;
         }
         let cells = flats
@@ -97,7 +116,7 @@ pub fn render(
             .zip(marks)
             .map(|(f, m)| {
                 let mark = if m[k] { " *" } else { "" };
-                format!("{}{mark}", show(f.get(r.label.as_str()).copied()))
+                format!("{}{mark}", show(f.get(&r.label).copied()))
             })
             .collect();
         let bound = match (&r.value, &bounds[k]) {
@@ -110,15 +129,10 @@ pub fn render(
             (Value::Exact(_), b) if b.unstable => "ill-conditioned".to_owned(),
             _ => String::new(),
         };
-        rows.push((r.ray, r.label.clone(), cells, bound));
+        rows.push((r.ray(), r.label.field(), cells, bound));
     }
     let head: Vec<String> = trees.iter().map(|t| t.renderer.clone()).collect();
-    let name_w = rows
-        .iter()
-        .map(|r| field(&r.1).len())
-        .max()
-        .unwrap_or(0)
-        .max(8);
+    let name_w = rows.iter().map(|r| r.1.len()).max().unwrap_or(0).max(8);
     let widths: Vec<usize> = (0..trees.len())
         .map(|c| {
             rows.iter()
@@ -161,7 +175,7 @@ pub fn render(
             let _ = writeln!(s, "{title}");
             line(&mut s, "", &head, "f32 bound");
         }
-        line(&mut s, field(label), cells, bound);
+        line(&mut s, label, cells, bound);
     }
     s
 }
@@ -184,7 +198,7 @@ fn hidden_note(
     let shallowest = hidden.iter().map(|&n| rays[n].depth).min().unwrap_or(0);
     let mut past = vec![false; rays.len()];
     for (k, e) in reference.iter().enumerate() {
-        if let Some(n) = e.ray {
+        if let Some(n) = e.ray() {
             past[n] |= marks.iter().any(|m| m[k]);
         }
     }
@@ -197,12 +211,4 @@ fn hidden_note(
             m => format!("{m} of them hold a value past its bound"),
         }
     ))
-}
-
-/// A label without its ray: `ray 2, light 0: diffuse` is `light 0: diffuse`.
-fn field(label: &str) -> &str {
-    match label.split_once(", ") {
-        Some((_, rest)) if label.starts_with("ray ") => rest,
-        _ => label.split_once(": ").map_or(label, |(_, f)| f),
-    }
 }

@@ -5,10 +5,10 @@
 /// The renderer's name for a tree recorded under `--spec-worst`.
 pub const SUFFIX: &str = " --spec-worst";
 
-/// The perturbed instructions that compute the quantity `label` ("light
-/// 0: specular", "direction", ...), with the spec's bound on each.
-pub fn functions(label: &str) -> &'static str {
-    let what = label.rsplit(": ").next().unwrap_or(label);
+/// The perturbed instructions that compute the quantity `what` (a
+/// label's field: "specular", "direction", ...), with the spec's bound on
+/// each.
+pub fn functions(what: &str) -> &'static str {
     match what {
         "direction" | "shadow ray direction" => {
             "normalize (x / length(x), its square root from 1 / inversesqrt: up to 9 ULP)"
@@ -27,11 +27,12 @@ pub fn functions(label: &str) -> &'static str {
     }
 }
 
-/// The clause a divergence of `label` on a `--spec-worst` tree adds.
-pub fn clause(label: &str) -> String {
+/// The clause a divergence of the quantity `what` on a `--spec-worst`
+/// tree adds.
+pub fn clause(what: &str) -> String {
     format!(
         "; under --spec-worst: {} carry a conformant driver's worst error there",
-        functions(label)
+        functions(what)
     )
 }
 
@@ -39,7 +40,7 @@ pub fn clause(label: &str) -> String {
 mod tests {
     #[test]
     fn a_quantity_names_the_functions_that_compute_it() {
-        assert!(super::functions("light 1: specular").starts_with("pow"));
+        assert!(super::functions("specular").starts_with("pow"));
         assert!(super::functions("uv").contains("atan2"));
         assert!(super::functions("direction").starts_with("normalize"));
         assert!(super::clause("weight").contains("divisions"));

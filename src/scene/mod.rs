@@ -35,6 +35,7 @@ pub use material::{Material, MaterialR};
 pub use model::{is_nff, is_scene, Scene, MAX_DEPTH, MAX_SAMPLES, MAX_SIZE};
 pub use nff::parse_nff;
 pub use sampling::{Adaptive, Sampling};
+pub use split::sphere_blocks;
 pub use toml::{parse, parse_cached};
 pub use validate::Overrides;
 

@@ -61,7 +61,8 @@ pub fn parse(text: &str) -> Result<SceneFile, BlockError> {
 
 /// The byte ranges of the `[[spheres]]` blocks, each from its header to the
 /// next line that starts a table; None where a line scan is not safe.
-fn sphere_blocks(text: &str) -> Option<Vec<(usize, usize)>> {
+/// Python's `params` reads and edits a scene's text through them.
+pub fn sphere_blocks(text: &str) -> Option<Vec<(usize, usize)>> {
     let mut blocks = Vec::new();
     let mut open: Option<usize> = None;
     let mut offset = 0;

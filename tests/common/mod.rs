@@ -462,3 +462,28 @@ pub fn resampled(path: &str, width: u32, height: u32, keys: &str) -> Scene {
     let text = text.replace("[image]\n", &format!("[image]\n{keys}"));
     scene_sized(&text, width, height)
 }
+
+/// Six nested glass spheres at depth `max_depth` under 16 lights, seen in
+/// one pixel: a tree of hundreds of rays at depth 11, 1,977 at depth 13.
+pub fn nested_glass(max_depth: u32) -> String {
+    let mut s = format!(
+        "[image]\nwidth = 1\nheight = 1\n[render]\nmax_depth = {max_depth}\n[camera]\neye = [0, 0, 10]\n\
+         look_at = [0, 0, 0]\nvfov = 10\n[materials.g]\ndiffuse = [0.2, 0.2, 0.2]\n\
+         specular = [0.5, 0.5, 0.5]\nshininess = 50\nreflectivity = 0.3\ntransmittance = 0.6\nior = 1.5\n",
+    );
+    for i in 0..6 {
+        s += &format!(
+            "[[spheres]]\ncenter = [0, 0, 0]\nradius = {}\nmaterial = \"g\"\n",
+            3.0 - 0.4 * f64::from(i)
+        );
+    }
+    for k in 0..16 {
+        let a = f64::from(k) * std::f64::consts::TAU / 16.0;
+        s += &format!(
+            "[[lights]]\ntype = \"point\"\nposition = [{}, {}, 6]\ndiffuse = [0.1, 0.1, 0.1]\n",
+            8.0 * a.cos(),
+            8.0 * a.sin()
+        );
+    }
+    s
+}
