@@ -1075,6 +1075,15 @@ fn explain_of_a_deep_tree_takes_tens_of_megabytes_over_a_render() {
     let scene = path.to_str().unwrap();
     let image = dir.path().join("x.pfm");
     let (o, render) = peak_memory_unvalidated(&["render", scene, "-o", image.to_str().unwrap()]);
+    // Mesa 22.3 cuts a pixel's loops at 65,535 iterations, and this tree
+    // needs more: neither the render nor explain runs there.
+    if stderr(&o).contains("loops were cut short") {
+        common::skip(
+            "explain_of_a_deep_tree_takes_tens_of_megabytes_over_a_render",
+            "this driver cuts the tree's loops short",
+        );
+        return;
+    }
     assert!(o.status.success(), "{}", stderr(&o));
     const MB: u64 = 1 << 20;
     for (json, limit) in [(false, 100 * MB), (true, 128 * MB)] {

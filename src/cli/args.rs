@@ -23,7 +23,7 @@ pub enum Backend {
 pub use glint::settings::Precision;
 
 /// The scene and the settings that override its own.
-#[derive(Args)]
+#[derive(Args, Clone)]
 pub struct SceneArgs {
     /// The scene file: TOML, or NFF by its .nff extension (docs/scene-format.md).
     pub scene: PathBuf,
@@ -32,7 +32,7 @@ pub struct SceneArgs {
 }
 
 /// The settings that override a scene's own.
-#[derive(Args)]
+#[derive(Args, Clone)]
 pub struct OverrideArgs {
     /// Image width in pixels (1..=16384).
     #[arg(long)]
@@ -96,7 +96,7 @@ impl SceneArgs {
 }
 
 /// Which Vulkan device to use, and where to find shader files.
-#[derive(Args)]
+#[derive(Args, Clone)]
 pub struct DeviceArgs {
     /// Use the first Vulkan device whose name contains NAME (see `glint info`).
     #[arg(long, value_name = "NAME")]

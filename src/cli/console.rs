@@ -103,10 +103,24 @@ pub fn exit_past_a_stuck_open(code: ExitCode) -> ! {
 /// ever: a `render` stopped by SIGTERM during a stuck open never ended).
 pub fn exit_interrupted() -> ! {
     #[cfg(feature = "gpu")]
-    if glint::gpu::open_unfinished() {
+    if glint::gpu::open_unfinished() || AT_ONCE.load(std::sync::atomic::Ordering::SeqCst) {
         exit_without_handlers(130);
     }
     std::process::exit(130)
+}
+
+/// Whether an interrupt ends the process with `_exit`.
+#[cfg(feature = "gpu")]
+static AT_ONCE: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Makes an interrupt end the process with `_exit`, for a command whose
+/// threads use the device while the signal thread ends it (`serve`): the
+/// C library's exit runs the driver's own exit handlers under them, and a
+/// SIGTERM during a render ended `glint serve` by a crash, not 130. Its
+/// clean-up is done by then, and everything it prints is written.
+#[cfg(feature = "gpu")]
+pub fn exit_at_once_when_interrupted() {
+    AT_ONCE.store(true, std::sync::atomic::Ordering::SeqCst);
 }
 
 #[cfg(feature = "gpu")]

@@ -25,6 +25,8 @@ mod render_gpu;
 #[cfg(feature = "gpu")]
 mod report;
 #[cfg(feature = "gpu")]
+mod serve;
+#[cfg(feature = "gpu")]
 mod shader;
 mod shell;
 pub mod signals;
@@ -41,8 +43,8 @@ mod without_gpu;
 use drivers::probe as driver_probe;
 #[cfg(not(feature = "gpu"))]
 use without_gpu::{
-    bench, compare, driver_probe, drivers, explain, info, render_gpu, report, shader, stability,
-    watch,
+    bench, compare, driver_probe, drivers, explain, info, render_gpu, report, serve, shader,
+    stability, watch,
 };
 
 use std::process::ExitCode;
@@ -84,6 +86,8 @@ enum Command {
     Shader(shader::ShaderArgs),
     /// Re-render whenever the scene or a shader file changes.
     Watch(watch::WatchArgs),
+    /// A live page of the GPU image, the CPU f64 reference, the error and each pixel's ray tree, following the files as they change.
+    Serve(serve::ServeArgs),
     /// Write an NFF scene (the SPD's format) as a TOML scene that renders the same image.
     Convert(convert::ConvertArgs),
     /// Put tiles of one render (render --tile or --region) together, checking that they are one whole render.
@@ -114,6 +118,7 @@ pub fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         Command::Report(a) => report::run(&a),
         Command::Shader(a) => shader::run(&a),
         Command::Watch(a) => watch::run(&a),
+        Command::Serve(a) => serve::run(&a),
         Command::Convert(a) => convert::run(&a),
         Command::Bench(a) => bench::run(&a),
         Command::Assemble(a) => assemble::run(&a),

@@ -50,6 +50,7 @@ unbuilt!(
     info::InfoArgs,
     report::ReportArgs,
     shader::ShaderArgs,
+    serve::ServeArgs,
     stability::StabilityArgs,
     watch::WatchArgs,
 );

@@ -19,7 +19,7 @@ mod flat;
 #[cfg(feature = "gpu")]
 mod gpu;
 mod number;
-mod table;
+pub mod table;
 mod tree;
 mod worst;
 
@@ -290,13 +290,15 @@ impl Reference {
         trees.push(f64);
         let mut columns: Vec<&[flat::Entry]> = flats.iter().map(Vec::as_slice).collect();
         columns.push(&entries);
-        let table = table::render(&trees, &columns, &bounds, &marks, shown.as_deref());
+        let rows = table::rows(&columns, &bounds, &marks, shown.as_deref());
+        let table = table::render(&trees, &rows, &entries, &marks, shown.as_deref());
         Explanation {
             sample,
             agree: divergences.iter().all(Option::is_none),
             render: None,
             divergences,
             table,
+            rows,
             trees,
         }
     }
@@ -323,6 +325,10 @@ pub struct Explanation {
     /// The table a person reads.
     #[serde(skip)]
     pub table: String,
+    /// The table's rows: the rays it shows, each quantity with every
+    /// tree's value and its bound (`glint serve`'s page shows them).
+    #[serde(skip)]
+    pub rows: Vec<table::Row>,
 }
 
 impl Explanation {

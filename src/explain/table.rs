@@ -84,16 +84,31 @@ fn parent(rays: &[super::tree::TreeRay], n: usize) -> Option<usize> {
         .map(|(m, _)| m)
 }
 
-/// The table of `trees` (the reference last), each laid flat in
-/// `columns`, the rays `shown` in full (None: all) and a line for the
-/// others.
-pub fn render(
-    trees: &[Tree],
+/// One quantity as the table shows it: a row of every renderer's value.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Row {
+    /// Its ray, by its place in the tree (None: the sample).
+    pub ray: Option<usize>,
+    /// Its whole label (`ray 2, light 0: diffuse`), as a divergence names it.
+    pub label: String,
+    /// Its label without the ray (`light 0: diffuse`).
+    pub field: String,
+    /// Each tree's value as printed, in the trees' order (the reference last).
+    pub values: Vec<String>,
+    /// Whether each value leaves the reference's past the bound.
+    pub past: Vec<bool>,
+    /// The f32 bound, or why there is none.
+    pub bound: String,
+}
+
+/// The rows of `trees` (the reference last), each laid flat in `columns`,
+/// for the rays `shown` (None: all).
+pub fn rows(
     columns: &[&[Entry]],
     bounds: &[Bound],
     marks: &[Vec<bool>],
     shown: Option<&[bool]>,
-) -> String {
+) -> Vec<Row> {
     let reference = *columns.last().expect("the reference's entries");
     let full = |ray: Option<usize>| ray.is_none_or(|n| shown.is_none_or(|s| s[n]));
     // Only the rows shown are looked up.
@@ -106,19 +121,11 @@ pub fn render(
                 .collect()
         })
         .collect();
-    let mut rows: Vec<(Option<usize>, String, Vec<String>, String)> = Vec::new();
+    let mut rows = Vec::new();
     for (k, r) in reference.iter().enumerate() {
         if !full(r.ray()) {
             continue;
         }
-        let cells = flats
-            .iter()
-            .zip(marks)
-            .map(|(f, m)| {
-                let mark = if m[k] { " *" } else { "" };
-                format!("{}{mark}", show(f.get(&r.label).copied()))
-            })
-            .collect();
         let bound = match (&r.value, &bounds[k]) {
             _ if !r.judged => "(shown, not judged)".to_owned(),
             (Value::Num { .. }, b) => format!(
@@ -129,8 +136,43 @@ pub fn render(
             (Value::Exact(_), b) if b.unstable => "ill-conditioned".to_owned(),
             _ => String::new(),
         };
-        rows.push((r.ray(), r.label.field(), cells, bound));
+        rows.push(Row {
+            ray: r.ray(),
+            label: r.label.to_string(),
+            field: r.label.field(),
+            values: flats
+                .iter()
+                .map(|f| show(f.get(&r.label).copied()))
+                .collect(),
+            past: marks.iter().map(|m| m[k]).collect(),
+            bound,
+        });
     }
+    rows
+}
+
+/// The table of `trees` (the reference last) from their `rows`, the rays
+/// `shown` in full (None: all) and a line for the others (`reference`,
+/// the reference's entries, and `marks` count them).
+pub fn render(
+    trees: &[Tree],
+    rows: &[Row],
+    reference: &[Entry],
+    marks: &[Vec<bool>],
+    shown: Option<&[bool]>,
+) -> String {
+    let rows: Vec<(Option<usize>, String, Vec<String>, String)> = rows
+        .iter()
+        .map(|r| {
+            let cells = r
+                .values
+                .iter()
+                .zip(&r.past)
+                .map(|(v, &past)| format!("{v}{}", if past { " *" } else { "" }))
+                .collect();
+            (r.ray, r.field.clone(), cells, r.bound.clone())
+        })
+        .collect();
     let head: Vec<String> = trees.iter().map(|t| t.renderer.clone()).collect();
     let name_w = rows.iter().map(|r| r.1.len()).max().unwrap_or(0).max(8);
     let widths: Vec<usize> = (0..trees.len())

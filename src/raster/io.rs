@@ -168,6 +168,15 @@ pub fn stage(
     })
 }
 
+/// `img` as the PNG that `render -o x.png` writes, in memory.
+pub fn png_bytes(img: &Image, srgb: bool) -> Vec<u8> {
+    let mut out = Vec::new();
+    // Writing to memory fails only where the encoder refuses the size,
+    // which no image glint makes has.
+    write_png(&mut out, img, srgb, Path::new("(in memory)")).expect("a PNG in memory");
+    out
+}
+
 fn write_png(
     out: &mut dyn Write,
     img: &Image,
