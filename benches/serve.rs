@@ -16,7 +16,7 @@ use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use page::{recolour, scene_copy, Browser, Served};
+use page::{first_material, recolour, scene_copy, Browser, Served};
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -66,14 +66,7 @@ fn edit_to_page(scene: &Path, tmp: &Path, runs: usize) -> Vec<f64> {
         "document.body.dataset.judged === 'yes'",
         "the first judged render",
     );
-    let table: toml::Table = std::fs::read_to_string(scene).unwrap().parse().unwrap();
-    let material = table["materials"]
-        .as_table()
-        .unwrap()
-        .keys()
-        .next()
-        .unwrap()
-        .clone();
+    let material = first_material(scene);
     let colours = ["0.9, 0.1, 0.6", "0.1, 0.8, 0.3"];
     (0..runs)
         .map(|i| {

@@ -12,7 +12,7 @@ use std::time::Duration;
 
 use serde_json::json;
 
-use common::page::{recolour, scene_copy, Browser, Served};
+use common::page::{first_material, recolour, scene_copy, Browser, Served};
 
 /// The size the tests serve at.
 const SMALL: &[&str] = &["--width", "64", "--height", "48"];
@@ -45,14 +45,7 @@ fn the_page_shows_the_images_follows_an_edit_and_explains_a_pixel() {
     let before = b.screenshot();
     // A material's colour changed: the new image comes without a reload,
     // and the screenshot changes inside the GPU image.
-    let materials: toml::Table = std::fs::read_to_string(&scene).unwrap().parse().unwrap();
-    let material = materials["materials"]
-        .as_table()
-        .unwrap()
-        .keys()
-        .next()
-        .unwrap()
-        .clone();
+    let material = first_material(&scene);
     b.eval("window.notReloaded = true");
     recolour(&scene, &material, "0.9, 0.05, 0.6");
     b.until(

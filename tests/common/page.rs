@@ -251,6 +251,13 @@ pub fn scene_copy(dir: &Path, name: &str) -> PathBuf {
     path
 }
 
+/// The name of the first material of the scene file at `path`.
+pub fn first_material(path: &Path) -> String {
+    let table: toml::Table = std::fs::read_to_string(path).unwrap().parse().unwrap();
+    let materials = table["materials"].as_table().expect("a [materials] table");
+    materials.keys().next().expect("a material").clone()
+}
+
 /// Rewrites `path` so that the material `m`'s diffuse colour is `rgb`.
 pub fn recolour(path: &Path, material: &str, rgb: &str) {
     let text = std::fs::read_to_string(path).unwrap();
