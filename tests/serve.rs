@@ -228,3 +228,12 @@ fn it_serves_its_routes_alone_on_the_loopback_and_leaves_nothing_behind() {
     files.sort();
     assert_eq!(files, ["scene.toml", "tmp"]);
 }
+
+/// A scene that cannot be read at all is a mistyped name: one error and
+/// exit 2, not a page of it.
+#[test]
+fn a_scene_that_cannot_be_read_is_one_error() {
+    let o = common::glint(&["serve", "/nonexistent/scene.toml"]);
+    common::assert_user_error(&o, "cannot read scene");
+    assert!(o.stdout.is_empty(), "it served");
+}

@@ -60,6 +60,12 @@ const MAX_URL: usize = 256;
 
 pub fn run(a: &ServeArgs) -> anyhow::Result<ExitCode> {
     super::console::exit_at_once_when_interrupted();
+    // A scene that cannot be read at all is a mistyped name: one error, as
+    // every command gives it. A scene that reads but is wrong is served,
+    // its error on the page until it is mended.
+    if !a.scene.scene.is_file() {
+        a.scene.load()?;
+    }
     let options = a.device.options()?;
     options.check()?;
     let renderer = super::render_gpu::open(&options)?;
