@@ -27,6 +27,8 @@ impl Browser {
                 "--headless",
                 "--no-sandbox",
                 "--disable-gpu",
+                // A container's /dev/shm may be too small for its renderer.
+                "--disable-dev-shm-usage",
                 "--no-first-run",
                 "--remote-debugging-port=0",
                 "--window-size=1280,900",
