@@ -181,33 +181,13 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
             }
         }
         if let Some(c) = &conditioned {
-            outln!(
-                "condition  {:.4}% of pixels ill-conditioned at f32 ({} perturbed f64 renders{} and the f32 one), {:.4}% over 1/255 among them",
-                100.0 * c.ill,
-                condition::TRIALS,
-                if c.driver_trials {
-                    format!(", {} more at a conformant driver's error,", condition::DRIVER_TRIALS)
-                } else {
-                    String::new()
-                },
-                100.0 * c.over_and_ill
-            );
-            outln!("well-cond  {}", super::diff::format_figures(&c.error));
+            for line in super::diff::condition_lines(c) {
+                outln!("{line}");
+            }
         }
         outln!(
-            "tolerance  over 1/255 <= {:.2}%, rmse <= {:.1e}, no non-finite value{}: {}",
-            100.0 * tolerance.frac_over_1_255,
-            tolerance.rmse,
-            if conditioned.is_some() {
-                ", over the well-conditioned pixels"
-            } else {
-                ""
-            },
-            if violations.is_empty() {
-                "pass"
-            } else {
-                "FAIL"
-            }
+            "{}",
+            super::diff::tolerance_line(&tolerance, conditioned.is_some(), violations.is_empty())
         );
         for v in &violations {
             outln!("           {v}");

@@ -51,6 +51,44 @@ pub fn run(a: &DiffArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// `compare`'s conditioning lines: the share of ill-conditioned pixels
+/// and the error over the well-conditioned ones (`compare` and `serve`).
+pub fn condition_lines(c: &glint::condition::Conditioned) -> [String; 2] {
+    [
+        format!(
+            "condition  {:.4}% of pixels ill-conditioned at f32 ({} perturbed f64 renders{} and the f32 one), {:.4}% over 1/255 among them",
+            100.0 * c.ill,
+            glint::condition::TRIALS,
+            if c.driver_trials {
+                format!(", {} more at a conformant driver's error,", glint::condition::DRIVER_TRIALS)
+            } else {
+                String::new()
+            },
+            100.0 * c.over_and_ill
+        ),
+        format!("well-cond  {}", format_figures(&c.error)),
+    ]
+}
+
+/// `compare`'s verdict line: the tolerance and pass or FAIL.
+pub fn tolerance_line(
+    tolerance: &glint::raster::diff::Tolerance,
+    conditioned: bool,
+    pass: bool,
+) -> String {
+    format!(
+        "tolerance  over 1/255 <= {:.2}%, rmse <= {:.1e}, no non-finite value{}: {}",
+        100.0 * tolerance.frac_over_1_255,
+        tolerance.rmse,
+        if conditioned {
+            ", over the well-conditioned pixels"
+        } else {
+            ""
+        },
+        if pass { "pass" } else { "FAIL" }
+    )
+}
+
 /// The error figures in one line, as `diff` and `compare` print them.
 pub fn format_figures(f: &ErrorFigures) -> String {
     format!(

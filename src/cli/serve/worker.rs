@@ -284,25 +284,16 @@ fn verdict(
         "gpu error  {}",
         crate::cli::diff::format_figures(&j.error)
     )];
-    if let Some(c) = &j.conditioned {
-        lines.push(format!(
-            "condition  {:.4}% of pixels ill-conditioned at f32, {:.4}% over 1/255 among them",
-            100.0 * c.ill,
-            100.0 * c.over_and_ill
-        ));
-        lines.push(format!(
-            "well-cond  {}",
-            crate::cli::diff::format_figures(&c.error)
-        ));
-    }
     if let Some(d) = &j.decisions {
         lines.push(crate::cli::diff::format_decisions(d));
     }
-    lines.push(format!(
-        "tolerance  over 1/255 <= {:.2}%, rmse <= {:.1e}, no non-finite value: {}",
-        100.0 * tolerance.frac_over_1_255,
-        tolerance.rmse,
-        if j.pass() { "pass" } else { "FAIL" }
+    if let Some(c) = &j.conditioned {
+        lines.extend(crate::cli::diff::condition_lines(c));
+    }
+    lines.push(crate::cli::diff::tolerance_line(
+        &tolerance,
+        j.conditioned.is_some(),
+        j.pass(),
     ));
     Verdict {
         generation,
