@@ -53,6 +53,7 @@ pub fn run(a: &DiffArgs) -> anyhow::Result<ExitCode> {
 
 /// `compare`'s conditioning lines: the share of ill-conditioned pixels
 /// and the error over the well-conditioned ones (`compare` and `serve`).
+#[cfg(feature = "gpu")]
 pub fn condition_lines(c: &glint::condition::Conditioned) -> [String; 2] {
     [
         format!(
@@ -71,6 +72,7 @@ pub fn condition_lines(c: &glint::condition::Conditioned) -> [String; 2] {
 }
 
 /// `compare`'s verdict line: the tolerance and pass or FAIL.
+#[cfg(feature = "gpu")]
 pub fn tolerance_line(
     tolerance: &glint::raster::diff::Tolerance,
     conditioned: bool,
