@@ -4,7 +4,7 @@ each lane's options, on the default driver and on Debian 12's stock 22.3
 (ci/old-lavapipe), runs interleaved lane by lane and driver by driver so
 that every lane sees the same machine load.
 
-    python3 benches/choices.py --lane base= --lane quads="-D LANE_QUADS" \\
+    python3 benches/choices.py --lane base= --lane pair="-I shaders/experiments/walk -D PAIR_VISIT" \\
         [--runs 3] [--drivers default,22.3] [--metric wall|cpu] [SCENE ...]
 
 A lane is NAME=ARGS: ARGS are glint bench options (shell words), and two

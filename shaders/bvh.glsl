@@ -41,55 +41,15 @@ const real BOX_SLACK = 1.000002;
 
 // The children waiting, with where the ray enters their boxes: private to
 // the invocation, shared by the two walks (never nested).
-#if defined(PAIR_VISIT) && defined(REGISTER_STACK)
-#error "PAIR_VISIT reads the stack's array, which REGISTER_STACK keeps in registers"
-#endif
-#ifdef PAIR_VISIT
-// Pairs break the bound of three entries a level (a pair's second node
-// may lie above the first): room to spare, and pushes past it dropped
-// (bvh_push) so that the array is never overrun.
-#define BVH_CAPACITY (BVH_STACK * 4u)
-#else
-#define BVH_CAPACITY BVH_STACK
-#endif
-uint bvh_stack_word[BVH_CAPACITY];
-real bvh_stack_t[BVH_CAPACITY];
+uint bvh_stack_word[BVH_STACK];
+real bvh_stack_t[BVH_STACK];
 uint bvh_sp;
 
-#ifdef REGISTER_STACK
-// An experiment (issue 58; docs/performance.md, The walk's control): the
-// stack's top eight entries in registers, moved by constant-index shifts,
-// entry 0 the top; older ones spill to the arrays above. No gain measured.
-uint rw0, rw1, rw2, rw3, rw4, rw5, rw6, rw7;
-real rt0, rt1, rt2, rt3, rt4, rt5, rt6, rt7;
-uint rs_n;
-
 void bvh_push(uint w, real t) {
-    if (rs_n == 8u) {
-        bvh_stack_word[bvh_sp] = rw7;
-        bvh_stack_t[bvh_sp] = rt7;
-        bvh_sp++;
-    }
-    rw7 = rw6; rt7 = rt6; rw6 = rw5; rt6 = rt5; rw5 = rw4; rt5 = rt4; rw4 = rw3; rt4 = rt3;
-    rw3 = rw2; rt3 = rt2; rw2 = rw1; rt2 = rt1; rw1 = rw0; rt1 = rt0; rw0 = w; rt0 = t;
-    rs_n = min(rs_n + 1u, 8u);
-}
-#define BVH_DEPTH (bvh_sp + rs_n)
-#define BVH_CLEAR() bvh_sp = 0u; rs_n = 0u
-#else
-void bvh_push(uint w, real t) {
-#ifdef PAIR_VISIT
-    if (bvh_sp == BVH_CAPACITY) {
-        return;
-    }
-#endif
     bvh_stack_word[bvh_sp] = w;
     bvh_stack_t[bvh_sp] = t;
     bvh_sp++;
 }
-#define BVH_DEPTH bvh_sp
-#define BVH_CLEAR() bvh_sp = 0u
-#endif
 
 // 1/d, with +-1e30 for a zero component so that (lo - o) * inv is never 0 * inf.
 vec3r inverse_dir(vec3r d) {
@@ -172,11 +132,11 @@ struct Children {
     uint w0, w1, w2, w3;
 };
 
-// The children of words `child` entered at `t`, sorted; slots numbered
-// from `k` (a tie goes to the lower).
-Children sorted_children(vec4r t, uvec4 child, uint k) {
+// The children of words `child` entered at `t`, sorted (a tie goes to
+// the lower slot).
+Children sorted_children(vec4r t, uvec4 child) {
     Children c = Children(t.x, t.y, t.z, t.w, child.x, child.y, child.z, child.w);
-    uint k0 = k, k1 = k + 1u, k2 = k + 2u, k3 = k + 3u;
+    uint k0 = 0u, k1 = 1u, k2 = 2u, k3 = 3u;
     order(c.t0, c.w0, k0, c.t1, c.w1, k1);
     order(c.t2, c.w2, k2, c.t3, c.w3, k3);
     order(c.t0, c.w0, k0, c.t2, c.w2, k2);
@@ -185,9 +145,8 @@ Children sorted_children(vec4r t, uvec4 child, uint k) {
     return c;
 }
 
-// Pushes the entered children of `c` but the nearest, the farthest first
-// (and the nearest last, where `nearest_too`).
-void push_children(Children c, bool nearest_too) {
+// Pushes the entered children of `c` but the nearest, the farthest first.
+void push_children(Children c) {
     if (c.t3 < INF) {
         bvh_push(c.w3, c.t3);
     }
@@ -197,46 +156,8 @@ void push_children(Children c, bool nearest_too) {
     if (c.t1 < INF) {
         bvh_push(c.w1, c.t1);
     }
-    if (nearest_too && c.t0 < INF) {
-        bvh_push(c.w0, c.t0);
-    }
 }
 
-#ifdef PAIR_VISIT
-// An experiment (issue 58; docs/performance.md, The walk's control): a
-// visit takes the stack's top as well where it is an inner node entered
-// within t_max, so that one iteration of the divergent loop tests eight
-// boxes, as an 8-wide node's visit would, rather than four. The nearest
-// of the eight is returned; each node's other children are pushed
-// farthest first, the node with the farther nearest child first. Slower
-// on both lavapipes: a box's work, not the loop's, is what a visit costs.
-uint bvh_descend(Ray r, vec3r inv, uint index, real t_max) {
-    uint other = BVH_EMPTY;
-    if (bvh_sp > 0u && bvh_sp + 6u <= BVH_STACK) {
-        uint w = bvh_stack_word[bvh_sp - 1u];
-        if ((w & 15u) == 0u && bvh_stack_t[bvh_sp - 1u] <= t_max * BOX_SLACK) {
-            bvh_sp--;
-            other = w >> 4;
-        }
-    }
-    ON_NODE();
-    COUNT_NODE();
-    if (other != BVH_EMPTY) {
-        COUNT_NODE();
-    }
-    Node n = unpack(index);
-    Node m = unpack(other != BVH_EMPTY ? other : index);
-    Children a = sorted_children(entries(r, inv, n, t_max), n.child, 0u);
-    Children b = sorted_children(other != BVH_EMPTY ? entries(r, inv, m, t_max) : vec4r(INF),
-                                 m.child, 4u);
-    bool b_nearer = b.t0 < a.t0;
-    push_children(b_nearer ? a : b, true);
-    Children near = b_nearer ? b : a;
-    push_children(near, false);
-    ON_PUSH(BVH_DEPTH);
-    return near.t0 < INF ? near.w0 : BVH_EMPTY;
-}
-#else
 // Visits inner node `index`: of the children whose boxes the ray enters
 // within t_max, the nearest is returned and the others are pushed, the
 // farthest first; BVH_EMPTY where it enters none.
@@ -244,65 +165,20 @@ uint bvh_descend(Ray r, vec3r inv, uint index, real t_max) {
     ON_NODE();
     COUNT_NODE();
     Node n = unpack(index);
-    Children c = sorted_children(entries(r, inv, n, t_max), n.child, 0u);
-    push_children(c, false);
-    ON_PUSH(BVH_DEPTH);
+    Children c = sorted_children(entries(r, inv, n, t_max), n.child);
+    push_children(c);
+    ON_PUSH(bvh_sp);
     return c.t0 < INF ? c.w0 : BVH_EMPTY;
 }
-#endif
-
-#ifdef SHADOW_ANY_ORDER
-// An experiment (docs/performance.md, Reading the scene): a shadow ray
-// takes the children it enters in slot order, unsorted, since any hit ends
-// its walk. (It visits other nodes than the CPU's walk, so --stats differ.)
-uint bvh_descend_any(Ray r, vec3r inv, uint index, real t_max) {
-    ON_NODE();
-    COUNT_NODE();
-    Node n = unpack(index);
-    vec4r t = entries(r, inv, n, t_max);
-    uint first = BVH_EMPTY;
-    [[unroll]] for (uint k = 0u; k < 4u; k++) {
-        if (t[k] < INF) {
-            if (first == BVH_EMPTY) {
-                first = n.child[k];
-            } else {
-                bvh_push(n.child[k], t[k]);
-            }
-        }
-    }
-    return first;
-}
-#define bvh_descend_shadow bvh_descend_any
-#else
-#define bvh_descend_shadow bvh_descend
-#endif
 
 // The next child waiting that the ray enters within t_max (one entered
 // beyond a hit found since it was pushed is dropped); BVH_EMPTY when none is.
 uint bvh_pop(real t_max) {
     uint next = BVH_EMPTY;
-#ifdef REGISTER_STACK
-    [[dont_unroll]] while ((rs_n > 0u || bvh_sp > 0u) && next == BVH_EMPTY) {
-        uint w;
-        real t;
-        if (rs_n > 0u) {
-            w = rw0; t = rt0;
-            rw0 = rw1; rt0 = rt1; rw1 = rw2; rt1 = rt2; rw2 = rw3; rt2 = rt3; rw3 = rw4; rt3 = rt4;
-            rw4 = rw5; rt4 = rt5; rw5 = rw6; rt5 = rt6; rw6 = rw7; rt6 = rt7;
-            rs_n--;
-        } else {
-            bvh_sp--;
-            w = bvh_stack_word[bvh_sp];
-            t = bvh_stack_t[bvh_sp];
-        }
-        next = t <= t_max * BOX_SLACK ? w : BVH_EMPTY;
-    }
-#else
     [[dont_unroll]] while (bvh_sp > 0u && next == BVH_EMPTY) {
         bvh_sp--;
         next = bvh_stack_t[bvh_sp] <= t_max * BOX_SLACK ? bvh_stack_word[bvh_sp] : BVH_EMPTY;
     }
-#endif
     return next;
 }
 
@@ -318,7 +194,7 @@ void bvh_nearest(Ray r, uint from, inout Hit hit) {
 #endif
     vec3r inv = inverse_dir(r.dir);
     uint key = NONE;
-    BVH_CLEAR();
+    bvh_sp = 0u;
     // The root is inner node 0.
     uint current = 0u;
 #ifdef USE_TABLES
@@ -329,24 +205,6 @@ void bvh_nearest(Ray r, uint from, inout Hit hit) {
         current = list_next(at, end, hit.t * KEY_SLACK);
     }
 #endif
-#ifdef WALK_WHILE_WHILE
-    // An experiment (docs/performance.md, Reading the scene): Aila and
-    // Laine's while-while, the inner nodes until every lane holds a leaf,
-    // then the leaves. (It walks the tree for a list too.)
-#ifdef USE_TABLES
-    current = 0u;
-#endif
-    [[dont_unroll]] while (current != BVH_EMPTY) {
-        [[dont_unroll]] while (current != BVH_EMPTY && (current & 15u) == 0u) {
-            uint next = bvh_descend(r, inv, current >> 4, hit.t);
-            current = next != BVH_EMPTY ? next : bvh_pop(hit.t);
-        }
-        if (current != BVH_EMPTY) {
-            leaf_nearest(r, from, current, hit, key);
-            current = bvh_pop(hit.t);
-        }
-    }
-#else
     [[dont_unroll]] while (current != BVH_EMPTY) {
         uint next = BVH_EMPTY;
         if ((current & 15u) != 0u) {
@@ -361,7 +219,6 @@ void bvh_nearest(Ray r, uint from, inout Hit hit) {
         current = next != BVH_EMPTY ? next : bvh_pop(hit.t);
 #endif
     }
-#endif
 }
 
 #if HAS_SHADOWS
@@ -374,7 +231,7 @@ bool bvh_occluded(Ray r, uint from, real dist, uvec2 list, real bound) {
 bool bvh_occluded(Ray r, uint from, real dist) {
 #endif
     vec3r inv = inverse_dir(r.dir);
-    BVH_CLEAR();
+    bvh_sp = 0u;
     bool blocked = false;
     uint current = 0u;
 #ifdef USE_TABLES
@@ -385,27 +242,12 @@ bool bvh_occluded(Ray r, uint from, real dist) {
         current = list_next(at, end, bound);
     }
 #endif
-#ifdef WALK_WHILE_WHILE
-#ifdef USE_TABLES
-    current = 0u;
-#endif
-    [[dont_unroll]] while (current != BVH_EMPTY) {
-        [[dont_unroll]] while (current != BVH_EMPTY && (current & 15u) == 0u) {
-            uint next = bvh_descend_shadow(r, inv, current >> 4, dist);
-            current = next != BVH_EMPTY ? next : bvh_pop(dist);
-        }
-        if (current != BVH_EMPTY) {
-            blocked = leaf_occluded(r, from, current, dist);
-            current = blocked ? BVH_EMPTY : bvh_pop(dist);
-        }
-    }
-#else
     [[dont_unroll]] while (current != BVH_EMPTY && !blocked) {
         uint next = BVH_EMPTY;
         if ((current & 15u) != 0u) {
             blocked = leaf_occluded(r, from, current, dist);
         } else {
-            next = bvh_descend_shadow(r, inv, current >> 4, dist);
+            next = bvh_descend(r, inv, current >> 4, dist);
         }
 #ifdef USE_TABLES
         current = next != BVH_EMPTY || blocked ? next
@@ -414,7 +256,6 @@ bool bvh_occluded(Ray r, uint from, real dist) {
         current = next != BVH_EMPTY || blocked ? next : bvh_pop(dist);
 #endif
     }
-#endif
     return blocked;
 }
 #endif

@@ -74,16 +74,6 @@ void main() {
 #else
 void main() {
     uvec2 local = gl_GlobalInvocationID.xy;
-#ifdef LANE_QUADS
-    // An experiment (docs/performance.md, The lavapipe-specific choices):
-    // llvmpipe runs a workgroup's invocations 8 at a time in index order,
-    // so the lanes of one SIMD group shade a row of 8 pixels; here they
-    // shade a 4x2 block instead, whose rays stay closer together.
-    uint lane = gl_LocalInvocationIndex & 7u;
-    uint group = gl_LocalInvocationIndex >> 3u;
-    local = gl_WorkGroupID.xy * gl_WorkGroupSize.xy
-        + uvec2((group & 1u) * 4u + (lane & 3u), (group >> 1u) * 2u + (lane >> 2u));
-#endif
     if (local.x >= tile.rect.z || local.y >= tile.rect.w) {
         return;
     }

@@ -66,25 +66,6 @@ Path start_path(Ray ray) {
 // The wavefront's stack is in the path's buffer (wavefront.glsl).
 Branch branch_at(uint k);
 void set_branch(uint k, Branch b);
-#elif HAS_TRANSMISSION && defined(BRANCH_ARRAYS)
-// An experiment (docs/performance.md, The lavapipe-specific choices): the
-// megakernel's stack as one private array per field rather than an array of
-// structs.
-vec3r branch_origin[STACK_SIZE];
-vec3r branch_dir[STACK_SIZE];
-uvec2 branch_words[STACK_SIZE];
-real branch_weight[STACK_SIZE];
-
-Branch branch_at(uint k) {
-    return Branch(Ray(branch_origin[k], branch_dir[k]), branch_words[k].x, branch_words[k].y, branch_weight[k]);
-}
-
-void set_branch(uint k, Branch b) {
-    branch_origin[k] = b.ray.origin;
-    branch_dir[k] = b.ray.dir;
-    branch_words[k] = uvec2(b.from, b.depth);
-    branch_weight[k] = b.weight;
-}
 #elif HAS_TRANSMISSION
 // The megakernel's stack: private to the invocation.
 Branch branch_stack[STACK_SIZE];
@@ -97,22 +78,6 @@ void set_branch(uint k, Branch b) {
     branch_stack[k] = b;
 }
 #endif
-
-// The hit's material. MATERIAL_SELECT is an experiment (docs/performance.md,
-// The lavapipe-specific choices): where the materials are a uniform array
-// of constant length, every slot is read at a constant index and the hit's
-// picked by a chain of selects, in place of one load at a per-lane index.
-Material material_of(uint i) {
-#if defined(MATERIAL_SELECT) && defined(MATERIALS_SLOTS)
-    Material m = material_at(0u);
-    [[unroll]] for (uint k = 1u; k < MATERIALS_SLOTS; k++) {
-        m = i == k ? material_at(k) : m;
-    }
-    return m;
-#else
-    return material_at(i);
-#endif
-}
 
 // Traces the path's ray and shades its hit, then sets up the next segment:
 // the reflection ray where the surface reflects, else the latest refraction
@@ -146,7 +111,7 @@ bool path_step(inout Path s) {
         vec3r face = back ? -outward : outward;
         // Where the rays that leave on the ray's side start.
         vec3r above = leave(hit, p, ray.origin, face);
-        Material m = material_of(hit.material);
+        Material m = material_at(hit.material);
 #if HAS_TEXTURES
         apply_textures(m, hit, p);
 #endif

@@ -1,8 +1,8 @@
-//! The shader's experiment switches (docs/shaders.md, the defines;
-//! docs/performance.md, The lavapipe-specific choices) change how the work
-//! is laid on the device, never the image: each renders the same bits as
-//! the shipped shader on the scenes that exercise it, under the validation
-//! layer, so that a measurement made with one measures the same picture.
+//! The experiments that change how the work is laid on the device, never
+//! the image (shaders/experiments/walk: other controls of the BVH walk,
+//! each behind a define): each renders the same bits as the shipped
+//! shader on the scenes that exercise it, under the validation layer, so
+//! that a measurement made with one measures the same picture.
 
 #![cfg(feature = "gpu")]
 
@@ -13,9 +13,23 @@ use glint::gpu::{GpuOptions, Renderer};
 use glint::raster::Image;
 use glint::scene::{Overrides, Scene};
 
+/// The BVH walk's experiments: shaders/experiments/walk/bvh.glsl, which
+/// replaces the shipped walk, and the define that picks each.
+const WALK: &str = "shaders/experiments/walk";
+
+/// A renderer of the shipped shaders, with `define` where one is given.
 fn renderer(define: Option<&str>) -> Renderer {
     common::gpu_from(GpuOptions {
         defines: define.map(|d| (d.to_owned(), None)).into_iter().collect(),
+        ..GpuOptions::default()
+    })
+}
+
+/// A renderer of the walk experiment, with `define` where one is given.
+fn walk(define: Option<&str>) -> Renderer {
+    common::gpu_from(GpuOptions {
+        defines: define.map(|d| (d.to_owned(), None)).into_iter().collect(),
+        include_dirs: vec![common::repo().join(WALK)],
         ..GpuOptions::default()
     })
 }
@@ -34,24 +48,34 @@ fn render(r: &mut Renderer, scene: &Scene) -> Image {
     r.render(scene, &|_| {}).expect("render").0
 }
 
-/// The SPIR-V `r` compiles for `scene`.
-fn spirv(r: &Renderer, scene: &Scene) -> Vec<u32> {
+/// The SPIR-V `r` compiles for `scene`, with the walk experiment's folder
+/// first where `walk`.
+fn spirv(r: &Renderer, scene: &Scene, walk: bool) -> Vec<u32> {
     let (variant, defines) = r.variant(scene, &r.settings());
-    let sources = Sources::default().for_variant(&variant);
+    let sources = Sources {
+        dirs: walk
+            .then(|| common::repo().join(WALK))
+            .into_iter()
+            .collect(),
+        ..Sources::default()
+    }
+    .for_variant(&variant);
     compile(&sources, &defines).expect("compile").spirv
 }
 
-/// Renders each scene with and without `define` and requires the same
-/// bits, once the define is seen to change the compiled shader (else the
-/// two renders would be of one shader).
+/// Renders each scene with the shipped shaders and with the walk
+/// experiment's `define`, and requires the same bits, once the define is
+/// seen to change the experiment's compiled shader (else the two renders
+/// could be of one walk).
 fn same_bits_with(define: &str, scenes: &[&str]) {
     let mut shipped = renderer(None);
-    let mut with = renderer(Some(define));
+    let plain = walk(None);
+    let mut with = walk(Some(define));
     for name in scenes {
         let s = scene(name);
         assert_ne!(
-            spirv(&shipped, &s),
-            spirv(&with, &s),
+            spirv(&plain, &s, true),
+            spirv(&with, &s, true),
             "{name}: -D {define} does not reach the shader"
         );
         let a = render(&mut shipped, &s);
@@ -91,52 +115,21 @@ fn two_nodes_a_visit_find_what_one_node_finds() {
     same_bits_with("PAIR_VISIT", TREES);
 }
 
-/// MATERIAL_SELECT picks among the materials' uniform slots: a driver that
-/// gets no uniform buffers (llvmpipe before Mesa 25.0, which corrupted its
-/// heap on them; issue 56) has none to pick among.
+/// Each define the walk experiment's header lists is one of the four
+/// tested above: a fifth would go untested.
 #[test]
-fn material_selects_pick_the_loaded_material() {
-    if !renderer(None).device_info().reads_uniform_arrays {
-        common::skip(
-            "MATERIAL_SELECT",
-            "this driver reads no scene from uniform buffers (llvmpipe before Mesa 25.0)",
-        );
-        return;
-    }
-    same_bits_with(
-        "MATERIAL_SELECT",
-        &[
-            "scenes/showcase.toml",
-            "scenes/seed-fig3.toml",
-            "scenes/textures.toml",
-        ],
-    );
-}
-
-#[test]
-fn lanes_in_quads_shade_every_pixel_once() {
-    // 64x48 is whole workgroups; the odd size leaves part of one unshaded
-    // where the mapping were wrong at an edge.
-    same_bits_with(
-        "LANE_QUADS",
-        &["scenes/seed-fig4.toml", "scenes/showcase.toml"],
-    );
-    let o = Overrides {
-        width: Some(61),
-        height: Some(43),
-        ..Overrides::default()
-    };
-    let s = Scene::load(&common::repo().join("scenes/seed-fig3.toml"), &o).unwrap();
-    let a = render(&mut renderer(None), &s);
-    let b = render(&mut renderer(Some("LANE_QUADS")), &s);
-    assert!(common::same_bits(&a, &b), "LANE_QUADS at 61x43");
-}
-
-#[test]
-fn the_refraction_stack_in_arrays_keeps_the_branches() {
-    same_bits_with(
-        "BRANCH_ARRAYS",
-        &["scenes/glass.toml", "scenes/whitted-1980.toml"],
+fn the_walk_experiment_lists_the_defines_tested() {
+    let text = std::fs::read_to_string(common::repo().join(WALK).join("bvh.glsl")).unwrap();
+    let mut listed: Vec<&str> = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("#ifdef "))
+        .filter(|d| !d.starts_with("USE_") && !d.starts_with("ON_"))
+        .collect();
+    listed.sort_unstable();
+    listed.dedup();
+    assert_eq!(
+        listed,
+        ["PAIR_VISIT", "REGISTER_STACK", "SHADOW_ANY_ORDER", "WALK_WHILE_WHILE"]
     );
 }
 
@@ -157,14 +150,18 @@ fn the_bit_comparison_sees_one_changed_bit() {
 /// tests below green).
 #[test]
 fn a_define_the_shader_never_reads_changes_nothing_and_is_caught() {
-    let s = scene("scenes/seed-fig4.toml");
+    let s = scene("scenes/seed-fig5.toml");
     assert_eq!(
-        spirv(&renderer(None), &s),
-        spirv(&renderer(Some("NO_SHADER_READS_THIS")), &s)
+        spirv(&renderer(None), &s, false),
+        spirv(&renderer(Some("NO_SHADER_READS_THIS")), &s, false)
+    );
+    assert_eq!(
+        spirv(&walk(None), &s, true),
+        spirv(&walk(Some("NO_SHADER_READS_THIS")), &s, true)
     );
     assert_ne!(
-        spirv(&renderer(None), &s),
-        spirv(&renderer(Some("LANE_QUADS")), &s)
+        spirv(&walk(None), &s, true),
+        spirv(&walk(Some("PAIR_VISIT")), &s, true)
     );
 }
 

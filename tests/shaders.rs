@@ -277,7 +277,7 @@ fn the_stack_experiment_counts_within_the_declared_stack() {
 
 /// The stack experiment's green channel counts each pixel's visits: over
 /// the image they are the nodes `--stats` counts, one a visit; with two
-/// nodes a visit (`-D PAIR_VISIT`) fewer visits than nodes, and the image
+/// nodes a visit (shaders/experiments/walk's `-D PAIR_VISIT`) fewer visits than nodes, and the image
 /// the same.
 #[test]
 fn the_stack_experiment_counts_the_visits_that_stats_count() {
@@ -309,10 +309,19 @@ fn the_stack_experiment_counts_the_visits_that_stats_count() {
         &["--stats", dir.path().join("one.json").to_str().unwrap()],
         "one.png",
     );
-    render(&["-I", stack, "-D", "PAIR_VISIT"], "pair.pfm");
+    let walk = common::repo().join("shaders/experiments/walk");
+    let walk = walk.to_str().unwrap();
+    render(&["-I", stack, "-I", walk, "-D", "PAIR_VISIT"], "pair.pfm");
     let pair_json = dir.path().join("pair.json");
     render(
-        &["-D", "PAIR_VISIT", "--stats", pair_json.to_str().unwrap()],
+        &[
+            "-I",
+            walk,
+            "-D",
+            "PAIR_VISIT",
+            "--stats",
+            pair_json.to_str().unwrap(),
+        ],
         "pair.png",
     );
     assert!(nodes("one.json") > 1000.0);
