@@ -129,7 +129,12 @@ fn the_walk_experiment_lists_the_defines_tested() {
     listed.dedup();
     assert_eq!(
         listed,
-        ["PAIR_VISIT", "REGISTER_STACK", "SHADOW_ANY_ORDER", "WALK_WHILE_WHILE"]
+        [
+            "PAIR_VISIT",
+            "REGISTER_STACK",
+            "SHADOW_ANY_ORDER",
+            "WALK_WHILE_WHILE"
+        ]
     );
 }
 
