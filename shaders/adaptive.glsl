@@ -1,5 +1,5 @@
 // Whitted's adaptive antialiasing on the GPU (docs/scene-format.md, Rays):
-// the host splits the squares level by level (src/scene/refine.rs), as the
+// the host splits the squares level by level (src/sampling/adaptive.rs), as the
 // CPU does, and lists each level's new points, each once though two squares
 // share it; one invocation traces one point. Mirrors trace_points() in
 // src/cpu/adaptive.rs.

@@ -1,11 +1,11 @@
 // Contrast sampling on the GPU (docs/scene-format.md, Rays): the host picks
-// each level's pixels (src/scene/contrast.rs, as the CPU does) and lists
+// each level's pixels (src/sampling/contrast.rs, as the CPU does) and lists
 // them; one invocation traces one entry, samples first..first+count of a
 // pixel, one after another, and writes their sum, their least and greatest
 // colour clamped to 0..1, and their trees' words. Mirrors src/cpu/contrast.rs.
 
 // Point k (< 256) of the Sobol (0,2) sequence, in units of 1/256. Mirrors
-// sobol() in src/scene/contrast.rs.
+// sobol() in src/sampling/contrast.rs.
 uvec2 sobol(uint k) {
     uint x = bitfieldReverse(k & 0xffu) >> 24u;
     uint y = 0u;
@@ -20,13 +20,13 @@ uvec2 sobol(uint k) {
 }
 
 // The first of each mirrored pair of samples 1..64: cells of the pixel's
-// 8x8 lattice, numbered x * 8 + y. Mirrors LATTICE in src/scene/contrast.rs.
+// 8x8 lattice, numbered x * 8 + y. Mirrors LATTICE in src/sampling/contrast.rs.
 const uint LATTICE[32] = uint[](16u, 50u, 2u, 31u, 6u, 9u, 20u, 27u, 0u, 4u, 11u, 15u, 18u, 22u,
                                 25u, 29u, 1u, 3u, 5u, 7u, 8u, 10u, 12u, 14u, 17u, 19u, 21u, 23u,
                                 24u, 26u, 30u, 28u);
 
 // Sample k's place in its pixel, in units of 1/512 pixel: the centre, then
-// pairs mirrored through it. Mirrors sample_at() in src/scene/contrast.rs.
+// pairs mirrored through it. Mirrors sample_at() in src/sampling/contrast.rs.
 uvec2 sample_at(uint k) {
     if (k == 0u) {
         return uvec2(256u);
@@ -43,7 +43,7 @@ uvec2 sample_at(uint k) {
     return k % 2u == 1u ? p : uvec2(512u) - p;
 }
 
-// What an entry's samples gave (src/scene/contrast.rs, Batch).
+// What an entry's samples gave (src/sampling/contrast.rs, Batch).
 struct ContrastBatch {
     vec3r sum;
     vec3r least;

@@ -18,7 +18,8 @@
 //!   scene compiles with.
 //!
 //! [`settings`] names the choices both renderers take (precision, accel,
-//! intersection forms, schedule). The other public modules are what
+//! intersection forms, schedule); [`sampling`] holds how both place and
+//! refine a pixel's samples. The other public modules are what
 //! glint's commands are built from:
 #![cfg_attr(
     feature = "gpu",
@@ -81,6 +82,7 @@ pub mod raster;
 #[cfg(feature = "gpu")]
 pub mod report;
 pub(crate) mod rng;
+pub mod sampling;
 pub mod scene;
 pub mod settings;
 pub mod spec_worst;

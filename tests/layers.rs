@@ -19,6 +19,9 @@ const LAYERS: &[&[&str]] = &[
     // Scene management over the kinds; the counters' slots, sized by them.
     &["accel", "stats"],
     &["scene", "settings"],
+    // How a pixel's samples are placed and refined, which both renderers
+    // share (the scene holds only the keys).
+    &["sampling"],
     // The two renderers.
     &["cpu", "gpu", "generate"],
     // What is built on both renderers.

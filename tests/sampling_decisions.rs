@@ -11,7 +11,8 @@ use glint::condition::{judge, judge_rendered, Judgement};
 use glint::cpu;
 use glint::raster::diff::Tolerance;
 use glint::raster::Image;
-use glint::scene::decisions::{Decisions, Sampled};
+use glint::sampling::Sampled;
+use glint::scene::decisions::Decisions;
 use glint::scene::{Overrides, Scene};
 
 type Rendered = (Image, Option<Sampled>);

@@ -11,7 +11,7 @@ use glint::accel::Accel;
 use glint::cpu;
 use glint::output::{self, Outputs};
 use glint::raster::{io, Image};
-use glint::scene::decisions::Sampled;
+use glint::sampling::Sampled;
 use glint::scene::Scene;
 use glint::settings::Choice;
 use glint::stats::{Counts, RayCounts, Work};

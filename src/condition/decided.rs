@@ -13,7 +13,8 @@ use super::{judge, judge_replayed, Judgement};
 use crate::accel::Accel;
 use crate::raster::diff::{figures, ErrorFigures, Tolerance};
 use crate::raster::Image;
-use crate::scene::decisions::{Decisions, Sampled};
+use crate::sampling::Sampled;
+use crate::scene::decisions::Decisions;
 use crate::scene::Scene;
 
 /// The renderer's own decisions, checked.

@@ -41,7 +41,8 @@ use crate::cpu;
 use crate::raster::diff::{figures, figures_where, pixel_errors, ErrorFigures, Tolerance};
 use crate::raster::Image;
 use crate::rng::Xorshift;
-use crate::scene::decisions::{Decisions, Sampled};
+use crate::sampling::Sampled;
+use crate::scene::decisions::Decisions;
 use crate::scene::Scene;
 
 pub use aovs::{judge_aovs, AovCheck};

@@ -3,7 +3,7 @@
 //! each quarter in turn, down to the scene's level, and its colour is the
 //! mean of its squares' corners weighted by their areas. The pixels to
 //! split are chosen from the corner grid (`Adaptive::splits`); the levels
-//! are `scene::refine`'s, which the GPU runs too, with this file's tracer
+//! are `sampling::adaptive`'s, which the GPU runs too, with this file's tracer
 //! swapped for one dispatch a level (shaders/adaptive.glsl).
 
 use rayon::prelude::*;
@@ -14,8 +14,8 @@ use super::world::World;
 use crate::base::real::{Real, Vec3};
 use crate::raster::region::Region;
 use crate::raster::Image;
-use crate::scene::decisions::Log;
-use crate::scene::refine::{refine_image, Point};
+use crate::sampling::adaptive::{refine_image, Point};
+use crate::sampling::Log;
 use crate::scene::Adaptive;
 use crate::stats::Tally;
 

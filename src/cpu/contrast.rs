@@ -1,5 +1,5 @@
 //! Contrast sampling on the CPU (docs/scene-format.md, Rays;
-//! `crate::scene::contrast`): the levels are `refine_levels`', which the
+//! `crate::sampling::contrast`): the levels are `refine_levels`', which the
 //! GPU runs too; this file traces a level's entries over the threads.
 //! Mirrors shaders/contrast.glsl.
 
@@ -14,8 +14,8 @@ use crate::base::record::Event;
 use crate::base::tally::tree_word;
 use crate::raster::region::Region;
 use crate::raster::Image;
-use crate::scene::contrast::{refine_levels, sample_at, Batch, Entry};
-use crate::scene::decisions::Log;
+use crate::sampling::contrast::{refine_levels, sample_at, Batch, Entry};
+use crate::sampling::Log;
 use crate::scene::Contrast;
 use crate::stats::{Counter, RayType, Tally};
 

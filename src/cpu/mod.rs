@@ -19,7 +19,8 @@ use rayon::prelude::*;
 use crate::accel::Accel;
 use crate::raster::region::Region;
 use crate::raster::Image;
-use crate::scene::decisions::{Kind, Sampled};
+use crate::sampling::Sampled;
+use crate::scene::decisions::Kind;
 use crate::scene::{PastBound, Scene};
 
 pub use crate::base::real::Real;

@@ -54,8 +54,8 @@ pub struct World<R: Real> {
 
 impl<R: Real> World<R> {
     /// How its sampling takes decisions: its own, or those it replays.
-    pub fn decider(&self) -> crate::scene::decisions::Decider<'_> {
-        crate::scene::decisions::Decider {
+    pub fn decider(&self) -> crate::sampling::Decider<'_> {
+        crate::sampling::Decider {
             replay: self.replay.as_deref(),
         }
     }

@@ -19,7 +19,7 @@ use crate::generate::{LightSpec, Spec};
 use crate::output::interrupt::TempFolder;
 use crate::raster::diff::Tolerance;
 use crate::raster::Image;
-use crate::scene::decisions::Sampled;
+use crate::sampling::Sampled;
 use crate::scene::Scene;
 
 #[cfg(feature = "gpu")]

@@ -56,7 +56,7 @@ crate::base::interface::gpu_struct!(
 );
 
 crate::base::interface::gpu_struct!(
-    /// A point adaptive sampling's refinement traces (scene::refine::Point).
+    /// A point adaptive sampling's refinement traces (sampling::adaptive::Point).
     pub mod refine: "Refine" {
         /// x, y the point in 2^-level pixels of the whole image; z the level
         point: uvec4,

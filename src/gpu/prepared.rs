@@ -29,8 +29,9 @@ use crate::base::interface::Array;
 use crate::base::record;
 use crate::raster::region::Region;
 use crate::raster::Image;
-use crate::scene::contrast::Entry;
-use crate::scene::decisions::{Decisions, Sampled};
+use crate::sampling::contrast::Entry;
+use crate::sampling::Sampled;
+use crate::scene::decisions::Decisions;
 use crate::scene::{Adaptive, Contrast, Scene};
 use crate::stats::{Counter, Counts};
 

@@ -1,14 +1,14 @@
 //! Adaptive sampling's refinement on the GPU: each level's points as the
 //! list the shader traces (shaders/adaptive.glsl), `REFINE_POINTS` an
 //! invocation. The pixels to split and the levels themselves are
-//! `scene::refine`'s, shared with the CPU. Contrast sampling's levels are
-//! lists of the same words (shaders/contrast.glsl; `scene::contrast`).
+//! `sampling::adaptive`'s, shared with the CPU. Contrast sampling's levels are
+//! lists of the same words (shaders/contrast.glsl; `sampling::contrast`).
 
 use super::layout::refine::Values;
 use super::Precision;
 use crate::base::interface::{array, Array};
-use crate::scene::contrast::Entry;
-use crate::scene::refine::Point;
+use crate::sampling::adaptive::Point;
+use crate::sampling::contrast::Entry;
 
 /// A level's points as the shader's list.
 pub(crate) fn list(points: &[Point]) -> Array<'static> {

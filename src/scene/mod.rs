@@ -4,8 +4,7 @@
 
 mod brightness;
 pub mod camera;
-pub mod contrast;
-mod corners;
+mod contrast;
 pub mod decisions;
 mod file;
 pub mod images;
@@ -15,7 +14,6 @@ pub mod material;
 mod model;
 pub mod nff;
 mod rebase;
-pub mod refine;
 mod sampling;
 mod split;
 mod tables;

@@ -15,7 +15,7 @@ use glint::files::Stamp;
 use glint::gpu::{GpuError, GpuOptions, Renderer};
 use glint::raster::diff::{self, Tolerance};
 use glint::raster::Image;
-use glint::scene::decisions::Sampled;
+use glint::sampling::Sampled;
 use glint::scene::{Sampling, Scene};
 
 use super::state::{Frame, GpuStatus, ReferenceStatus, State, Verdict};

@@ -1,5 +1,5 @@
 //! Contrast sampling of a prepared scene: level by level
-//! (`scene::contrast::refine_levels`, as the CPU runs them), each level's
+//! (`sampling::contrast::refine_levels`, as the CPU runs them), each level's
 //! entries a list bound on the scene's one stage (`Prepared::trace_level`,
 //! shaders/contrast.glsl), whose words become the level's batches.
 
@@ -14,8 +14,9 @@ use crate::gpu::variant::CONTRAST_OUTPUTS;
 use crate::gpu::GpuError;
 use crate::raster::region::Region;
 use crate::raster::Image;
-use crate::scene::contrast::{refine_levels, Batch, Entry};
-use crate::scene::decisions::{Decider, Kind};
+use crate::sampling::contrast::{refine_levels, Batch, Entry};
+use crate::sampling::Decider;
+use crate::scene::decisions::Kind;
 use crate::scene::Contrast;
 use crate::stats::Counts;
 

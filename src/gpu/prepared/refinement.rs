@@ -16,14 +16,15 @@ use crate::gpu::work::RAYS_PER_DISPATCH;
 use crate::gpu::GpuError;
 use crate::raster::region::Region;
 use crate::raster::Image;
-use crate::scene::decisions::{Decider, Kind};
-use crate::scene::refine::Point;
+use crate::sampling::adaptive::Point;
+use crate::sampling::Decider;
+use crate::scene::decisions::Kind;
 use crate::scene::Adaptive;
 use crate::stats::{Counts, Tally};
 
 impl Prepared {
     /// Adaptive sampling's refinement of `region`, whose corners are
-    /// `corners`: level by level (`scene::refine`), each level's points one
+    /// `corners`: level by level (`sampling::adaptive`), each level's points one
     /// list dispatched on the refinement's stage. The refined colours
     /// replace those pixels' corner means in `rendered`; the times and
     /// counts join the first pass's.
@@ -42,7 +43,7 @@ impl Prepared {
         let decider = Decider {
             replay: replay.as_deref(),
         };
-        let log = crate::scene::refine::refine_image(
+        let log = crate::sampling::adaptive::refine_image(
             corners,
             (region.x, region.y),
             (adaptive, decider),

@@ -5,14 +5,14 @@
 //! (w+1)/w: so both renderers trace the corners as the centres of that
 //! larger image, and [`Image::corner_mean`] averages them.
 
-use super::{Sampling, Scene};
 use crate::raster::Image;
+use crate::scene::{Sampling, Scene};
 
 impl Scene {
     /// The image of `self`'s pixel corners, sampled at its pixel centres;
     /// None where `self` samples centres itself.
     pub fn corner_grid(&self) -> Option<Scene> {
-        if !matches!(self.sampling, Sampling::Corners | Sampling::Adaptive) {
+        if !super::mode(self.sampling).corners {
             return None;
         }
         let mut grid = self.clone();

@@ -8,10 +8,47 @@
 
 use rayon::prelude::*;
 
-use super::decisions::{key, Decider, Log};
-use super::Adaptive;
+use super::decisions::{Decider, Log};
 use crate::base::real::{Real, Vec3};
 use crate::raster::Image;
+use crate::scene::decisions::key;
+use crate::scene::Adaptive;
+
+impl Adaptive {
+    /// Colours are compared in steps of 1/255: the contrast of a square
+    /// is counted in these, so that f32 and f64, whose colours differ by
+    /// rounding, split the same squares but where a corner sits on a step.
+    pub const STEPS: f64 = 255.0;
+
+    /// The threshold in steps, as both renderers compare contrasts with it.
+    pub fn threshold_steps(&self) -> f64 {
+        self.threshold * Self::STEPS
+    }
+
+    /// Whether a pixel whose corners (top-left, top-right, bottom-left,
+    /// bottom-right, as the corner grid gives them) are `c` is split: the
+    /// choice of the pixels the second pass refines, made once, from the
+    /// f32 corner image, for either renderer, by [`Adaptive::contrast`].
+    pub fn splits(&self, c: &[[f32; 3]; 4]) -> bool {
+        let corners = c.map(Vec3::<f64>::of_rgb);
+        Self::contrast(&corners) > self.threshold_steps()
+    }
+
+    /// The largest minus the smallest of the corners `c`, in the channel
+    /// where that is largest, in steps (`STEPS`): what both renderers
+    /// compare with the threshold, as contrast() in shaders/adaptive.glsl.
+    pub fn contrast<R: Real>(c: &[Vec3<R>; 4]) -> R {
+        let steps = R::of(Self::STEPS);
+        let half = R::of(0.5);
+        let channel = |f: fn(&Vec3<R>) -> R| {
+            let values = c.map(|v| (f(&v) * steps + half).floor());
+            let hi = values.iter().fold(values[0], |m, v| m.max(*v));
+            let lo = values.iter().fold(values[0], |m, v| m.min(*v));
+            hi - lo
+        };
+        channel(|v| v.x).max(channel(|v| v.y)).max(channel(|v| v.z))
+    }
+}
 
 /// The most pixels refined together: the lists of points, squares and
 /// leaves are bounded by these, not by the image (at most 4^levels leaves
