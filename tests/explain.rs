@@ -563,3 +563,158 @@ fn the_plain_variants_spirv_is_unchanged_by_the_hooks() {
     }
     assert_eq!(compared, HOOKED.len() * 6);
 }
+
+/// Defect 8: `explain --icd` took a folder (with an `apt-get install`
+/// hint) or a FIFO (waiting 20 s on it). It refuses both up front now, as
+/// `drivers --icd` does, before the device is opened.
+#[test]
+fn explain_refuses_an_icd_that_is_not_a_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("icd.json");
+    common::make_fifo(&fifo);
+    let scene = common::repo().join("scenes/seed-fig3.toml");
+    for icd in [dir.path().to_path_buf(), fifo] {
+        let started = std::time::Instant::now();
+        let o = common::glint(&[
+            "explain",
+            scene.to_str().unwrap(),
+            "--pixel",
+            "1,1",
+            "--icd",
+            icd.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains("--icd") && !err.contains("apt-get"), "{err}");
+        assert!(started.elapsed().as_secs() < 10, "{err}");
+    }
+}
+
+/// `glint explain` of pixel (x, y) of `scene`, with `extra` arguments.
+fn explain_pixel(scene: &Path, (x, y): (u32, u32), extra: &[&str]) -> std::process::Output {
+    let pixel = format!("{x},{y}");
+    let mut args = vec!["explain", scene.to_str().unwrap(), "--pixel", &pixel];
+    args.extend(extra);
+    common::glint(&args)
+}
+
+/// Defect 2: explain judged the tree the recording variant records, never
+/// the pixel the plain variant writes. A main shader that records every
+/// ray but stores half the colour failed `compare` while `explain` said
+/// "every tree agrees". The recorded samples' mean is held to the plain
+/// pixel now: a difference is a divergence of its own, exit status 1; the
+/// same shader storing the whole colour still agrees.
+#[test]
+fn explain_holds_the_recorded_tree_to_the_pixel_the_render_wrote() {
+    let dir = tempfile::tempdir().unwrap();
+    let main = std::fs::read_to_string(common::repo().join("shaders/main.comp")).unwrap();
+    let store = "vec3(sum * (1.0 / real(samples * samples)))";
+    assert!(main.contains(store), "main.comp stores the pixel's mean");
+    let scene = common::repo().join("scenes/seed-fig5.toml");
+    let small = ["--width", "32", "--height", "24", "--samples", "2"];
+    for (halved, status) in [(false, 0), (true, 1)] {
+        let file = dir
+            .path()
+            .join(if halved { "half.comp" } else { "whole.comp" });
+        let text = if halved {
+            main.replace(store, &format!("0.5 * {store}"))
+        } else {
+            main.clone()
+        };
+        std::fs::write(&file, text).unwrap();
+        let mut args = vec!["--shader", file.to_str().unwrap()];
+        args.extend(small);
+        let o = explain_pixel(&scene, (16, 12), &args);
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(
+            o.status.code(),
+            Some(status),
+            "{out}\n{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert_eq!(
+            out.contains("the render differs from its recorded tree"),
+            halved,
+            "{out}"
+        );
+    }
+}
+
+/// Defect 3: `explain --generic` said the trees part where the GPU records
+/// a hit's uv and the CPU does not, on 4 of 5 stock scenes whose generic
+/// image is the variant's: the generic shader holds the images' code for
+/// every scene, and recorded uvs for every hit. It records them where the
+/// scene has image textures now, as the CPU does, and each agrees.
+#[test]
+fn explain_generic_agrees_where_the_generic_image_does() {
+    for name in ["seed-fig3", "seed-fig5", "glass", "textures", "triangles"] {
+        let scene = common::repo().join(format!("scenes/{name}.toml"));
+        let o = explain_pixel(
+            &scene,
+            (30, 20),
+            &["--generic", "--width", "60", "--height", "45"],
+        );
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(o.status.code(), Some(0), "{name}: {out}");
+        assert!(out.contains("every tree agrees"), "{name}: {out}");
+    }
+}
+
+/// Defect 10: `explain -I DIR` with glint's own normals experiment, which
+/// replaces trace.glsl, blamed "a main shader of your own" though main.comp
+/// was glint's. The message names the include that records nothing.
+#[test]
+fn explain_names_the_include_that_records_nothing() {
+    let dir = common::repo().join("shaders/experiments/normals");
+    let o = explain_pixel(
+        &common::repo().join("scenes/seed-fig5.toml"),
+        (40, 30),
+        &[
+            "--width",
+            "80",
+            "--height",
+            "60",
+            "-I",
+            dir.to_str().unwrap(),
+        ],
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("normals/trace.glsl replaces glint's file"),
+        "{err}"
+    );
+    assert!(!err.contains("main shader of your own"), "{err}");
+}
+
+/// Defect 6: `explain` of one pixel whose tree has hundreds of rays held
+/// every trial's tree at once (0.7-1 GB in the scene) and printed
+/// every ray (14.6 MB for this one's 549 rays). It folds the trials into the bounds one at a time and prints
+/// the first ray, the path to each first divergence and a line for the
+/// rest: a few hundred lines, where `--json` still holds every ray.
+#[test]
+fn explain_of_a_deep_tree_prints_a_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("nested.toml");
+    std::fs::write(&scene, common::nested_glass(11)).unwrap();
+    let o = explain_pixel(&scene, (0, 0), &[]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(
+        out.contains("more rays, 2 to 11 deep, are not shown"),
+        "{out}"
+    );
+    assert!(out.lines().count() < 400, "{} lines", out.lines().count());
+    let json = explain_pixel(&scene, (0, 0), &["--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    let rays = v["samples"][0]["trees"][0]["rays"]
+        .as_array()
+        .map_or(0, Vec::len);
+    assert!(rays > 100, "{rays} rays in the JSON");
+}

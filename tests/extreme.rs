@@ -519,3 +519,133 @@ fn a_narrow_field_of_view_renders_what_f64_sees() {
         );
     }
 }
+
+/// Defect 1: a mirror ball inside a sphere of radius 1e16 whose centre is
+/// off the origin. A ray reflected back from the far wall places its hit on
+/// the ball only to the rounding of its origin (about 1), so the hit was up
+/// to 7 radii off the ball, its normal 7 long, and the specular power of
+/// that: pixels of 1e22 in f64 (1e36 at radius 1e17), NaNs in f32 with
+/// 500 small balls. Every render now stays within the model's bound.
+fn mirror_in_a_dome(balls: usize) -> glint::scene::Scene {
+    use std::fmt::Write;
+    let mut text = String::from(
+        "[image]\nwidth = 32\nheight = 24\n[render]\nmax_depth = 8\nbackground = [0.3, 0.45, 0.7]\n\
+         [camera]\neye = [-2.9391716911269397, -0.05477895489670814, -0.606107222535142]\n\
+         look_at = [0, 0, 0]\nvfov = 50\n\
+         [materials.mirror]\nambient = [0.1, 0.1, 0.1]\ndiffuse = [0.5, 0.5, 0.5]\n\
+         specular = [0.6, 0.6, 0.6]\nshininess = 60\nreflectivity = 1.0\n\
+         [materials.dome]\nambient = [0.1, 0.1, 0.1]\ndiffuse = [0.5, 0.5, 0.5]\n\
+         specular = [0.1, 0.1, 0.1]\nshininess = 10\nreflectivity = 0.5\n\
+         [[spheres]]\ncenter = [0, 0, 0]\nradius = 1.0\nmaterial = \"mirror\"\n\
+         [[spheres]]\ncenter = [1.732340106813079, -2.4368424793545906, -2.8299151408679624]\n\
+         radius = 1e16\nmaterial = \"dome\"\n\
+         [[lights]]\ntype = \"point\"\nposition = [6.715302078397393, -1.344658641898933, 5.245601649158839]\n\
+         diffuse = [1, 1, 1]\nspecular = [1, 1, 1]\n",
+    );
+    // Small balls on a fixed lattice of pseudo-random places.
+    let mut seed = 12345u64;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for _ in 0..balls {
+        let (x, y, z, r) = (next(), next(), next(), next());
+        write!(
+            text,
+            "[[spheres]]\ncenter = [{}, {}, {}]\nradius = {}\nmaterial = \"mirror\"\n",
+            x * 6.0 - 3.0,
+            y * 6.0 - 3.0,
+            z * 6.0 - 3.0,
+            0.01 + r * 0.09
+        )
+        .unwrap();
+    }
+    common::scene(&text)
+}
+
+fn assert_within(scene: &glint::scene::Scene, image: &glint::raster::Image, what: &str) {
+    let bound = scene.brightest_pixel();
+    assert!(image.nonfinite().is_none(), "{what}: non-finite pixels");
+    let peak = image.peak();
+    assert!(
+        peak <= bound,
+        "{what}: a pixel of {peak:e}, past the bound {bound:e}"
+    );
+}
+
+#[test]
+fn renders_inside_a_giant_sphere_stay_within_the_models_bound() {
+    use glint::cpu;
+    for balls in [0, 500] {
+        let scene = mirror_in_a_dome(balls);
+        let reference = cpu::reference(&scene, glint::accel::Accel::Auto)
+            .unwrap_or_else(|e| panic!("{balls} balls: {e}"));
+        assert_within(&scene, &reference, &format!("CPU f64, {balls} balls"));
+        let f32_image = cpu::render::<f32>(&scene);
+        assert_within(&scene, &f32_image, &format!("CPU f32, {balls} balls"));
+        for precision in [glint::gpu::Precision::F32, glint::gpu::Precision::F64] {
+            let mut r = common::gpu_with(glint::gpu::RenderSettings {
+                precision,
+                ..glint::gpu::RenderSettings::default()
+            });
+            let image = r.render(&scene, &|_| {}).unwrap().0;
+            assert_within(&scene, &image, &format!("GPU {precision:?}, {balls} balls"));
+        }
+    }
+}
+
+/// A CPU render past the bound is an error naming the pixel, never an
+/// image: shown on the check itself, since a render that leaves the bound
+/// is the defect fixed above (`src/scene/brightness.rs` has the unit test).
+#[test]
+fn a_pixel_past_the_bound_is_an_error_naming_it() {
+    let scene = mirror_in_a_dome(0);
+    let mut image = glint::cpu::render::<f64>(&scene);
+    image.pixels[5 * 32 + 7] = [1e22, 0.0, 0.0];
+    let e = scene.within(&image, "f64").unwrap_err();
+    assert_eq!((e.x, e.y), (7, 5));
+    assert!(
+        e.to_string()
+            .contains("pixel (7, 5) of the CPU f64 render is 1e22"),
+        "{e}"
+    );
+}
+
+/// Defect 3: the shadows of 200 balls on a sky of radius 1e6. f32 rounds a
+/// shadow ray's direction by about 1e-7, which over 1e6 moves it across a
+/// ball's edge: the GPU and the CPU's f32 both miss such edges, each at
+/// pixels of its own, and the check called the GPU wrong (rmse 8.4e-3 over
+/// the well-conditioned pixels). The trials now turn every ray that leaves
+/// a surface by as much as f32 rounds it, and so find those pixels.
+#[test]
+fn shadow_edges_that_f32_cannot_place_are_ill_conditioned_not_wrong() {
+    use glint::accel::Accel;
+    use glint::condition::judge;
+    use glint::raster::diff::Tolerance;
+    let scene = glint::scene::Scene::load(
+        &common::repo().join("tests/data/dome-shadows.toml"),
+        &glint::scene::Overrides::default(),
+    )
+    .unwrap();
+    let reference = glint::cpu::reference(&scene, Accel::Auto).unwrap();
+    let gpu = common::render_gpu(&scene);
+    let tolerance = Tolerance::default();
+    let verdict = judge(&scene, &gpu, &reference, &tolerance, Accel::Auto, &|_| {});
+    assert!(verdict.pass(), "{:?}", verdict.violations);
+    let ill = verdict
+        .conditioned
+        .as_ref()
+        .expect("judged by its conditioning")
+        .ill;
+    assert!(ill < 0.10, "{ill}");
+    // The check still fails a wrong image: a band of rows brightened by
+    // 0.05 where the balls are not.
+    let mut wrong = gpu.clone();
+    for p in &mut wrong.pixels[..scene.width as usize * 20] {
+        p[0] += 0.05;
+    }
+    let verdict = judge(&scene, &wrong, &reference, &tolerance, Accel::Auto, &|_| {});
+    assert!(!verdict.pass(), "a brightened band passed");
+}

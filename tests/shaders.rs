@@ -598,3 +598,39 @@ fn watch_sees_an_edit_that_keeps_the_size_and_the_time() {
     child.wait().unwrap();
     result.unwrap();
 }
+
+/// A main shader of `terms` additions in one expression.
+fn deep_sum(dir: &Path, terms: usize) -> std::path::PathBuf {
+    let path = dir.join(format!("sum{terms}.comp"));
+    let sum = vec!["a"; terms].join("+");
+    std::fs::write(
+        &path,
+        format!(
+            "#version 460\nlayout(local_size_x = 1) in;\n\
+             layout(std430, binding = 0) buffer B {{ float v[]; }};\n\
+             void main() {{ float a = v[0]; v[1] = {sum}; }}\n"
+        ),
+    )
+    .unwrap();
+    path
+}
+
+/// A sum of 20,001 terms overflowed the main thread's stack in glslang
+/// (exit 134); a 1 MB one took a gigabyte. The compile runs on a thread
+/// of its own stack, and the sources are bounded.
+#[test]
+fn deep_and_large_shader_sources_compile_or_are_refused_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let deep = deep_sum(dir.path(), 20_001);
+    let o = glint(&["shader", "check", deep.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let large = deep_sum(dir.path(), 500_000);
+    let o = glint(&["shader", "check", large.to_str().unwrap()]);
+    let err = text(&o.stderr);
+    assert!(!o.status.success() && o.status.code() != Some(134), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("past the bound of 512 KiB on one compile"),
+        "{err}"
+    );
+}

@@ -191,3 +191,10 @@ def test_a_scene_rendered_at_another_size_follows_its_changes_in_place():
     assert stats["update"] == "updated in place", stats["update"]
     fresh = glint.Scene.from_dict(scene.to_dict(), base=scene.base, width=16, height=12)
     assert image.tobytes() == glint.Renderer().render(fresh).tobytes()
+
+
+def test_a_cpu_region_counts_its_rays():
+    scene = small("seed-fig4.toml")
+    _, stats = glint.render(scene, backend="cpu", region=(10, 5, 20, 10), stats=True)
+    assert stats["rays"]["eye"] == 20 * 10
+    assert stats["tests"] is not None and stats["by_ray"] is not None

@@ -364,7 +364,7 @@ pub struct Compiled {
 /// expression's tree, and a sum of 20,001 terms overflowed the main
 /// thread's 8 MiB (an abort, issue 41). Only the pages it touches are
 /// memory; the sources' bound (`MAX_SOURCE_BYTES`) bounds the depth, and
-/// `tests/hostile_round_four.rs` compiles the deepest sum that fits.
+/// `tests/shaders.rs` compiles the deepest sum that fits.
 pub const COMPILE_STACK: usize = 1 << 30;
 
 /// Compiles the main shader with `defines`, on a thread with a stack made
