@@ -221,3 +221,306 @@ fn the_gpus_aovs_differ_from_the_references_only_at_near_ties() {
     let check = judge_aovs(scene, &gpu, Accel::Auto);
     assert_eq!(check.unexplained, vec![centre]);
 }
+
+/// The AOV table's contract, row by row (`glint::aov::AOVS`): on every
+/// scene, each row's channels from the GPU's record are the CPU's within
+/// the row's agreement (whole numbers the same), its unused channels are
+/// 0, and a pixel that met nothing reads as the row's miss on both.
+#[cfg(feature = "gpu")]
+#[test]
+fn every_aov_of_the_table_agrees_on_both_renderers() {
+    use glint::aov::{Values, AOVS};
+    use glint::gpu::RenderSettings;
+    let mut r = common::gpu();
+    let settings = RenderSettings {
+        aovs: true,
+        ..r.settings()
+    };
+    let mut missed = 0;
+    for scene in scenes() {
+        let gpu = r
+            .prepare(&scene, &settings)
+            .unwrap()
+            .render(None, &|_| {})
+            .unwrap()
+            .aovs
+            .unwrap();
+        let (_, cpu) = cpu::Prepared::<f32>::new(&scene, Accel::Auto).render_aovs(None, &|_| {});
+        for t in AOVS {
+            for (i, (g, c)) in gpu.iter().zip(&cpu).enumerate() {
+                let (a, b) = ((t.read)(g), (t.read)(c));
+                for k in 0..3 {
+                    let (x, y) = (a[k], b[k]);
+                    if k >= t.channels {
+                        assert_eq!((x, y), (0.0, 0.0), "{}: pixel {i} channel {k}", t.name);
+                    } else if t.values != Values::Float || x.is_infinite() || y.is_infinite() {
+                        assert_eq!(x, y, "{}: pixel {i} channel {k}", t.name);
+                        if t.values != Values::Float {
+                            assert_eq!(x.fract(), 0.0, "{}: pixel {i}", t.name);
+                        }
+                    } else {
+                        assert!(
+                            (x - y).abs() <= t.agreement * x.abs().max(y.abs()).max(1.0),
+                            "{}: pixel {i} channel {k}: GPU {x}, CPU {y}",
+                            t.name
+                        );
+                    }
+                }
+            }
+        }
+        missed += cpu.iter().filter(|a| a.hit.is_none()).count();
+    }
+    assert!(missed > 0, "some pixel of the scenes meets nothing");
+}
+
+/// `glint render --aov`: each AOV of the table written as its channels
+/// say (one channel a plane, two or three an image) holds the values the
+/// library's render gives, on each backend: floats to the f32 they are,
+/// whole numbers exactly; `NAME` alone takes -o's file and no colour is
+/// written, `NAME=FILE` writes beside the colour.
+#[test]
+fn render_writes_each_aov_as_the_library_gives_it() {
+    use glint::raster::{io, plane};
+    let dir = tempfile::tempdir().unwrap();
+    let scene_path = common::repo().join("scenes/textures.toml");
+    let o = Overrides {
+        width: Some(40),
+        height: Some(30),
+        ..Overrides::default()
+    };
+    let scene = Scene::load(&scene_path, &o).unwrap();
+    let (_, cpu) = cpu::Prepared::<f64>::new(&scene, Accel::Auto).render_aovs(None, &|_| {});
+    let backends: &[&str] = if cfg!(feature = "gpu") {
+        &["cpu", "gpu"]
+    } else {
+        &["cpu"]
+    };
+    for backend in backends {
+        let at = |name: &str, ext: &str| dir.path().join(format!("{backend}-{name}.{ext}"));
+        let colour = dir.path().join(format!("{backend}.png"));
+        let mut args: Vec<String> = [
+            "render",
+            scene_path.to_str().unwrap(),
+            "--width",
+            "40",
+            "--height",
+            "30",
+            "--backend",
+            backend,
+            "-o",
+            colour.to_str().unwrap(),
+        ]
+        .map(String::from)
+        .to_vec();
+        for (k, t) in glint::aov::AOVS.iter().enumerate() {
+            let ext = if k % 2 == 0 { "exr" } else { "pfm" };
+            args.push("--aov".into());
+            args.push(format!("{}={}", t.name, at(t.name, ext).display()));
+        }
+        let words: Vec<&str> = args.iter().map(String::as_str).collect();
+        let out = common::glint(&words);
+        assert!(
+            out.status.success(),
+            "{backend}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(colour.exists());
+        for (k, t) in glint::aov::AOVS.iter().enumerate() {
+            let path = at(t.name, if k % 2 == 0 { "exr" } else { "pfm" });
+            let written: Vec<[f64; 3]> = if t.channels == 1 {
+                let p = plane::read_plane(&path).unwrap();
+                p.values.iter().map(|&v| [f64::from(v), 0.0, 0.0]).collect()
+            } else {
+                let image = io::read(&path).unwrap();
+                image.pixels.iter().map(|p| p.map(f64::from)).collect()
+            };
+            assert_eq!(written.len(), cpu.len(), "{backend} {}", t.name);
+            for (i, (w, a)) in written.iter().zip(&cpu).enumerate() {
+                let want = (t.read)(a);
+                for c in 0..3 {
+                    let (x, y) = (w[c], want[c]);
+                    let same = x == y || (x - y).abs() <= 2e-3 * y.abs().max(1.0);
+                    let exact = t.values != glint::aov::Values::Float;
+                    assert!(
+                        if exact { x == y } else { same },
+                        "{backend} {}: pixel {i} channel {c}: file {x}, library {y}",
+                        t.name
+                    );
+                }
+            }
+        }
+    }
+    // NAME alone: -o's file is the AOV, and no colour is written.
+    let depth = dir.path().join("depth.pfm");
+    let out = common::glint(&[
+        "render",
+        scene_path.to_str().unwrap(),
+        "--width",
+        "40",
+        "--height",
+        "30",
+        "--backend",
+        "cpu",
+        "--aov",
+        "depth",
+        "-o",
+        depth.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let p = plane::read_plane(&depth).unwrap();
+    assert_eq!((p.width, p.height), (40, 30));
+    let read = glint::aov::named("depth").unwrap().read;
+    for (v, a) in p.values.iter().zip(&cpu) {
+        assert_eq!(*v, read(a)[0] as f32);
+    }
+    let pngs = std::fs::read_dir(dir.path())
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "png")
+        })
+        .count();
+    assert_eq!(
+        pngs,
+        backends.len(),
+        "no colour beside the AOV that took -o"
+    );
+}
+
+/// What `--aov` refuses, each in one line with exit status 2 and no file:
+/// a PNG, an AOV glint does not have, one asked twice, two that want -o's
+/// file, a file named twice, a tile, and a scene sampled at its corners.
+#[test]
+fn render_refuses_aovs_it_cannot_write_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let showcase = common::repo().join("scenes/showcase.toml");
+    let balls = common::repo().join("scenes/spd/balls.nff");
+    let file = |name: &str| dir.path().join(name).display().to_string();
+    let cases: Vec<(&std::path::Path, Vec<String>, &str)> = vec![
+        (
+            &showcase,
+            vec!["--aov".into(), "depth".into(), "-o".into(), file("x.png")],
+            "an AOV's values are not colours",
+        ),
+        (
+            &showcase,
+            vec!["--aov".into(), format!("colour={}", file("y.exr"))],
+            "no such AOV",
+        ),
+        (
+            &showcase,
+            vec![
+                "--aov".into(),
+                "depth".into(),
+                "--aov".into(),
+                "normal".into(),
+                "-o".into(),
+                file("z.exr"),
+            ],
+            "one AOV takes -o's file",
+        ),
+        (
+            &showcase,
+            vec![
+                "--aov".into(),
+                format!("depth={}", file("a.exr")),
+                "--aov".into(),
+                format!("depth={}", file("b.exr")),
+            ],
+            "asked for twice",
+        ),
+        (
+            &showcase,
+            vec![
+                "--aov".into(),
+                format!("depth={}", file("s.exr")),
+                "-o".into(),
+                file("s.exr"),
+            ],
+            "another output's file",
+        ),
+        (
+            &showcase,
+            vec![
+                "--aov".into(),
+                format!("depth={}", file("t.exr")),
+                "--tile".into(),
+                "0/4".into(),
+                "-o".into(),
+                file("tile.exr"),
+            ],
+            "not tiles",
+        ),
+        (
+            &balls,
+            vec!["--aov".into(), "depth".into(), "-o".into(), file("b.exr")],
+            "samples its pixels' corners",
+        ),
+    ];
+    for (scene, extra, words) in cases {
+        let mut args = vec![
+            "render".to_owned(),
+            scene.display().to_string(),
+            "--width".into(),
+            "16".into(),
+            "--height".into(),
+            "12".into(),
+            "--backend".into(),
+            "cpu".into(),
+        ];
+        args.extend(extra);
+        let a: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = common::glint(&a);
+        let err = String::from_utf8_lossy(&o.stderr);
+        common::assert_user_error(&o, words);
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        0,
+        "no file is written"
+    );
+}
+
+/// The docs list every AOV of the table as the table has it: a row of
+/// docs/commands.md each, and each name in docs/python.md's table.
+#[test]
+fn the_docs_list_the_aovs_of_the_table() {
+    use glint::aov::{Values, AOVS};
+    let commands = std::fs::read_to_string(common::repo().join("docs/commands.md")).unwrap();
+    let python = std::fs::read_to_string(common::repo().join("docs/python.md")).unwrap();
+    for t in AOVS {
+        let values = match t.values {
+            Values::Float => "floats",
+            Values::Int => "whole numbers",
+            Values::Count => "counts",
+        };
+        let row = format!("| `{}` | {} | {values} | {} |", t.name, t.channels, t.doc);
+        assert!(
+            commands.contains(&row),
+            "docs/commands.md lacks the row\n{row}"
+        );
+        assert!(
+            python.contains(&format!("| `\"{}\"` |", t.name)),
+            "docs/python.md: {}",
+            t.name
+        );
+    }
+    let listed = commands
+        .lines()
+        .filter(|l| {
+            l.starts_with("| `")
+                && [" | floats | ", " | whole numbers | ", " | counts | "]
+                    .iter()
+                    .any(|v| l.contains(v))
+        })
+        .count();
+    assert_eq!(listed, AOVS.len(), "docs/commands.md lists other AOVs");
+}

@@ -12,6 +12,7 @@ use glint::raster::io;
 
 use super::render::render_cpu_timed;
 use super::render_gpu;
+use super::whole::Want;
 use super::{DeviceArgs, Precision, SceneArgs};
 
 #[derive(Args)]
@@ -57,8 +58,8 @@ pub fn run(a: &CompareArgs) -> anyhow::Result<ExitCode> {
         "two GPU renders of the same scene differ"
     );
     let accel = a.device.accel;
-    let cpu64 = render_cpu_timed(&scene, Precision::F64, accel, false)?;
-    let cpu32 = render_cpu_timed(&scene, Precision::F32, accel, false)?;
+    let cpu64 = render_cpu_timed(&scene, Precision::F64, accel, Want::default())?;
+    let cpu32 = render_cpu_timed(&scene, Precision::F32, accel, Want::default())?;
     let reference_sampled = cpu64.sampled;
     let (reference, cpu32_image, cpu64, cpu32) =
         (cpu64.image, cpu32.image, cpu64.times, cpu32.times);

@@ -20,6 +20,7 @@ mod fuzz;
 mod info;
 mod progress;
 mod render;
+mod render_aov;
 #[cfg(feature = "gpu")]
 mod render_gpu;
 #[cfg(feature = "gpu")]

@@ -8,6 +8,7 @@ use anyhow::Context;
 use clap::Args;
 
 use glint::accel::Accel;
+use glint::aov::Aov;
 use glint::cpu;
 use glint::output::{self, Outputs};
 use glint::raster::{io, Image};
@@ -17,8 +18,10 @@ use glint::settings::Choice;
 use glint::stats::{Counts, RayCounts, Work};
 use glint::tiles;
 
+use super::render_aov::AovFiles;
 use super::render_gpu;
 use super::tile::{self, TileArgs};
+use super::whole::Want;
 use super::{progress, Backend, DeviceArgs, Precision, SceneArgs};
 
 #[derive(Args)]
@@ -40,6 +43,10 @@ pub struct RenderArgs {
     /// Write the rays cast, the tests they cost and the times to FILE as JSON (docs/spd.md).
     #[arg(long, value_name = "FILE")]
     stats: Option<PathBuf>,
+    /// Write an AOV (depth, normal, albedo, prim_id, rays) as .exr or .pfm:
+    /// NAME to -o's file in place of the colour, NAME=FILE beside it. Repeatable.
+    #[arg(long = "aov", value_name = "NAME[=FILE]")]
+    aovs: Vec<String>,
     #[command(flatten)]
     tiles: TileArgs,
     #[command(flatten)]
@@ -93,8 +100,13 @@ impl RenderArgs {
         super::inputs(&self.scene.scene, scene, &self.device)
     }
 
-    fn outputs(&self, image: &Path) -> Vec<PathBuf> {
-        let mut v = vec![image.to_owned()];
+    fn outputs(&self, image: &Path, aovs: &AovFiles) -> Vec<PathBuf> {
+        let mut v = if aovs.takes_output {
+            Vec::new()
+        } else {
+            vec![image.to_owned()]
+        };
+        v.extend(aovs.files.iter().map(|(_, p)| p.clone()));
         v.extend(self.stats.clone());
         if self.tiles.is_set() {
             v.push(tiles::sidecar_path(image));
@@ -112,7 +124,10 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
         a.device.refuse_shader_options("--backend cpu")?;
     }
     // Refuse a bad output name before spending time on the render.
-    io::Format::of_output(&output)?;
+    let aov_files = AovFiles::parse(&a.aovs, &output)?;
+    if !aov_files.takes_output {
+        io::Format::of_output(&output)?;
+    }
     if a.stats.as_ref() == Some(&output) {
         anyhow::bail!("--stats names the image's own file {}", output.display());
     }
@@ -126,10 +141,12 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
             output.display()
         );
         anyhow::ensure!(a.stats.is_none(), "--stats counts whole renders, not tiles");
+        anyhow::ensure!(!aov_files.any(), "--aov writes whole renders, not tiles");
     }
     let loading = Instant::now();
     let scene = a.scene.load()?;
     let input_s = loading.elapsed().as_secs_f64();
+    aov_files.check(&scene)?;
     if a.backend == Backend::Cpu {
         cpu::bound::check(&scene)?;
     }
@@ -140,31 +157,34 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     }
     // Every output can be written, and none is an input, before the render.
     let mut outputs = Outputs::new(a.inputs(&scene), a.force);
-    for out in a.outputs(&output) {
+    for out in a.outputs(&output, &aov_files) {
         outputs.check(&out)?;
     }
     if a.tiles.is_set() {
         return render_tile(a, &output, &scene, outputs);
     }
-    let count = a.stats.is_some();
-    let (image, label, seconds, stats) = match (a.backend, a.precision) {
+    let want = Want {
+        count: a.stats.is_some(),
+        aovs: aov_files.any(),
+    };
+    let (image, label, seconds, stats, aovs) = match (a.backend, a.precision) {
         (Backend::Gpu, p) => {
             let precision = p.unwrap_or(Precision::F32);
-            let r = render_gpu::whole(&scene, &a.device, precision, count)?;
+            let r = render_gpu::whole(&scene, &a.device, precision, want)?;
             let stats = r
                 .counts
                 .map(|c| Stats::new(&c, input_s, r.setup_s, r.tables_s, r.seconds));
-            (r.image, r.label, r.seconds, stats)
+            (r.image, r.label, r.seconds, stats, r.aovs)
         }
         (Backend::Cpu, p) => {
             let precision = p.unwrap_or(Precision::F64);
-            let r = render_cpu_timed(&scene, precision, a.device.accel, count)?;
+            let r = render_cpu_timed(&scene, precision, a.device.accel, want)?;
             let (setup, trace) = (r.times.setup_s, r.times.render_s);
             let tables = r.times.tables_s;
             let stats = r
                 .counts
                 .map(|c| Stats::new(&c, input_s, setup, tables, trace));
-            (r.image, r.label, trace, stats)
+            (r.image, r.label, trace, stats, r.aovs)
         }
     };
     refuse_nonfinite(&image)?;
@@ -172,16 +192,33 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<ExitCode> {
     if let (Some(path), Some(stats)) = (&a.stats, &stats) {
         stage_json(&mut outputs, path, stats).with_context(|| "cannot write the statistics")?;
     }
-    io::stage(&mut outputs, &output, &image, scene.srgb)
-        .with_context(|| "cannot write the image")?;
+    if let Some(aovs) = &aovs {
+        aov_files
+            .stage(&mut outputs, aovs, (scene.width, scene.height))
+            .with_context(|| "cannot write the AOVs")?;
+    }
+    if !aov_files.takes_output {
+        io::stage(&mut outputs, &output, &image, scene.srgb)
+            .with_context(|| "cannot write the image")?;
+    }
     outputs.commit()?;
+    let written: Vec<String> = (!aov_files.takes_output)
+        .then(|| output.display().to_string())
+        .into_iter()
+        .chain(
+            aov_files
+                .files
+                .iter()
+                .map(|(t, p)| format!("{} ({})", p.display(), t.name)),
+        )
+        .collect();
     errln!(
         "rendered {}x{} ({}, depth {}) with {label} in {seconds:.3} s -> {}",
         scene.width,
         scene.height,
         scene.sampling_summary(),
         scene.max_depth,
-        output.display()
+        written.join(", ")
     );
     Ok(ExitCode::SUCCESS)
 }
@@ -277,6 +314,8 @@ pub struct CpuRender {
     pub label: String,
     pub times: CpuTimes,
     pub counts: Option<Counts>,
+    /// The pixels' AOVs, where asked for.
+    pub aovs: Option<Vec<Aov>>,
     /// What adaptive or contrast sampling decided: `compare` replays the
     /// reference's, and the CPU-only build has no `compare`.
     #[cfg_attr(not(feature = "gpu"), allow(dead_code))]
@@ -287,51 +326,80 @@ pub fn render_cpu_timed(
     scene: &Scene,
     precision: Precision,
     accel: Accel,
-    count: bool,
+    want: Want,
 ) -> anyhow::Result<CpuRender> {
     let bar = progress::bar(
         u64::from(scene.height),
         &format!("cpu {precision:?}").to_lowercase(),
     );
     let start = Instant::now();
+    /// What one precision's render gave.
+    struct Gave {
+        image: Image,
+        counts: Option<Counts>,
+        aovs: Option<Vec<Aov>>,
+        sampled: Option<Sampled>,
+        setup_s: f64,
+        tables_s: f64,
+    }
     fn go<R: cpu::Real>(
         scene: &Scene,
         accel: Accel,
-        count: bool,
+        want: Want,
         start: Instant,
         progress: &(dyn Fn(u64) + Sync),
-    ) -> (Image, Option<Counts>, Option<Sampled>, f64, f64) {
+    ) -> Gave {
         let prepared = progress::waiting("preparing the scene (BVH)", || {
             cpu::Prepared::<R>::new(scene, accel)
         });
         let setup_s = start.elapsed().as_secs_f64();
         let tables_s = prepared.tables_s();
-        if count {
-            let (image, counts) = prepared.render_counted(progress);
-            (image, Some(counts), None, setup_s, tables_s)
-        } else {
-            let (image, sampled) = prepared.render_sampled(progress);
-            (image, None, sampled, setup_s, tables_s)
+        let gave = |image, counts, aovs, sampled| Gave {
+            image,
+            counts,
+            aovs,
+            sampled,
+            setup_s,
+            tables_s,
+        };
+        match (want.count, want.aovs) {
+            (true, true) => {
+                let (image, aovs, counts) = prepared.render_aovs_counted(None, progress);
+                gave(image, Some(counts), Some(aovs), None)
+            }
+            (false, true) => {
+                let (image, aovs) = prepared.render_aovs(None, progress);
+                gave(image, None, Some(aovs), None)
+            }
+            (true, false) => {
+                let (image, counts) = prepared.render_counted(progress);
+                gave(image, Some(counts), None, None)
+            }
+            (false, false) => {
+                let (image, sampled) = prepared.render_sampled(progress);
+                gave(image, None, None, sampled)
+            }
         }
     }
     let progress = |n| bar.inc(n);
-    let (image, counts, sampled, setup_s, tables_s) = match precision {
-        Precision::F32 => go::<f32>(scene, accel, count, start, &progress),
-        Precision::F64 => go::<f64>(scene, accel, count, start, &progress),
+    let g = match precision {
+        Precision::F32 => go::<f32>(scene, accel, want, start, &progress),
+        Precision::F64 => go::<f64>(scene, accel, want, start, &progress),
     };
-    let render_s = start.elapsed().as_secs_f64() - setup_s;
+    let render_s = start.elapsed().as_secs_f64() - g.setup_s;
     bar.finish_and_clear();
     let threads = rayon::current_num_threads();
-    scene.within(&image, precision.name())?;
+    scene.within(&g.image, precision.name())?;
     Ok(CpuRender {
-        image,
+        image: g.image,
         label: format!("CPU {precision:?} on {threads} threads").replace("F", "f"),
         times: CpuTimes {
-            setup_s,
-            tables_s,
+            setup_s: g.setup_s,
+            tables_s: g.tables_s,
             render_s,
         },
-        counts,
-        sampled,
+        counts: g.counts,
+        aovs: g.aovs,
+        sampled: g.sampled,
     })
 }

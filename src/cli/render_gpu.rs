@@ -31,6 +31,8 @@ pub struct GpuRender {
     /// Where the render counted (the counting variant: its times include
     /// the counting).
     pub counts: Option<Counts>,
+    /// The pixels' AOVs, where the options asked for them.
+    pub aovs: Option<Vec<glint::aov::Aov>>,
 }
 
 impl GpuRender {
@@ -81,7 +83,16 @@ pub fn timed(
 ) -> anyhow::Result<GpuRender> {
     let mut options = options(device, precision)?;
     options.settings.count = count;
-    let (renderer, mut prepared) = open_and_prepare(scene, &options)?;
+    render_with(scene, &options, precision)
+}
+
+/// Renders the whole of `scene` with `options`.
+fn render_with(
+    scene: &Scene,
+    options: &gpu::GpuOptions,
+    precision: Precision,
+) -> anyhow::Result<GpuRender> {
+    let (renderer, mut prepared) = open_and_prepare(scene, options)?;
     let bar = progress::bar(
         scene.pixel_count(),
         &format!("gpu {precision:?}").to_lowercase(),
@@ -94,17 +105,21 @@ pub fn timed(
         prepared,
         times: rendered.times,
         counts: rendered.counts,
+        aovs: rendered.aovs,
     })
 }
 
-/// `render`'s GPU render of the whole of `scene`.
+/// `render`'s GPU render of the whole of `scene`, with what `want` asks.
 pub fn whole(
     scene: &Scene,
     device: &DeviceArgs,
     precision: Precision,
-    count: bool,
+    want: super::whole::Want,
 ) -> anyhow::Result<super::whole::Whole> {
-    let r = timed(scene, device, precision, count)?;
+    let mut options = options(device, precision)?;
+    options.settings.count = want.count;
+    options.settings.aovs = want.aovs;
+    let r = render_with(scene, &options, precision)?;
     let setup = r.times.setup;
     Ok(super::whole::Whole {
         label: r.label(precision),
@@ -117,6 +132,7 @@ pub fn whole(
         tables_s: r.times.tables_s,
         image: r.image,
         counts: r.counts,
+        aovs: r.aovs,
     })
 }
 

@@ -63,7 +63,7 @@ pub mod render_gpu {
         _: &Scene,
         _: &DeviceArgs,
         _: Precision,
-        _: bool,
+        _: crate::cli::whole::Want,
     ) -> anyhow::Result<crate::cli::whole::Whole> {
         Err(refuse("render --backend gpu (the default)"))
     }

@@ -122,3 +122,52 @@ pub fn textures() -> String {
     s += &x_list("PATTERNS_OTHER", entries(false));
     s
 }
+
+/// The generated file of the AOVs' words (shaders/aov.glsl includes it).
+pub const AOVS_FILE: &str = "aovs.glsl";
+
+/// `aovs.glsl`: a variable a word of the AOV table (`base::aov::AOVS`),
+/// each starting as the row's word for nothing met; `AOV_CAPTURE_HIT(hit,
+/// n, m)` and `AOV_CAPTURE_PIXEL()`, each row's capture; `AOV_STORE(at)`,
+/// the words as pixel `at`'s uvec4s in the `Aovs` block.
+pub fn aovs() -> String {
+    use crate::base::aov::{Capture, AOVS, WORDS};
+    let mut s = String::new();
+    let (mut hit, mut pixel) = (Vec::new(), Vec::new());
+    let mut k = 0;
+    for t in AOVS {
+        let _ = writeln!(s, "// {}: {}", t.name, t.doc);
+        for expr in t.capture.words() {
+            let _ = writeln!(s, "uint aov_word{k} = {}u;", t.missed_word);
+            let capture = format!("aov_word{k} = {expr};");
+            match t.capture {
+                Capture::Hit(_) => hit.push(capture),
+                Capture::Pixel(_) => pixel.push(capture),
+            }
+            k += 1;
+        }
+    }
+    let word = |i: usize| {
+        if i < k {
+            format!("aov_word{i}")
+        } else {
+            "0u".to_owned()
+        }
+    };
+    let _ = writeln!(s, "#define AOV_CAPTURE_HIT(hit, n, m) {}", hit.join(" "));
+    let _ = writeln!(s, "#define AOV_CAPTURE_PIXEL() {}", pixel.join(" "));
+    let stores: Vec<String> = (0..WORDS / 4)
+        .map(|v| {
+            format!(
+                "aov_words[{}u * (at) + {v}u] = uvec4({}, {}, {}, {});",
+                WORDS / 4,
+                word(4 * v),
+                word(4 * v + 1),
+                word(4 * v + 2),
+                word(4 * v + 3)
+            )
+        })
+        .collect();
+    let _ = writeln!(s, "#define AOV_STORE(at) {}", stores.join(" "));
+    s
+}

@@ -9,7 +9,9 @@
 //! - `lights.glsl`: each light type's include and the dispatch over the
 //!   types (entities.rs), mirroring `crate::scene::LightKind`;
 //! - `textures.glsl`: each pattern's include and the dispatch over the
-//!   patterns (entities.rs), mirroring `crate::scene::texture::Pattern`.
+//!   patterns (entities.rs), mirroring `crate::scene::texture::Pattern`;
+//! - `aovs.glsl`: the AOVs' words, their capture and their store, from
+//!   the AOV table (entities.rs, `crate::base::aov::AOVS`).
 //!
 //! `glint shader dump` shows them expanded; a file of the same name in a
 //! directory given with -I replaces one.
@@ -47,6 +49,7 @@ impl Variant {
             (KINDS_FILE, self.kinds()),
             (super::entities::LIGHTS_FILE, self.lights()),
             (super::entities::TEXTURES_FILE, super::entities::textures()),
+            (super::entities::AOVS_FILE, super::entities::aovs()),
         ]
         .into_iter()
         .map(|(name, text)| (name.to_owned(), NOTE.to_owned() + &text))

@@ -160,12 +160,12 @@ impl Prepared {
                 )));
             }
         }
-        if settings.aovs && gather != Gather::Pixels {
-            return Err(GpuError::Unsupported(format!(
-                "AOVs are of a pixel's own samples, and this scene samples its pixels' corners \
-                 (sampling = {:?}): render it with sampling = \"centers\"",
-                format!("{:?}", scene.sampling).to_lowercase()
-            )));
+        if let Some(why) = settings
+            .aovs
+            .then(|| crate::sampling::aovs_refused(scene))
+            .flatten()
+        {
+            return Err(GpuError::Unsupported(why));
         }
         let t0 = Instant::now();
         let up = Uploads::new(

@@ -57,11 +57,23 @@ fn exr_err(path: &Path, e: exr::error::Error) -> ImageIoError {
 /// Writes `plane` as `path`'s format names (PFM or EXR), whole or not at
 /// all, as every output is.
 pub fn write_plane(path: &Path, plane: &Plane) -> Result<(), ImageIoError> {
+    let mut outputs = crate::output::Outputs::new::<&Path>([], false);
+    stage_plane(&mut outputs, path, plane)?;
+    Ok(outputs.commit()?)
+}
+
+/// Stages `plane` as the output `path` of `outputs` (PFM or EXR), to be
+/// committed with the others.
+pub fn stage_plane(
+    outputs: &mut crate::output::Outputs,
+    path: &Path,
+    plane: &Plane,
+) -> Result<(), ImageIoError> {
     let format = Format::of_output(path)?;
     if format == Format::Png {
         return Err(ImageIoError::OneChannel(path.to_owned()));
     }
-    crate::output::write_one(path, &[], false, |out: &mut dyn Write| match format {
+    outputs.stage(path, |out: &mut dyn Write| match format {
         Format::Pfm => write_values(out, Kind::Plane, plane.width, plane.height, &plane.values)
             .map_err(io_err(path)),
         _ => write_exr(out, plane, path),

@@ -31,6 +31,9 @@ pub struct Mode {
     pub corners: bool,
     /// The GLSL file under shaders/ that its refinement passes include.
     pub shader: Option<&'static str>,
+    /// Why AOVs are not taken of it, which are of a pixel's first samples
+    /// on its own grid (`base::aov`); None where they are.
+    pub no_aovs: Option<&'static str>,
 }
 
 /// Every sampling mode, in the scene format's order.
@@ -40,26 +43,49 @@ pub const MODES: &[Mode] = &[
         name: "centers",
         corners: false,
         shader: None,
+        no_aovs: None,
     },
     Mode {
         sampling: Sampling::Corners,
         name: "corners",
         corners: true,
         shader: None,
+        no_aovs: Some(CORNERS_NO_AOVS),
     },
     Mode {
         sampling: Sampling::Adaptive,
         name: "adaptive",
         corners: true,
         shader: Some("adaptive.glsl"),
+        no_aovs: Some(CORNERS_NO_AOVS),
     },
     Mode {
         sampling: Sampling::Contrast,
         name: "contrast",
         corners: false,
         shader: Some("contrast.glsl"),
+        no_aovs: Some(
+            "AOVs are of the first samples of a pixel's grid, and this scene samples by \
+             contrast, level by level",
+        ),
     },
 ];
+
+/// Why a mode that traces the corner grid takes no AOVs.
+const CORNERS_NO_AOVS: &str =
+    "AOVs are of a pixel's own samples, and this scene samples its pixels' corners";
+
+/// Where `scene`'s sampling takes no AOVs, why, in one sentence that ends
+/// with what to do.
+pub fn aovs_refused(scene: &crate::scene::Scene) -> Option<String> {
+    let m = mode(scene.sampling);
+    m.no_aovs.map(|why| {
+        format!(
+            "{why} (sampling = \"{}\"): render it with sampling = \"centers\"",
+            m.name
+        )
+    })
+}
 
 /// The row of `sampling`.
 pub fn mode(sampling: Sampling) -> &'static Mode {
