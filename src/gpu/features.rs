@@ -162,14 +162,13 @@ impl Features {
         let lights = scene.lights.len();
         let reflects = scene.materials.iter().any(|m| m.reflectivity > 0.0);
         let transmits = scene.materials.iter().any(|m| m.transmittance > 0.0);
-        // Lavapipe (Mesa 22.3) crashes in a worker thread rendering the
-        // uniform-buffer variant of two kinds of scene: without spheres
-        // (planes and lights only), and with spheres as the only primitives
-        // and directional lights as the only lights (tests/variants.rs
-        // renders every mix of kinds and light types). Those take storage
-        // buffers. The generated scenes (issue 56) found more, and heap
-        // corruption among them: llvmpipe before Mesa 25.0 takes storage
-        // buffers for every scene (`DeviceInfo::reads_uniform_arrays`).
+        // Uniform blocks where the driver reads them safely (the
+        // workaround NO_UNIFORM_ARRAYS in workarounds.rs: not llvmpipe
+        // before Mesa 25.0). Two mixes of kinds crashed Mesa 22.3 before
+        // that row was known, and still take storage buffers on every
+        // driver: no spheres (planes and lights only), and spheres as the
+        // only primitives with directional lights as the only lights
+        // (tests/variants.rs renders every mix of kinds and light types).
         let range = device.max_uniform_buffer_range as usize;
         let spheres = scene.prims.spheres.len();
         let spheres_only = spheres == scene.prims.len();

@@ -39,6 +39,7 @@ mod times;
 pub mod variant;
 pub(crate) mod vk;
 mod work;
+pub mod workarounds;
 
 pub use crate::base::{Precision, WORKGROUP};
 pub use crate::settings::Intersect;

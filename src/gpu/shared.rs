@@ -14,7 +14,7 @@ use super::layout::{TileRect, Uploads};
 use super::options::RenderSettings;
 use super::schedule::Schedule;
 use super::times::SetupTimes;
-use super::variant::Variant;
+use super::variant::{Request, Variant};
 use super::vk::device::Device;
 use super::vk::pipeline::ComputePipeline;
 use super::vk::pipeline_cache::PipelineCache;
@@ -129,28 +129,17 @@ impl Shared {
         up: &Uploads,
         count: bool,
     ) -> (Variant, Vec<(String, Option<String>)>) {
-        let mut variant = Variant::for_scene(
-            scene,
-            up,
-            settings.intersect,
-            settings.precision,
-            &self.device.info,
-            settings.generic,
+        let request = Request {
+            intersect: settings.intersect,
+            precision: settings.precision,
+            generic: settings.generic,
+            schedule: settings.schedule,
+            record: settings.record.is_some(),
+            aovs: settings.aovs,
             count,
-        );
-        // A shader of the user's knows nothing of the wavefront's stages;
-        // a tree is recorded by the megakernel alone.
-        variant.record = settings.record.is_some();
-        // AOVs are a megakernel's, of a pixel's own samples; their rays
-        // are the counting variant's counts of the pixel's invocation.
-        variant.aovs = settings.aovs && !variant.record;
-        variant.count |= variant.aovs;
-        // One sample's tree is all a recording render is for.
-        variant.count &= !variant.record;
-        variant.wavefront = self.sources.main_is_glints()
-            && !variant.record
-            && !variant.aovs
-            && settings.schedule.wavefront_for(scene);
+            main_is_glints: self.sources.main_is_glints(),
+        };
+        let variant = Variant::for_scene(scene, up, &self.device.info, &request);
         let defines = self.defines_of(&variant);
         (variant, defines)
     }

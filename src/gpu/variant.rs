@@ -72,36 +72,67 @@ pub const CONTRAST_OUTPUTS: u32 = 4;
 /// by four ray trees, as a pixel's samples share them.
 pub const REFINE_POINTS: u32 = 4;
 
+/// What a render asks of its variant, besides its scene and its device.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Request {
+    /// The intersection forms.
+    pub intersect: Intersect,
+    /// The arithmetic's precision.
+    pub precision: Precision,
+    /// The generic shader, not the scene's variant.
+    pub generic: bool,
+    /// The schedule asked for.
+    pub schedule: crate::settings::Schedule,
+    /// Whether it records a sample's ray tree (`glint explain`).
+    pub record: bool,
+    /// Whether it writes AOVs.
+    pub aovs: bool,
+    /// Whether it counts its rays (`--stats`).
+    pub count: bool,
+    /// Whether the main shader is glint's own (no `--shader`), the only one
+    /// that knows the wavefront's stages.
+    pub main_is_glints: bool,
+}
+
 impl Variant {
-    /// The variant of `scene`, laid out as `uploads`, with these settings:
-    /// the generic shader where `generic`, the counting one where `count`.
-    #[allow(clippy::too_many_arguments)]
+    /// The variant of `scene`, laid out as `uploads`, on `device`, for
+    /// `request`: everything that decides a variant is decided here, from
+    /// what the scene needs (`Features::of`), what the device's driver
+    /// needs worked around (`DeviceInfo`'s flags, from `workarounds.rs`)
+    /// and what the render asks (its settings, counts, schedule).
     pub(crate) fn for_scene(
         scene: &Scene,
         uploads: &Uploads,
-        intersect: Intersect,
-        precision: Precision,
         device: &DeviceInfo,
-        generic: bool,
-        count: bool,
+        request: &Request,
     ) -> Self {
+        // A tree is recorded by the megakernel alone, and one sample's tree
+        // is all a recording render is for: it neither counts nor writes
+        // AOVs. AOVs are a megakernel's, of a pixel's own samples; their
+        // rays are the counting variant's counts of the pixel's invocation.
+        let record = request.record;
+        let aovs = request.aovs && !record;
+        let count = (request.count || aovs) && !record;
+        // A shader of the user's knows nothing of the wavefront's stages.
+        let wavefront =
+            request.main_is_glints && !record && !aovs && request.schedule.wavefront_for(scene);
         Self {
-            intersect,
-            precision,
+            intersect: request.intersect,
+            precision: request.precision,
             bvh_stack: uploads.bvh_stack,
             tables: uploads.tables.is_some(),
-            features: (!generic).then(|| Features::of(scene, uploads, device)),
+            features: (!request.generic).then(|| Features::of(scene, uploads, device)),
             count,
-            record: false,
-            aovs: false,
+            record,
+            aovs,
             // The generic shader takes it too: a scene's variant renders the
             // generic shader's bits.
-            power_filter: intersect == Intersect::Robust
+            power_filter: request.intersect == Intersect::Robust
                 && device.skips_untaken_branches
                 && !Experiment::from_env().no_filter,
             refine: false,
             contrast: None,
-            wavefront: false,
+            wavefront,
             reads: reads(uploads, device),
         }
     }

@@ -9,6 +9,7 @@ use serde::Serialize;
 
 use super::instance::Instance;
 use crate::gpu::error::{GpuError, VkContext};
+use crate::gpu::workarounds::{LOOP_BUDGET, NO_BRANCH_SKIP, NO_UNIFORM_ARRAYS, NO_WAVEFRONT};
 
 /// What `glint info` shows of a device and what the renderer needs to know.
 #[derive(Debug, Clone, Serialize)]
@@ -81,40 +82,6 @@ impl DeviceInfo {
 }
 
 /// A candidate, with the rank that orders the default choice.
-/// Whether a driver is known to run every loop to its end: llvmpipe from
-/// Mesa 25.0 on ("gallivm: Remove loop limiting", 25.0.0's release notes;
-/// tests/loop_budget.rs checks both lavapipes). `info` is the driver's
-/// info string, `Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)`.
-fn runs_loops_to_the_end(name: &str, info: &str) -> bool {
-    name == "llvmpipe" && mesa_version(info) >= (25, 0)
-}
-
-/// Whether a driver skips a branch no invocation takes: every driver but
-/// llvmpipe before Mesa 24.3 (see `DeviceInfo::skips_untaken_branches`).
-fn skips_untaken_branches(name: &str, info: &str) -> bool {
-    name != "llvmpipe" || mesa_version(info) >= (24, 3)
-}
-
-/// Whether a driver runs the wavefront schedule, and reads the scene from
-/// uniform buffers safely: every driver but llvmpipe before Mesa 25.0 (see
-/// `DeviceInfo::runs_the_wavefront`, `DeviceInfo::reads_uniform_arrays`).
-fn runs_the_wavefront(name: &str, info: &str) -> bool {
-    name != "llvmpipe" || mesa_version(info) >= (25, 0)
-}
-
-/// The Mesa version in a driver's info string (0.0 where it names none).
-fn mesa_version(info: &str) -> (u32, u32) {
-    let version = info
-        .split_whitespace()
-        .skip_while(|w| *w != "Mesa")
-        .nth(1)
-        .unwrap_or("");
-    let mut numbers = version
-        .split(|c: char| !c.is_ascii_digit())
-        .map(|n| n.parse().unwrap_or(0));
-    (numbers.next().unwrap_or(0), numbers.next().unwrap_or(0))
-}
-
 pub struct Candidate {
     pub physical: vk::PhysicalDevice,
     pub info: DeviceInfo,
@@ -197,10 +164,10 @@ pub fn candidates(instance: &Instance) -> Result<Vec<Candidate>, GpuError> {
                 api_version: version(props.api_version),
                 driver: format!("{driver_name} {driver_info}"),
                 shader_float64: features.shader_float64 == vk::TRUE,
-                loop_budget: !runs_loops_to_the_end(&driver_name, &driver_info),
-                skips_untaken_branches: skips_untaken_branches(&driver_name, &driver_info),
-                runs_the_wavefront: runs_the_wavefront(&driver_name, &driver_info),
-                reads_uniform_arrays: runs_the_wavefront(&driver_name, &driver_info),
+                loop_budget: LOOP_BUDGET.applies(&driver_name, &driver_info),
+                skips_untaken_branches: !NO_BRANCH_SKIP.applies(&driver_name, &driver_info),
+                runs_the_wavefront: !NO_WAVEFRONT.applies(&driver_name, &driver_info),
+                reads_uniform_arrays: !NO_UNIFORM_ARRAYS.applies(&driver_name, &driver_info),
                 buffer_device_address,
                 subgroup_ballot: subgroup
                     .supported_stages
@@ -364,64 +331,5 @@ impl Drop for Device {
         unsafe {
             self.raw.destroy_device(None);
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{runs_loops_to_the_end, runs_the_wavefront, skips_untaken_branches};
-
-    #[test]
-    fn llvmpipe_runs_the_wavefront_from_mesa_25() {
-        assert!(runs_the_wavefront(
-            "llvmpipe",
-            "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"
-        ));
-        assert!(!runs_the_wavefront("llvmpipe", "Mesa 22.3.6 (LLVM 15.0.6)"));
-        assert!(runs_the_wavefront("NVIDIA", "570.86.15"));
-    }
-
-    #[test]
-    fn llvmpipe_runs_loops_to_the_end_from_mesa_25() {
-        assert!(runs_loops_to_the_end(
-            "llvmpipe",
-            "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"
-        ));
-        assert!(runs_loops_to_the_end(
-            "llvmpipe",
-            "Mesa 26.2.6-1 (LLVM 22.1.8)"
-        ));
-        assert!(!runs_loops_to_the_end(
-            "llvmpipe",
-            "Mesa 22.3.6 (LLVM 15.0.6)"
-        ));
-        assert!(!runs_loops_to_the_end(
-            "llvmpipe",
-            "Mesa 24.3.4 (LLVM 19.1.7)"
-        ));
-        assert!(!runs_loops_to_the_end("llvmpipe", "no version"));
-        // Any other driver is not known to: it keeps the canary.
-        assert!(!runs_loops_to_the_end("NVIDIA", "570.86.15"));
-    }
-
-    #[test]
-    fn llvmpipe_skips_untaken_branches_from_mesa_24_3() {
-        assert!(skips_untaken_branches(
-            "llvmpipe",
-            "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)"
-        ));
-        assert!(skips_untaken_branches(
-            "llvmpipe",
-            "Mesa 24.3.0 (LLVM 19.1.0)"
-        ));
-        assert!(!skips_untaken_branches(
-            "llvmpipe",
-            "Mesa 24.2.8 (LLVM 19.1.0)"
-        ));
-        assert!(!skips_untaken_branches(
-            "llvmpipe",
-            "Mesa 22.3.6 (LLVM 15.0.6)"
-        ));
-        assert!(skips_untaken_branches("NVIDIA", "570.86.15"));
     }
 }
