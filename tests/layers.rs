@@ -1,5 +1,5 @@
 //! The library's modules stand in layers, and a module uses only those
-//! below it (docs/shaders.md, Layers): read from every `crate::`,
+//! below it (docs/architecture.md, Layers): read from every `crate::`,
 //! `super::` and `self::` path in src/, so that no loop of imports can
 //! come back. The command line (src/main.rs, src/cli/) is the binary's and
 //! uses the library only through `glint::`.

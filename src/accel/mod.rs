@@ -17,7 +17,7 @@ use crate::prim::Prims;
 
 /// From this many bounded primitives up `auto` takes the BVH
 /// (docs/performance.md, The BVH: where the linear scan stops winning on
-/// lavapipe, measured with spheres).
+/// lavapipe, measured with random fields of spheres).
 pub const AUTO_MIN_BOUNDED: usize = 16;
 
 /// Which primitives each ray tests (scene management). The image is the

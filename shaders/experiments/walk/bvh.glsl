@@ -8,7 +8,7 @@
 //
 // Without a define it is the shipped walk. Each renders the same bits as
 // the shipped walk (tests/experiments.rs); ci/gpu-check times all four on
-// a GPU. Measured on lavapipe (docs/performance.md, the walk; ratios of
+// a GPU. Measured on lavapipe (docs/performance.md, The walk's control; ratios of
 // the trace's time to the shipped walk's, medians over the BVH scenes,
 // Mesa 25.0 and 22.3):
 //
