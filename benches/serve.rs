@@ -4,8 +4,8 @@
 //! page in headless Chromium (the image's `load` event), against the wall
 //! time of a `glint render` process of the same scene. Each edit waits for
 //! the previous one's reference and verdict, so that the background
-//! reference does not share the cores with the render it times. The goal
-//! (issue 75): at most 1.5 times render's time plus 100 ms.
+//! reference does not share the cores with the render it times. The goal: at
+//! most 1.5 times render's time plus 100 ms.
 
 // The tests' own driver of the page, whose other helpers this leaves unused.
 #[allow(dead_code)]

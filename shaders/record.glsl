@@ -75,7 +75,7 @@ void record_hit(Hit hit, vec3r p, vec3r outward, vec3r shading) {
 #if HAS_IMAGES
         // The generic variant has the images' code whatever the scene: the
         // uvs are recorded where the scene has image textures (g.lights.w),
-        // as the CPU records them (issue 57, defect 3).
+        // as the CPU records them.
         bool uvs = g.lights.w != 0u;
         record_word(uvs ? 1u : 0u);
         vec2r uv = uvs ? surface_uv(hit, p) : vec2r(0.0);

@@ -68,8 +68,7 @@ pub fn numbers(values: &[f64]) -> String {
 
 /// A message that may span lines, on one line, cut to `MAX_MESSAGE_CHARS`:
 /// the names and paths in it are already cut to `MAX_CHARS` each, so a long
-/// name does not push out what the message says is wrong (issue 31,
-/// defect 18).
+/// name does not push out what the message says is wrong.
 pub fn one_line(s: &str) -> String {
     cut(
         &s.trim()

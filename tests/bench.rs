@@ -65,7 +65,7 @@ fn timestamps_time_the_dispatches_on_the_device() {
     }
 }
 
-/// Defect 1: a scene of one sphere and no light renders garbage on the
+/// A scene of one sphere and no light renders garbage on the
 /// GPU. Its variant is the bench's ceiling's own (one sphere, no light,
 /// depth 1), and the SPIR-V cache's key did not say which file was the
 /// main shader, so after a `glint bench` the cache handed such a scene the

@@ -338,7 +338,7 @@ fn compiled_shaders_are_cached_between_runs_unless_told_not_to() {
 }
 
 /// Every command's help speaks to users: no Rust or shader names from the
-/// code (issue 33 found `AUTO_MIN_BOUNDED` and `auto_picks_wavefront`
+/// code (a review found `AUTO_MIN_BOUNDED` and `auto_picks_wavefront`
 /// there), and `--accel` names every bounded kind.
 #[test]
 fn help_text_shows_no_internal_names() {
@@ -392,7 +392,7 @@ fn help_text_shows_no_internal_names() {
 }
 
 /// `--version` names the commit and each Vulkan device with its driver;
-/// `-V` only the first line (issue 33).
+/// `-V` only the first line.
 #[test]
 fn version_names_the_commit_and_the_driver() {
     let o = common::glint(&["--version"]);

@@ -1,7 +1,7 @@
 //! The watchdog separates the driver's compile of a new pipeline (on
 //! lavapipe, LLVM at its first dispatch, inside the fence wait) from the
-//! render (issue 20, part 5): a render limit shorter than the compile does
-//! not fire on it. A runaway shader is still stopped at the limit
+//! render (part 5): a render limit shorter than the compile does not fire
+//! on it. A runaway shader is still stopped at the limit
 //! (tests/watchdog.rs).
 
 #![cfg(feature = "gpu")]

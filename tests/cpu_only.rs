@@ -30,7 +30,7 @@ fn the_cpu_commands_work_without_the_gpu() {
     common::assert_ok(&same);
     assert!(String::from_utf8_lossy(&same.stdout).contains("identical"));
     // What the commands wrote is the library's CPU render (f64, the CPU's
-    // default), not merely a file (issue 43: exit codes alone were checked).
+    // default), not merely a file (exit codes alone were checked).
     let small = glint::scene::Overrides {
         width: Some(40),
         height: Some(30),

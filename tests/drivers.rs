@@ -1,5 +1,5 @@
-//! `glint drivers` (issue 34): the scenes on each driver, each in its own
-//! process, held to the CPU f64 reference; a wrong driver is caught with a
+//! `glint drivers`: the scenes on each driver, each in its own process,
+//! held to the CPU f64 reference; a wrong driver is caught with a
 //! reproducer, and a crashing one is a row, not the end of the run.
 
 #![cfg(feature = "gpu")]
@@ -136,9 +136,9 @@ fn quick_on_both_lavapipes_passes_every_scene() {
 /// Mesa 22.3 miscompiles the scene loops unrolled past about 100 objects
 /// (docs/performance.md, The lavapipe-specific choices): with glint's cap
 /// switched off, and the uniform buffers glint no longer gives Mesa 22.3
-/// (issue 56: they corrupted its heap), its lane is wrong, and the matrix
-/// says so with a reproducer that holds what a bug report needs. (Mesa
-/// 25.0's lane crashes on this experiment, at 676c44f too: not judged.)
+/// (they corrupted its heap), its lane is wrong, and the matrix says so
+/// with a reproducer that holds what a bug report needs. (Mesa 25.0's
+/// lane crashes on this experiment, at 676c44f too: not judged.)
 #[test]
 fn a_wrong_driver_fails_with_a_reproducer() {
     let Some((new, old)) = both_lavapipes("the broken lane") else {
@@ -172,9 +172,9 @@ fn a_wrong_driver_fails_with_a_reproducer() {
             repro.display()
         );
     }
-    // Its worst pixel explained on the broken driver (issue 45): the
-    // explanation stops at a first wrong value, which no f32 rounding
-    // explains, and the page links to it.
+    // Its worst pixel explained on the broken driver: the explanation
+    // stops at a first wrong value, which no f32 rounding explains, and
+    // the page links to it.
     let explained = std::fs::read_to_string(repro.join("explain.txt")).unwrap();
     let verdict = explained.lines().last().unwrap_or_default();
     assert!(
@@ -300,8 +300,8 @@ fn a_users_repro_folder_is_left_alone() {
     assert!(out.join("repro/mine.txt").is_file());
 }
 
-/// Issue 42, defect 15: `--icd` naming a directory, a FIFO, a loop of
-/// links or nothing says which, in one line, before any driver runs.
+/// `--icd` naming a directory, a FIFO, a loop of links or
+/// nothing says which, in one line, before any driver runs.
 #[test]
 fn an_icd_that_is_not_a_manifest_is_named_for_what_it_is() {
     let dir = tempfile::tempdir().unwrap();
@@ -327,8 +327,8 @@ fn an_icd_that_is_not_a_manifest_is_named_for_what_it_is() {
     }
 }
 
-/// Issue 42, defect 3: two scenes of one stem (a/s.toml, b/s.toml) are two
-/// rows, each named by its path.
+/// Two scenes of one stem (a/s.toml, b/s.toml) are two rows,
+/// each named by its path.
 #[test]
 fn two_scenes_of_one_name_are_two_rows() {
     let Some(new) = current_lavapipe() else {
@@ -363,8 +363,8 @@ fn two_scenes_of_one_name_are_two_rows() {
     assert_eq!(rows, [a.to_str().unwrap(), b.to_str().unwrap()]);
 }
 
-/// Issue 42, defect 6: `--icd X --only`, where X gives no device, tested
-/// nothing and exited 0; it is one error, exit 2, and no table.
+/// `--icd X --only`, where X gives no device, tested nothing
+/// and exited 0; it is one error, exit 2, and no table.
 #[test]
 fn a_run_that_can_test_no_driver_is_an_error() {
     let dir = tempfile::tempdir().unwrap();
@@ -438,11 +438,11 @@ fn run_reproducer(repro: &Path, seconds: u32) -> Output {
         .unwrap()
 }
 
-/// Issue 42, defects 8 and 9: a driver that skips the dispatch, loses the
-/// device, hangs in the fence wait or writes garbage is a failure (FAIL,
-/// hung), with a reproducer whose command, run from its own folder, fails
-/// the same way; with the scene's mesh copied, and the run's relative -I
-/// and --icd paths meaning the same there.
+/// A driver that skips the dispatch, loses the device, hangs in
+/// the fence wait or writes garbage is a failure (FAIL, hung), with a
+/// reproducer whose command, run from its own folder, fails the same way;
+/// with the scene's mesh copied, and the run's relative -I and --icd
+/// paths meaning the same there.
 #[test]
 fn a_misbehaving_driver_fails_in_each_way_with_a_reproducer_that_reproduces() {
     let Some(real) = current_lavapipe() else {
@@ -509,9 +509,9 @@ fn misbehaving(mode: &str, dir: &Path) -> Option<PathBuf> {
     misbehaving_icds(&real, dir).map(|v| v[i].clone())
 }
 
-/// Issue 42, defect 5: options that every child would refuse are one
-/// error from the parent, exit 2, before any driver runs; they turned
-/// every driver into "no device" or "refused", exit 0.
+/// Options that every child would refuse are one error from
+/// the parent, exit 2, before any driver runs; they turned every driver
+/// into "no device" or "refused", exit 0.
 #[test]
 fn options_every_driver_would_refuse_are_refused_once() {
     let Some(new) = current_lavapipe() else {
@@ -542,7 +542,7 @@ fn options_every_driver_would_refuse_are_refused_once() {
     }
 }
 
-/// Issue 42, defect 7: where the loader finds no validation layer (here
+/// Where the loader finds no validation layer (here
 /// $XDG_DATA_DIRS names an empty folder), the drivers run without it and
 /// the run says so; every child failed asking for the layer before.
 #[test]
@@ -574,9 +574,9 @@ fn without_a_layer_where_the_loader_looks_the_run_says_so() {
     assert_eq!(matrix(&out)["validation"], false);
 }
 
-/// Issue 42, defect 2: an output linked to the library a working --icd
-/// manifest names is refused like one linked to the manifest; the run
-/// replaced the library it had loaded with the CSV, and exited 0.
+/// An output linked to the library a working --icd manifest
+/// names is refused like one linked to the manifest; the run replaced
+/// the library it had loaded with the CSV, and exited 0.
 #[test]
 fn an_output_onto_a_driver_library_is_refused() {
     let dir = tempfile::tempdir().unwrap();
@@ -594,9 +594,9 @@ fn an_output_onto_a_driver_library_is_refused() {
     assert_eq!(std::fs::read(&lib).unwrap(), bytes);
 }
 
-/// Issue 42, defect 14: a driver's name with a terminal escape and a `|`
-/// is escaped on stdout and in drivers.md, where it would have cleared
-/// the screen and added a column.
+/// A driver's name with a terminal escape and a `|` is escaped
+/// on stdout and in drivers.md, where it would have cleared the screen
+/// and added a column.
 #[test]
 fn names_are_escaped_in_every_output() {
     let Some(new) = current_lavapipe() else {
@@ -621,12 +621,11 @@ fn names_are_escaped_in_every_output() {
     assert!(!page.contains('\u{1b}'));
 }
 
-/// Issue 42, defects 1 and 13: a driver and a scene named `...json` and
-/// `...toml`, and a scene of a 245-character name, on a failing driver,
-/// get reproducers inside repro/, and nothing is written beside the
-/// scenes; `...` was "..", and the reproducer replaced the README.md of
-/// the folder the run was in, and the long name failed the run ("File
-/// name too long").
+/// A driver and a scene named `...json` and `...toml`, and a
+/// scene of a 245-character name, on a failing driver, get reproducers
+/// inside repro/, and nothing is written beside the scenes; `...` was
+/// "..", and the reproducer replaced the README.md of the folder the
+/// run was in, and the long name failed the run ("File name too long").
 #[test]
 fn reproducers_stay_inside_repro_whatever_the_names() {
     let dir = tempfile::tempdir().unwrap();
@@ -694,9 +693,9 @@ fn reproducers_stay_inside_repro_whatever_the_names() {
     }
 }
 
-/// Issue 42, defect 11: a FIFO among the manifests of the folder the
-/// loader is given hangs its child, which is killed; its reproducer then
-/// read the FIFO and blocked the run for ever. It says what the file is.
+/// A FIFO among the manifests of the folder the loader is
+/// given hangs its child, which is killed; its reproducer then read the
+/// FIFO and blocked the run for ever. It says what the file is.
 #[test]
 fn a_fifo_among_the_manifests_does_not_block_the_run() {
     let Some(new) = current_lavapipe() else {
@@ -741,9 +740,9 @@ fn a_fifo_among_the_manifests_does_not_block_the_run() {
     );
 }
 
-/// Issue 42, defect 4: SIGTERM in the middle of a run kills its children,
-/// removes its temporary folder and leaves the last run's tables and
-/// reproducers as they were.
+/// SIGTERM in the middle of a run kills its children, removes
+/// its temporary folder and leaves the last run's tables and reproducers
+/// as they were.
 #[test]
 fn an_interrupted_run_leaves_nothing_running_and_the_last_run_whole() {
     let dir = tempfile::tempdir().unwrap();
@@ -825,11 +824,11 @@ fn walk(p: &Path) -> Vec<PathBuf> {
     v
 }
 
-/// Issue 42, defect 10: a hang is shrunk within --shrink-budget (a try
-/// cut short by it is no evidence, so a budget under one deadline keeps
-/// the first size), and no driver's run starts past --budget: those cells
-/// are "not run". Each try hung for the whole deadline before, and
-/// nothing bounded the run.
+/// A hang is shrunk within --shrink-budget (a try cut short by
+/// it is no evidence, so a budget under one deadline keeps the first
+/// size), and no driver's run starts past --budget: those cells are "not
+/// run". Each try hung for the whole deadline before, and nothing bounded
+/// the run.
 #[test]
 fn a_hang_is_shrunk_within_its_budget_and_the_run_within_its_own() {
     let dir = tempfile::tempdir().unwrap();
@@ -869,10 +868,10 @@ fn a_hang_is_shrunk_within_its_budget_and_the_run_within_its_own() {
     assert_eq!(second["result"], "not_run", "{second}");
 }
 
-/// Issue 42, defect 12: a size whose images do not fit in what the
-/// process may use (here an address-space limit of 4 GiB, at
-/// 16384x16384) is one error before anything is rendered; it aborted on
-/// an allocation after minutes of rendering.
+/// A size whose images do not fit in what the process may use
+/// (here an address-space limit of 4 GiB, at 16384x16384) is one error
+/// before anything is rendered; it aborted on an allocation after
+/// minutes of rendering.
 #[test]
 fn a_size_that_does_not_fit_is_refused_before_rendering() {
     use std::os::unix::process::CommandExt;
@@ -945,7 +944,7 @@ fn the_unstable_lavapipe_is_a_column_where_its_tree_is_made() {
     assert_eq!(m["columns"][c]["name"], "glint-sid/lvp_icd", "{m}");
 }
 
-/// Defect 14: a driver manifest that is a FIFO, and a manifest whose
+/// A driver manifest that is a FIFO, and a manifest whose
 /// library is one, blocked `info`, `render --timeout 2` and `--version` for
 /// ever. Opening the device is now bounded (`OPEN_LIMIT`): one line, exit
 /// 2, and the process ends though the loader's thread is still blocked.
@@ -1000,7 +999,7 @@ fn a_driver_manifest_or_library_that_is_a_fifo_ends_in_one_line() {
     assert!(!out.exists());
 }
 
-/// Defect 14 again (the CI of stop 65): `render` stopped by SIGTERM while
+/// `render` stopped by SIGTERM while
 /// its open was stuck in the `dlopen` of a FIFO never ended, since the
 /// signal handler's exit waited on the loader's lock. It now ends at once:
 /// status 130, one line, no image. The test holds the FIFO open for
@@ -1072,7 +1071,7 @@ fn a_signal_during_a_stuck_open_ends_the_run_at_once() {
     assert!(!out.exists());
 }
 
-/// Defect 11: `drivers` interrupted while its probes start. The clean-up
+/// `drivers` interrupted while its probes start. The clean-up
 /// ran on the signal thread while the main thread went on starting
 /// probes, and in about 1 of 5–50 interrupts a probe outlived glint and
 /// wrote its work folder back. A child is now started under the lock the
@@ -1120,7 +1119,7 @@ fn an_interrupt_while_probes_start_leaves_no_probe() {
     }
 }
 
-/// Defect 12: after a SIGKILLed `drivers`, its staging folder under -o and
+/// After a SIGKILLed `drivers`, its staging folder under -o and
 /// its temporary folder stayed, and later runs never removed them. A run
 /// now removes those of runs that no longer run (as `render` removes its
 /// temporary files), and nothing of a live run or of the user's.

@@ -1,5 +1,5 @@
-//! What `render -o FILE` does to a FILE that exists (issue 10, defect 8),
-//! as docs/guarantees.md states it: a read-only file is refused unless
+//! What `render -o FILE` does to a FILE that exists, as
+//! docs/guarantees.md states it: a read-only file is refused unless
 //! `--force`; a symbolic link keeps pointing where it did and its target
 //! gets the new image, atomically; a hard link's other names keep the old
 //! image, since the write renames a new file over the name.

@@ -150,9 +150,9 @@ fn the_bit_comparison_sees_one_changed_bit() {
     assert!(!common::same_bits(&image, &nudged));
 }
 
-/// A define the shader never reads is caught before any render: its
-/// SPIR-V is the shipped shader's (issue 43: renaming an `#ifdef` kept the
-/// tests below green).
+/// A define the shader never reads is caught before any render: its SPIR-V
+/// is the shipped shader's (renaming an `#ifdef` kept the tests below
+/// green).
 #[test]
 fn a_define_the_shader_never_reads_changes_nothing_and_is_caught() {
     let s = scene("scenes/seed-fig5.toml");
@@ -171,8 +171,8 @@ fn a_define_the_shader_never_reads_changes_nothing_and_is_caught() {
 }
 
 /// An experiment glint does not have is one error naming those it has,
-/// exit 2 and no image (issue 43): it was ignored, so a run measured the
-/// default shaders under a misspelt experiment's name.
+/// exit 2 and no image: it was ignored, so a run measured the default
+/// shaders under a misspelt experiment's name.
 #[test]
 fn an_unknown_experiment_is_refused_by_name() {
     let dir = tempfile::tempdir().unwrap();

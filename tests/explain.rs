@@ -1,8 +1,8 @@
-//! `glint explain` (issue 45): one pixel's ray tree on every renderer, down
-//! to the first number that differs. Each test checks a real explanation:
-//! a near-tie and a self-intersection named in words, a scene that agrees,
-//! a lane broken on purpose named at its first wrong value; and the
-//! recording variant costs nothing where it is not asked for.
+//! `glint explain`: one pixel's ray tree on every renderer, down to the
+//! first number that differs. Each test checks a real explanation: a
+//! near-tie and a self-intersection named in words, a scene that agrees, a
+//! lane broken on purpose named at its first wrong value; and the recording
+//! variant costs nothing where it is not asked for.
 
 #![cfg(feature = "gpu")]
 
@@ -564,7 +564,7 @@ fn the_plain_variants_spirv_is_unchanged_by_the_hooks() {
     assert_eq!(compared, HOOKED.len() * 6);
 }
 
-/// Defect 8: `explain --icd` took a folder (with an `apt-get install`
+/// `explain --icd` took a folder (with an `apt-get install`
 /// hint) or a FIFO (waiting 20 s on it). It refuses both up front now, as
 /// `drivers --icd` does, before the device is opened.
 #[test]
@@ -599,7 +599,7 @@ fn explain_pixel(scene: &Path, (x, y): (u32, u32), extra: &[&str]) -> std::proce
     common::glint(&args)
 }
 
-/// Defect 2: explain judged the tree the recording variant records, never
+/// Explain judged the tree the recording variant records, never
 /// the pixel the plain variant writes. A main shader that records every
 /// ray but stores half the colour failed `compare` while `explain` said
 /// "every tree agrees". The recorded samples' mean is held to the plain
@@ -641,7 +641,7 @@ fn explain_holds_the_recorded_tree_to_the_pixel_the_render_wrote() {
     }
 }
 
-/// Defect 3: `explain --generic` said the trees part where the GPU records
+/// `explain --generic` said the trees part where the GPU records
 /// a hit's uv and the CPU does not, on 4 of 5 stock scenes whose generic
 /// image is the variant's: the generic shader holds the images' code for
 /// every scene, and recorded uvs for every hit. It records them where the
@@ -661,7 +661,7 @@ fn explain_generic_agrees_where_the_generic_image_does() {
     }
 }
 
-/// Defect 10: `explain -I DIR` with glint's own normals experiment, which
+/// `explain -I DIR` with glint's own normals experiment, which
 /// replaces trace.glsl, blamed "a main shader of your own" though main.comp
 /// was glint's. The message names the include that records nothing.
 #[test]
@@ -688,7 +688,7 @@ fn explain_names_the_include_that_records_nothing() {
     assert!(!err.contains("main shader of your own"), "{err}");
 }
 
-/// Defect 6: `explain` of one pixel whose tree has hundreds of rays held
+/// `explain` of one pixel whose tree has hundreds of rays held
 /// every trial's tree at once (0.7-1 GB in the issue's scene) and printed
 /// every ray (14.6 MB for this one's 549 rays). It folds the trials into the bounds one at a time and prints
 /// the first ray, the path to each first divergence and a line for the

@@ -143,8 +143,8 @@ fn power_of_two_scaling_does_not_change_the_image() {
         assert!(gpu(&scene, Intersect::Robust) == unscaled, "{name} GPU");
         assert!(cpu::render::<f32>(&scene) == unscaled_cpu, "{name} CPU f32");
     }
-    // At 2^-56 (lengths of 1e-17 and less: issue 31, tiny scales), near
-    // the bound under which a scene is refused, the GPU is still exact; the
+    // At 2^-56 (lengths of 1e-17 and less: tiny scales), near the
+    // bound under which a scene is refused, the GPU is still exact; the
     // CPU's f32 meets a subnormal product in a few pixels and moves them by
     // an ulp or two (2.98e-8 here), far inside the tolerance.
     let scene = load("scaled-2e-56");
@@ -492,9 +492,9 @@ fn rays_along_a_cylinder_axis_and_a_cone_surface() {
 }
 
 /// A field of view too narrow for f32 to tell neighbouring pixels' rays
-/// apart (1e-6 rad over 160 pixels), and one of 1e-300 (issue 31): the
-/// camera's screen is built in f64, so the GPU's image is the f64 one's,
-/// not a flat fill of something else.
+/// apart (1e-6 rad over 160 pixels), and one of 1e-300: the camera's
+/// screen is built in f64, so the GPU's image is the f64 one's, not a
+/// flat fill of something else.
 #[test]
 fn a_narrow_field_of_view_renders_what_f64_sees() {
     let dir = tempfile::tempdir().unwrap();
@@ -520,7 +520,7 @@ fn a_narrow_field_of_view_renders_what_f64_sees() {
     }
 }
 
-/// Defect 1: a mirror ball inside a sphere of radius 1e16 whose centre is
+/// A mirror ball inside a sphere of radius 1e16 whose centre is
 /// off the origin. A ray reflected back from the far wall places its hit on
 /// the ball only to the rounding of its origin (about 1), so the hit was up
 /// to 7 radii off the ball, its normal 7 long, and the specular power of
@@ -613,7 +613,7 @@ fn a_pixel_past_the_bound_is_an_error_naming_it() {
     );
 }
 
-/// Defect 3: the shadows of 200 balls on a sky of radius 1e6. f32 rounds a
+/// The shadows of 200 balls on a sky of radius 1e6. f32 rounds a
 /// shadow ray's direction by about 1e-7, which over 1e6 moves it across a
 /// ball's edge: the GPU and the CPU's f32 both miss such edges, each at
 /// pixels of its own, and the check called the GPU wrong (rmse 8.4e-3 over

@@ -3,7 +3,7 @@
 //! textures) and shader sources. Every input must give a value or an error,
 //! never a panic; a scene that parses must render on the CPU to finite
 //! pixels, with the same image through the BVH as without it. The corpus
-//! below holds the hostile cases of issue 10 as fixed seeds. Issue 41 added
+//! below holds the first hostile inputs as fixed seeds. A later round added
 //! the command line's streams and outputs (stdout and stderr full, closed
 //! or read; images and statistics into /dev/stdout and /dev/stderr),
 //! polygon fans, deep and large shader sources, and swapped tiles. Each
@@ -56,7 +56,7 @@ diffuse = [1, 1, 1]
 specular = [1, 1, 1]
 "#;
 
-/// The hostile inputs of issue 10, as scene texts.
+/// The first hostile inputs, as scene texts.
 const CORPUS: &[&str] = &[
     "[image]\nwidth = 8\nheight = 8\n[camera]\neye = [0,0,0,999,\"junk\",[1,2]]\n",
     "[image]\nwidth = 9223372036854775808\nheight = 8\n",
@@ -176,7 +176,7 @@ fn config() -> ProptestConfig {
     }
 }
 
-/// Issue 21's classes: every reader refuses a device that never ends, by
+/// The outputs' classes: every reader refuses a device that never ends, by
 /// its name or through a link with the reader's extension.
 #[test]
 fn every_reader_refuses_an_endless_device() {
@@ -230,10 +230,10 @@ proptest! {
         try_render(&text);
     }
 
-    /// Contrast sampling's keys (issue 61) with a hostile number: the
-    /// range test's bound, a threshold, or the most samples, beside either
-    /// test. The same keys with tame numbers render, so the hostile ones
-    /// are tried on a scene that gets as far as the sampler.
+    /// Contrast sampling's keys with a hostile number: the range test's
+    /// bound, a threshold, or the most samples, beside either test. The
+    /// same keys with tame numbers render, so the hostile ones are tried
+    /// on a scene that gets as far as the sampler.
     #[test]
     fn a_hostile_contrast_key_is_refused_or_rendered(key in 0usize..4, n in hostile_number()) {
         let tame = ["range = 0.03\nmax_samples = 9", "thresholds = [0.1, 0.1, 0.1]\nmax_samples = 9"];
@@ -317,7 +317,7 @@ proptest! {
     }
 
     /// The MTL file with one line replaced by any text, or a colour's
-    /// values cut short: materials or an error, never a panic (issue 31's
+    /// values cut short: materials or an error, never a panic (the
     /// short colour lines panicked in the parser).
     #[test]
     fn a_damaged_mtl_file_is_refused_or_rendered(
@@ -339,8 +339,8 @@ proptest! {
 
     /// An image texture of any bytes after a PNG's or an EXR's signature,
     /// named .png or .exr whichever its content: the scene loads with
-    /// finite texels or is refused (issue 31: a PNG named .exr was read
-    /// with the wrong colour curve).
+    /// finite texels or is refused (a PNG named .exr was read with the
+    /// wrong colour curve).
     #[test]
     fn any_image_texture_loads_or_is_refused(
         data in proptest::collection::vec(any::<u8>(), 0..300),
@@ -373,8 +373,8 @@ proptest! {
 
     /// A shader include of glint's own text with a line replaced by any
     /// text, defines and NUL bytes among it: compiled or one error, never
-    /// a panic or a hang (issue 31: a NUL byte panicked in the binding,
-    /// doubling defines never finished).
+    /// a panic or a hang (a NUL byte panicked in the binding, doubling
+    /// defines never finished).
     #[test]
     fn a_damaged_shader_source_compiles_or_errs(
         line in 0usize..200,
@@ -402,7 +402,7 @@ proptest! {
     }
 }
 
-// Issue 41's surfaces: printing into streams that refuse it, outputs that
+// The stream surfaces: printing into streams that refuse it, outputs that
 // are descriptors, polygon fans, deep and large shader sources, and tiles
 // whose images were swapped.
 
@@ -492,7 +492,7 @@ proptest! {
 
     /// A polygon fan of any length, padded or not: within the file's
     /// allowance of triangles (65,536 and one per 20 bytes past them) or
-    /// refused naming the face (issue 41, defect 11).
+    /// refused naming the face.
     #[test]
     fn a_polygon_fan_is_within_the_allowance_or_refused(
         corners in 3usize..400_000,
@@ -515,7 +515,7 @@ proptest! {
 
     /// Band tiles of one size, their images in any order under their
     /// names: assembled only where each is its own, else refused naming
-    /// the tile (issue 41, defect 2).
+    /// the tile.
     #[test]
     fn swapped_tiles_assemble_only_in_their_own_places(order in Just([0usize, 1, 2]).prop_shuffle()) {
         let dir = tempfile::tempdir().unwrap();
@@ -560,7 +560,7 @@ proptest! {
     /// An include of one expression, a flat sum of any length or
     /// parentheses nested any depth, and a macro that repeats it: compiled,
     /// or refused in one error past the 512 KiB bound; never a crash of
-    /// glslang's stack (issue 41, defects 9 and 10).
+    /// glslang's stack.
     #[test]
     fn deep_and_large_shader_sources_compile_or_are_refused(
         terms in 1usize..60_000,

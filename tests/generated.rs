@@ -1,10 +1,10 @@
-//! The oracle over the scene space (issue 56; docs/guarantees.md,
-//! Generated scenes): the CI set of generated scenes (every mix of kinds,
-//! lights, reflection and transmission, the other factors by a covering
-//! array) and fixed random ones, each held to the CPU f64 reference and to
-//! the metamorphic properties, on the GPU (with the validation layer) and
-//! on the CPU; the set's coverage; shrinking; and the corpus of scenes
-//! that failed once, tests/data/found/.
+//! The oracle over the scene space (docs/guarantees.md, Generated scenes):
+//! the CI set of generated scenes (every mix of kinds, lights, reflection
+//! and transmission, the other factors by a covering array) and fixed
+//! random ones, each held to the CPU f64 reference and to the metamorphic
+//! properties, on the GPU (with the validation layer) and on the CPU; the
+//! set's coverage; shrinking; and the corpus of scenes that failed once,
+//! tests/data/found/.
 
 mod common;
 
@@ -131,7 +131,7 @@ fn check_chunk(specs: &[Spec], chunk: usize) {
 
 /// The CI set holds every kind, light type, pattern, material feature and
 /// sampling mode, every pair of a kind and a light type, and the scene of
-/// issue 57's first defect (spheres alone, no light, a material that
+/// the first defect the generated scenes found (spheres alone, no light, a material that
 /// neither reflects nor transmits); the random scenes add scale, offset,
 /// the eye inside and grazing lights, and the BVH's threshold.
 #[test]
@@ -165,7 +165,7 @@ fn the_ci_set_covers_the_tables() {
         seen.insert(format!("sampling {:?}", s.sampling));
         seen.insert(format!("depth {}", s.depth));
         if present == BTreeSet::from([0]) && s.lights.is_empty() && !s.reflect && !s.transmit {
-            seen.insert("issue 57's scene".into());
+            seen.insert("spheres alone, no light, nothing reflected".into());
         }
     }
     let mut wanted: Vec<String> = Vec::new();
@@ -194,7 +194,7 @@ fn the_ci_set_covers_the_tables() {
         ]);
     }
     wanted.extend(["0 lights", "1 lights", "2 lights", "depth 1", "depth 3"].map(String::from));
-    wanted.push("issue 57's scene".into());
+    wanted.push("spheres alone, no light, nothing reflected".into());
     let missing: Vec<&String> = wanted.iter().filter(|w| !seen.contains(*w)).collect();
     assert!(missing.is_empty(), "the CI set lacks {missing:?}");
 
@@ -261,7 +261,7 @@ impl Device for Planted {
     }
 }
 
-/// Issue 57's defect, planted: garbage where a scene has spheres and no
+/// The generated scenes' first defect, planted: garbage where a scene has spheres and no
 /// light. The CI set finds it, and a random scene of many objects that
 /// has it shrinks to one sphere, no light, a plain material; a renderer
 /// without the defect passes the same scenes.

@@ -1,4 +1,4 @@
-//! Defects of issue 10 found by hostile input, each fixed: a crafted image
+//! Defects found by hostile input, each fixed: a crafted image
 //! header, an include cycle, a `-D` that redefines glint's own constants,
 //! and a triple with extra elements. Each is one clear error with exit
 //! status 2, in bounded time, and no panic.
@@ -91,12 +91,11 @@ fn an_include_cycle_is_an_error_in_bounded_time() {
     assert!(stderr(&o).contains("an include cycle?"), "{}", stderr(&o));
 }
 
-/// Shader sources are read as every input is, and their defines bounded
-/// (issue 31, defects 6, 7 and 16): a FIFO or a link to /dev/zero in an
-/// `-I` folder is passed over (it used to block or be read for 2.2 GB);
-/// a NUL byte is one error with file and line (it panicked in glslang);
-/// doubling defines are refused before glslang expands them (they never
-/// finished).
+/// Shader sources are read as every input is, and their defines
+/// bounded: a FIFO or a link to /dev/zero in an `-I` folder is passed
+/// over (it used to block or be read for 2.2 GB); a NUL byte is one
+/// error with file and line (it panicked in glslang); doubling defines
+/// are refused before glslang expands them (they never finished).
 #[test]
 fn shader_sources_are_read_within_bounds() {
     let scene = common::repo().join("scenes/seed-fig3.toml");
@@ -296,7 +295,7 @@ fn errors_are_one_line_escaped_and_bounded() {
     assert_user_error(&o, "no such file");
 }
 
-/// Each error names the key that is wrong (issue 10, defect 7).
+/// Each error names the key that is wrong.
 #[test]
 fn errors_name_the_right_key() {
     let dir = tempfile::tempdir().unwrap();
@@ -340,9 +339,9 @@ fn a_define_that_breaks_the_preprocessor_is_named() {
     }
 }
 
-/// Inputs whose products could overflow f32 are refused with the bound
-/// (issue 10, defect 6): a colour of 1e308 made inf and NaN pixels on both
-/// backends, a camera at 2^63 NaN pixels on the GPU.
+/// Inputs whose products could overflow f32 are refused with the bound: a
+/// colour of 1e308 made inf and NaN pixels on both backends, a camera at
+/// 2^63 NaN pixels on the GPU.
 #[test]
 fn values_that_could_overflow_f32_are_refused_with_the_bound() {
     let dir = tempfile::tempdir().unwrap();
@@ -482,8 +481,8 @@ fn peak_memory_of(command: &mut Command, args: &[&str]) -> (Output, u64) {
     (output, peak)
 }
 
-/// Loading a scene takes well under 10 times its file size (issue 10,
-/// defect 4: 200,000 spheres took 895 MB for 22 MB of TOML).
+/// Loading a scene takes well under 10 times its file size (200,000
+/// spheres took 895 MB for 22 MB of TOML).
 #[test]
 fn a_large_scene_loads_in_under_ten_times_its_size() {
     let dir = tempfile::tempdir().unwrap();
@@ -519,9 +518,9 @@ fn a_large_scene_loads_in_under_ten_times_its_size() {
     );
 }
 
-/// An MTL file of many materials, of which the OBJ uses one, loads in
-/// under 10 times its size (issue 31, defect 11: a million materials, 30 MB,
-/// peaked at 1,021 MB, 34× the file, in 7.2 s; now 42 MB in 1.3 s).
+/// An MTL file of many materials, of which the OBJ uses one, loads in under
+/// 10 times its size (a million materials, 30 MB, peaked at 1,021 MB, 34×
+/// the file, in 7.2 s; now 42 MB in 1.3 s).
 #[test]
 fn a_large_mtl_file_loads_in_under_ten_times_its_size() {
     let dir = tempfile::tempdir().unwrap();
@@ -763,7 +762,7 @@ fn reads_are_of_regular_files_within_a_bound() {
 
 /// Under `spd_rays` a material that only transmits splits a ray too (the
 /// SPD follows a reflection ray at every transmitter): the CPU's bound
-/// counts it (issue 31, defect 5: this scene never finished on the CPU).
+/// counts it (this scene never finished on the CPU).
 #[test]
 fn the_cpus_ray_bound_counts_spd_rays_splits() {
     let mut text = String::from(
@@ -870,11 +869,11 @@ fn million_face_grid(dir: &Path) -> (PathBuf, String) {
 }
 
 /// A million-face OBJ renders on the GPU in under 10 times its size past
-/// what the program takes for a scene of three spheres (issue 31, defect
-/// 12: 611 MB for 31 MB at the round's start; now 405 MB with a fresh
-/// compile, 8.0 times past the program's 154 MB; 7.7 on Mesa 22.3): the
-/// primitives' arrays are written straight into their buffer, the BVH's
-/// boxes are held once, and a flat triangle holds no vertex normals.
+/// what the program takes for a scene of three spheres (611 MB for 31 MB
+/// at the round's start; now 405 MB with a fresh compile, 8.0 times past
+/// the program's 154 MB; 7.7 on Mesa 22.3): the primitives' arrays are
+/// written straight into their buffer, the BVH's boxes are held once,
+/// and a flat triangle holds no vertex normals.
 #[test]
 fn a_million_face_obj_renders_on_the_gpu_in_under_ten_times_its_size() {
     let dir = tempfile::tempdir().unwrap();
@@ -911,10 +910,10 @@ fn a_million_face_obj_renders_on_the_gpu_in_under_ten_times_its_size() {
 
 /// OBJ, NFF and `convert` are held to their measured peaks, with 10 % to
 /// spare (docs/guarantees.md): a million-face OBJ (31 MB) renders in 8.0
-/// times its size (12.0 until issue 31 moved a flat triangle's vertex
+/// times its size (12.0 until a flat triangle's vertex was moved
 /// normals out of line), 300,000 NFF spheres (4.6 MB) in 14.6 times, and
 /// convert writes them as TOML in 19.5 times. They were 18.3, 19.8 and 172
-/// times before issue 21; NFF's 10 times of TOML is not reached.
+/// times before NFF's 10 times of TOML is not reached.
 #[test]
 fn obj_nff_and_convert_stay_within_their_measured_peaks() {
     use std::fmt::Write;
@@ -1004,11 +1003,11 @@ fn diff_of_two_large_pngs_holds_27_bytes_a_pixel() {
     assert!(peak < 27 * n + (40 << 20), "peak {peak} for {n} pixels");
 }
 
-/// A PNG's colour profile inflates within the image's own bound (issue 31,
-/// defect 9): tests/data/iccp-64mib.png is one pixel and a 64 KB iCCP
-/// chunk that inflates to 64 MiB. `diff` of it with itself peaked at 73 MB
-/// when the decoder's bound was 4 GiB whatever the image; now the profile
-/// is dropped at 16 MiB past the pixels, and `diff` peaks at 24 MB.
+/// A PNG's colour profile inflates within the image's own bound:
+/// tests/data/iccp-64mib.png is one pixel and a 64 KB iCCP chunk that
+/// inflates to 64 MiB. `diff` of it with itself peaked at 73 MB when the
+/// decoder's bound was 4 GiB whatever the image; now the profile is
+/// dropped at 16 MiB past the pixels, and `diff` peaks at 24 MB.
 #[test]
 fn a_colour_profile_inflates_within_the_images_bound() {
     let png = common::repo().join("tests/data/iccp-64mib.png");
@@ -1019,8 +1018,8 @@ fn a_colour_profile_inflates_within_the_images_bound() {
 }
 
 /// A scene so small that its squared lengths underflow f32 is refused,
-/// naming how far its objects reach and the bound (issue 31, defect 3: a
-/// valid scene scaled by 1e-25 rendered flat ambient on the GPU, exit 0).
+/// naming how far its objects reach and the bound (a valid scene scaled
+/// by 1e-25 rendered flat ambient on the GPU, exit 0).
 #[test]
 fn a_scene_too_small_for_f32_is_refused() {
     let dir = tempfile::tempdir().unwrap();

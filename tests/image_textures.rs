@@ -136,7 +136,7 @@ fn png_texels_are_decoded_from_srgb_and_pfm_texels_are_linear() {
 
 /// A file's content must be the format its extension names: a PNG named
 /// .exr read 128 as 0.502 (linear) and an EXR named .png read 0.5 as 0.214
-/// (sRGB-decoded) without a word (issue 31, defect 2).
+/// (sRGB-decoded) without a word.
 #[test]
 fn an_image_whose_content_is_not_its_extensions_format_is_refused() {
     let dir = tempfile::tempdir().unwrap();
@@ -213,7 +213,7 @@ fn bad_images_and_missing_uvs_are_named() {
     });
     write_png(&d.join("wide.png"), 8193, 1, |_, _| [0, 0, 0]);
     write_pfm(&d.join("negative.pfm"), 2, 2, -1.0);
-    // A texel of 1e38 once blamed lights[0] (issue 31).
+    // A texel of 1e38 once blamed lights[0].
     write_pfm(&d.join("huge.pfm"), 1, 1, 1e38);
     std::fs::write(d.join("flat.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     std::fs::write(
@@ -279,8 +279,8 @@ fn the_cli_names_a_missing_image_and_writes_nothing() {
 }
 
 /// An EXR with more channels than glint decodes is refused from its header,
-/// before any block is inflated (issue 31, defect 8: 4,000 channels took
-/// 48 s and 520 MB as a texture).
+/// before any block is inflated (4,000 channels took 48 s and 520 MB as a
+/// texture).
 #[test]
 fn an_exr_of_too_many_channels_is_refused_before_decoding() {
     use exr::prelude::*;

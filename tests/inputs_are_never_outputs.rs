@@ -1,7 +1,7 @@
-//! No command writes over a file it reads (issue 10, defect 1): the output
-//! is compared with every input by device and inode, so a scene named like
-//! an image, a `./` spelling, a hard link or a symbolic link are all caught,
-//! and the input is left byte for byte as it was.
+//! No command writes over a file it reads: the output is compared with every
+//! input by device and inode, so a scene named like an image, a `./`
+//! spelling, a hard link or a symbolic link are all caught, and the input is
+//! left byte for byte as it was.
 
 #![cfg(feature = "gpu")]
 

@@ -1,6 +1,6 @@
-//! An output is whole or absent (issue 10, defect 3): SIGINT or SIGTERM
-//! during a write removes the temporary file, and a temporary file that a
-//! killed run left behind is removed by the next write into its directory.
+//! An output is whole or absent: SIGINT or SIGTERM during a write removes
+//! the temporary file, and a temporary file that a killed run left behind
+//! is removed by the next write into its directory.
 
 #![cfg(feature = "gpu")]
 

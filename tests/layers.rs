@@ -474,7 +474,7 @@ fn is_char_literal(s: &str) -> bool {
 
 /// The binary's files and the library's, each with its crate's root: no
 /// two files of one folder may import each other, directly or around a
-/// loop (issue 43), in either crate.
+/// loop, in either crate.
 #[test]
 fn no_files_of_one_folder_import_each_other() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");

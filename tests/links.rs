@@ -1,6 +1,6 @@
 //! Every relative link and image in the repository's Markdown files names
-//! a file or folder that is there (issue 33: the README's SPD pictures
-//! pointed at files that were never committed).
+//! a file or folder that is there (the README's SPD pictures pointed at
+//! files that were never committed).
 
 use std::path::{Path, PathBuf};
 
@@ -123,8 +123,8 @@ fn missing_files(text: &str) -> Vec<String> {
         .collect()
 }
 
-/// docs/architecture.md is the map (issue 59): every file and folder it
-/// names is there. The check fails on a name that is not, and passes over
+/// docs/architecture.md is the map: every file and folder it names is
+/// there. The check fails on a name that is not, and passes over
 /// placeholders and code in fenced blocks.
 #[test]
 fn every_file_the_architecture_names_is_there() {

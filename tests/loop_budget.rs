@@ -1,10 +1,10 @@
-//! llvmpipe before Mesa 25.0 stops every loop of an invocation once it
-//! has run about 65,535 iterations in all (issue 10, defect 2); 25.0 removed
-//! that limit ("gallivm: Remove loop limiting"). glint never writes the
-//! image a cut loop leaves: the canary loop of shaders/budget.glsl finds the
-//! spent budget and the render fails with one clear error, naming the
-//! pixel. These tests ask the driver rather than its version: a render past
-//! the budget is either that error or an image equal to the CPU reference.
+//! llvmpipe before Mesa 25.0 stops every loop of an invocation once it has
+//! run about 65,535 iterations in all; 25.0 removed that limit ("gallivm:
+//! Remove loop limiting"). glint never writes the image a cut loop leaves:
+//! the canary loop of shaders/budget.glsl finds the spent budget and the
+//! render fails with one clear error, naming the pixel. These tests ask the
+//! driver rather than its version: a render past the budget is either that
+//! error or an image equal to the CPU reference.
 
 #![cfg(feature = "gpu")]
 

@@ -51,7 +51,7 @@ fn crowd(n: usize) -> String {
     s
 }
 
-/// Defect 5: `--accel tables` built a light buffer for each of 3,000
+/// `--accel tables` built a light buffer for each of 3,000
 /// lights over 3,000 spheres and grew past 2.3 GB (the walk takes 19 MB).
 /// The build's working memory is bounded by a few budgets now, whatever
 /// the number of lights: the scene renders under a 384 MiB cap of address
@@ -89,7 +89,7 @@ fn tables_for_thousands_of_lights_stay_within_a_bound() {
     assert!(common::same_bits(&outputs[0], &outputs[1]));
 }
 
-/// Defect 7 (found in the Python module, and the binary had it too):
+/// Found in the Python module, and the binary had it too):
 /// `render` at 16384x16384 under a 3 GiB cap aborted on an allocation, on
 /// the CPU and the GPU. It is refused before the images are allocated, in
 /// one line, with exit status 2 and no output file.

@@ -156,9 +156,9 @@ fn bad_mtl_files_are_named() {
 }
 
 /// Each MTL file's maps are found beside it and its materials named after
-/// it, whichever `mtllib` line named it (issue 31, defect 1: the second
-/// file's maps were looked up beside the first, and the texture it named
-/// was not an input).
+/// it, whichever `mtllib` line named it (the second file's maps were
+/// looked up beside the first, and the texture it named was not an
+/// input).
 #[test]
 fn each_mtl_file_resolves_its_maps_in_its_own_folder() {
     let dir = tempfile::tempdir().unwrap();
@@ -209,7 +209,7 @@ fn each_mtl_file_resolves_its_maps_in_its_own_folder() {
 }
 
 /// A colour line with fewer than three values is one error naming the
-/// file and line (issue 31, defect 15: tobj panicked, exit 101).
+/// file and line (tobj panicked, exit 101).
 #[test]
 fn short_colour_lines_are_named_not_panics() {
     let dir = tempfile::tempdir().unwrap();
@@ -242,8 +242,8 @@ fn short_colour_lines_are_named_not_panics() {
     }
 }
 
-/// A file named by many `mtllib` lines is read once (issue 31, defect 10:
-/// 1,000 lines naming one file loaded its materials 1,000 times).
+/// A file named by many `mtllib` lines is read once (1,000 lines naming
+/// one file loaded its materials 1,000 times).
 #[test]
 fn an_mtl_file_named_again_is_read_once() {
     let dir = tempfile::tempdir().unwrap();
@@ -257,7 +257,7 @@ fn an_mtl_file_named_again_is_read_once() {
 
 /// A long name or number does not push out what the error says is wrong:
 /// names are cut, numbers shown in exponent form, and the message whole
-/// (issue 31, defect 18: the line was cut at 200 characters as a whole).
+/// (the line was cut at 200 characters as a whole).
 #[test]
 fn long_names_and_numbers_leave_the_reason_in_the_message() {
     let dir = tempfile::tempdir().unwrap();

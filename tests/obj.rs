@@ -95,7 +95,7 @@ fn triangles_written_as_triangles_are_within_the_allowance() {
     assert!(o.status.success(), "{}", stderr(&o));
 }
 
-/// Defect 13: a million identical faces (20 MB, within the triangles'
+/// A million identical faces (20 MB, within the triangles'
 /// allowance) make a tree that cannot separate them, so every ray tests
 /// them all. The CPU's bound counted rays alone, and 1024x768 (hours) was
 /// accepted; it now counts each ray at what it costs through the tree that

@@ -1,4 +1,4 @@
-//! Issue 21, defects 1–3, through the command line: a device node or FIFO
+//! Through the command line: a device node or FIFO
 //! is written into, never replaced (1); `report` and `shader dump` check
 //! every file they write against every input (2); a run whose second
 //! output cannot be written replaces none (3). Device nodes are private

@@ -75,7 +75,7 @@ fn variant(scene: &str, experiment: &str, dir: &Path) -> String {
 
 /// The word of the variant's name that `experiment` puts there: the read
 /// form it asks for, so that a test of it fails where the form is not the
-/// one read (issue 43).
+/// one read.
 fn form_word(experiment: &str) -> Option<&'static str> {
     match experiment {
         "address-reads" => Some("-address-"),
@@ -116,7 +116,7 @@ fn the_large_arrays_are_texel_buffers_by_default() {
     // The small tables stay uniform blocks (where the scene has spheres:
     // Mesa 22.3 crashed on sphere-less uniform variants), on a driver that
     // reads uniform buffers safely: llvmpipe before Mesa 25.0 takes none
-    // (it corrupted its heap on them, issue 56).
+    // (it corrupted its heap on them).
     let uniforms = common::gpu().device_info().reads_uniform_arrays;
     let name = variant("scenes/spd/balls.nff", "", dir.path());
     assert!(

@@ -221,7 +221,7 @@ fn the_sampling_axis_is_measured_against_a_converged_render() {
     let svg = std::fs::read_to_string(dir.path().join("sampling_vs_time.svg")).unwrap();
     assert!(svg.contains("adaptive sampling") && svg.contains("at 16x16 samples"));
     assert!(svg.contains("contrast sampling") && svg.contains("range test"));
-    // Issue 41: the axis's Pareto front is its own, inside the axes (the
+    // The axis's Pareto front is its own, inside the axes (the
     // main plot's front, of other times and errors, was drawn here, off
     // them), and each plot says what it shows. A front of one point (one
     // variant best in both) draws no line, so the check is over whatever

@@ -86,11 +86,11 @@ fn bvh_scene() -> Scene {
     common::scene(&text)
 }
 
-/// A prepared scene updated in place (issue 60: a notebook's sweep) renders
-/// what a fresh renderer renders of the scene as it is now, bit for bit,
-/// after each kind of change: a sphere moved far (its BVH refitted), the
-/// camera moved (every array camera-relative again), a colour and a light
-/// changed. Mapped and staged uploads alike, under the validation layer.
+/// A prepared scene updated in place (a notebook's sweep) renders what a
+/// fresh renderer renders of the scene as it is now, bit for bit, after
+/// each kind of change: a sphere moved far (its BVH refitted), the camera
+/// moved (every array camera-relative again), a colour and a light changed.
+/// Mapped and staged uploads alike, under the validation layer.
 #[test]
 fn an_updated_scene_renders_as_a_fresh_one() {
     use glint::gpu::{GpuOptions, Update};

@@ -71,7 +71,7 @@ fn a_broken_include_is_reported_at_the_users_file_and_line() {
         "{err}"
     );
     // One line, as every user error is: not glslang's "compilation
-    // terminated" trailer after it (issue 33).
+    // terminated" trailer after it.
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
     assert!(!err.contains("compilation terminated"), "{err}");
 }
@@ -421,8 +421,8 @@ fn watch_rerenders_on_change_and_keeps_the_last_good_image() {
 }
 
 /// The scene's folder deleted and made again, with the scene in it: watch
-/// renders the new scene (issue 31: it used to stop reacting, its watch
-/// left on the deleted folder).
+/// renders the new scene (it used to stop reacting, its watch left on the
+/// deleted folder).
 #[test]
 fn watch_follows_a_folder_deleted_and_made_again() {
     let dir = tempfile::tempdir().unwrap();
@@ -457,7 +457,7 @@ fn watch_follows_a_folder_deleted_and_made_again() {
 }
 
 /// A main shader finds the files it includes beside it, without `-I`:
-/// `shader check` and `render --shader` alike (issue 21, defect 10).
+/// `shader check` and `render --shader` alike.
 #[test]
 fn a_main_shader_finds_its_includes_beside_it() {
     let dir = tempfile::tempdir().unwrap();
@@ -504,7 +504,7 @@ fn a_main_shader_finds_its_includes_beside_it() {
 
 /// `watch` after a render that timed out (a runaway loop in an include, on
 /// a driver without a loop limit): the device is opened again, so fixing
-/// the include renders (issue 21's watchdog, for watch). On a driver with
+/// the include renders (the watchdog, for watch). On a driver with
 /// a loop limit the budget ends the loop, and the fix renders too.
 #[test]
 fn watch_renders_again_after_a_timeout() {
@@ -556,8 +556,8 @@ fn watch_renders_again_after_a_timeout() {
 }
 
 /// A same-size edit that keeps the file's time (`cp -p` of a version saved
-/// in the same second, `rsync -t`) re-renders (issue 41: the time and size
-/// alone were compared, and the old image stayed).
+/// in the same second, `rsync -t`) re-renders (the time and size alone
+/// were compared, and the old image stayed).
 #[test]
 fn watch_sees_an_edit_that_keeps_the_size_and_the_time() {
     let dir = tempfile::tempdir().unwrap();

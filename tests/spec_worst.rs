@@ -289,12 +289,11 @@ const UNCHANGED: &[&str] = &[
     "light-inside-sphere.toml",
 ];
 
-/// Every scene's image under the rewrite: passes `compare` against the f64
-/// reference (scenes/, scenes/extreme/ but light-on-surface, which fails
-/// natively too, scenes/scale/, the SPD and the found corpus; smaller than their own size
-/// here, `glint compare --spec-worst` at their own is in the closing note
-/// of issue 72), and differs from the native one: every scene divides and
-/// normalizes (but `UNCHANGED`).
+/// Every scene's image under the rewrite: passes `compare` against the f64 reference
+/// (scenes/, scenes/extreme/ but light-on-surface, which fails natively too,
+/// scenes/scale/, the SPD and the found corpus; smaller than their own size here, `glint
+/// compare --spec-worst` at their own is in the conformance envelope's closing note), and differs
+/// from the native one: every scene divides and normalizes (but `UNCHANGED`).
 #[test]
 fn every_scene_holds_under_the_worst_conformant_driver() {
     let mut native = common::gpu();

@@ -192,8 +192,8 @@ fn bad_textures_are_named() {
             "textures.cubes.size",
             "must be at least 1e-18",
         ),
-        // Issue 31, defect 17: 1e-40 made the f32 shading NaN, and render
-        // said only that the image had non-finite values.
+        // 1e-40 made the f32 shading NaN, and render said only
+        // that the image had non-finite values.
         (
             "size = 0.35",
             "size = 1e-40",

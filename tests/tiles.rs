@@ -161,7 +161,7 @@ fn render_tile_and_assemble_through_the_binary() {
     let no_output = |out: &str| assert!(!d.join(out).exists(), "{out} was written");
     // Two bands of one size with their images swapped (a script's `mv`, a
     // farm writing the wrong name): each sidecar is bound to its pixels
-    // (issue 41, defect 2: they assembled, 34 % of the pixels off).
+    // (they assembled, 34 % of the pixels off).
     std::fs::create_dir(d.join("swapped")).unwrap();
     for (name, region) in [("top", "0,0,67,65"), ("bottom", "0,65,67,65")] {
         let out = format!("swapped/{name}.exr");
@@ -255,10 +255,9 @@ fn render_tile_and_assemble_through_the_binary() {
     );
     assert!(!d.join("t.exr").exists() && !d.join("t.png").exists());
 
-    // Sidecars edited (issue 21, defect 8): a huge scene name is cut in the
-    // message; a size past any render is refused, not reported as a
-    // missing tile with an empty list.
-    // copy.exr is tile 0 again, with a sidecar of its own to edit.
+    // Sidecars edited: a huge scene name is cut in the message; a size past
+    // any render is refused, not reported as a missing tile with an empty
+    // list. copy.exr is tile 0 again, with a sidecar of its own to edit.
     let sidecar = d.join("copy.exr.json");
     let edit = |from: &str, to: &str| {
         let text = std::fs::read_to_string(&sidecar).unwrap();
@@ -280,7 +279,7 @@ fn render_tile_and_assemble_through_the_binary() {
     no_output("h.pfm");
 
     // A sidecar claiming 100,000,000 tiles names a few missing ones and
-    // counts the rest (issue 31, defect 14: it listed them all, 3.8 GB).
+    // counts the rest (it listed them all, 3.8 GB).
     std::fs::write(&sidecar, &original).unwrap();
     edit("\"tile\": \"0/3\"", "\"tile\": \"0/100000000\"");
     let o = assemble(&["copy.exr"], "i.pfm");
@@ -289,7 +288,7 @@ fn render_tile_and_assemble_through_the_binary() {
     no_output("i.pfm");
 
     // A tile holding NaN or infinity is refused as render refuses such an
-    // image (issue 31, defect 4: the NaN became black in the PNG).
+    // image (the NaN became black in the PNG).
     std::fs::write(&sidecar, &original).unwrap();
     let mut bad = read("tiles/0.exr");
     let w = bad.width as usize;

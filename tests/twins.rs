@@ -1,6 +1,6 @@
 //! docs/shaders.md's table of shader files and their CPU twins names files
-//! that exist, and every built-in shader file is in it (issue 43: the
-//! table was kept by hand and named a file the check had left).
+//! that exist, and every built-in shader file is in it (the table was kept
+//! by hand and named a file the check had left).
 
 use std::path::Path;
 

@@ -166,16 +166,16 @@ fn setup_times_are_those_of_the_call() {
     assert_eq!(again.compile_s, 0.0, "built before: {again:?}");
 }
 
-/// Every mix of primitive kinds and light types renders, in its own
-/// variant, and agrees with the reference on the GPU and in the CPU's f32:
-/// from the tables, so a new kind or light type is in it with no edit
-/// here, and with the mixes that have nothing: no objects (and so no
-/// material used: the scene's two materials stay unused), no lights (the
-/// image is its background and black where objects are, since ambient
-/// comes from the lights; issue 57, defect 1). Then each pattern of the
-/// textures' table on every kind, lit by each light type. Lavapipe 22.3
-/// crashed (a segmentation fault in a worker thread) on two of these
-/// mixes' uniform buffer variants; glint gives it none (src/gpu/variant.rs).
+/// Every mix of primitive kinds and light types renders, in its own variant,
+/// and agrees with the reference on the GPU and in the CPU's f32: from the
+/// tables, so a new kind or light type is in it with no edit here, and with
+/// the mixes that have nothing: no objects (and so no material used: the
+/// scene's two materials stay unused), no lights (the image is its
+/// background and black where objects are, since ambient comes from the
+/// lights). Then each pattern of the textures' table on every kind, lit by
+/// each light type. Lavapipe 22.3 crashed (a segmentation fault in a worker
+/// thread) on two of these mixes' uniform buffer variants; glint gives it
+/// none (src/gpu/variant.rs).
 #[test]
 fn every_mix_of_kinds_and_lights_renders() {
     use glint::generate::space::{Point, MAX_KINDS};
@@ -248,7 +248,7 @@ fn every_mix_of_kinds_and_lights_renders() {
 /// Moving one sphere through a scene keeps the scene's variant, and so its
 /// compiled shader, whether its arrays are uniform blocks (a small scene:
 /// the nodes' array is sized by the primitives' count) or not (the stack
-/// is sized by it): issue 60, where every position in a mesh scene
+/// is sized by it): every position in a mesh scene
 /// compiled anew.
 #[test]
 fn moving_a_sphere_keeps_the_variant() {

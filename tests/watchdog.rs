@@ -1,8 +1,8 @@
-//! Every wait on the GPU is bounded (issue 10, defect 9): a tile that runs
-//! past its limit stops the render with the tile named, the renderer
-//! refuses further work, and the binary exits at once without an output.
-//! On lavapipe a runaway loop ends at the loop budget, so these tests use a
-//! limit shorter than an ordinary render instead.
+//! Every wait on the GPU is bounded: a tile that runs past its limit stops
+//! the render with the tile named, the renderer refuses further work, and
+//! the binary exits at once without an output. On lavapipe a runaway loop
+//! ends at the loop budget, so these tests use a limit shorter than an
+//! ordinary render instead.
 
 #![cfg(feature = "gpu")]
 
@@ -86,7 +86,7 @@ fn the_binary_stops_at_once_and_writes_nothing() {
     assert!(start.elapsed() < Duration::from_secs(60));
     let o = common::glint(&["render", scene.to_str().unwrap(), "--timeout", "-1"]);
     assert_eq!(o.status.code(), Some(2));
-    // A huge limit is named as given, not in 301 digits (issue 31).
+    // A huge limit is named as given, not in 301 digits.
     let o = common::glint(&["render", scene.to_str().unwrap(), "--timeout", "1e300"]);
     common::assert_user_error(&o, "--timeout 1e300: must be in (0, 1e6] seconds");
 }

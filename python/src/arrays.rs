@@ -1,10 +1,10 @@
-//! numpy arrays in a scene's dict (issue 60): a mesh given as
-//! `{"vertices": (N, 3), "faces": (M, 3)}` (with optional per-vertex
-//! `"normals"` (N, 3) and `"uvs"` (N, 2)) is written as an OBJ file, and an
-//! array given as a texture's `image` as a PFM of its linear values; the
-//! scene reads them as it reads any file, so an array loads at the OBJ
-//! path's speed and renders the same bits as that file would. The files
-//! live in a folder that lasts as long as the scene.
+//! numpy arrays in a scene's dict: a mesh given as `{"vertices": (N, 3),
+//! "faces": (M, 3)}` (with optional per-vertex `"normals"` (N, 3) and
+//! `"uvs"` (N, 2)) is written as an OBJ file, and an array given as a
+//! texture's `image` as a PFM of its linear values; the scene reads them as
+//! it reads any file, so an array loads at the OBJ path's speed and renders
+//! the same bits as that file would. The files live in a folder that lasts
+//! as long as the scene.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;

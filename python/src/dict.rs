@@ -35,13 +35,13 @@ pub fn to_python<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, P
 
 /// How deep a scene's dict may nest: a scene file's tables go 3 deep; past
 /// this a dict or list holds itself, or was built to crash the reader
-/// (issue 57: 10,000 levels overflowed the stack, SIGSEGV).
+/// (10,000 levels overflowed the stack, SIGSEGV).
 const MAX_NESTING: usize = 64;
 
 /// A Python value as TOML text, appended to `out` (a dict's entries as
 /// inline tables): written as it is walked, with no tree of values beside
-/// the text (issue 57: 200,000 spheres took 630 MB as `toml::Value`s, 40
-/// MB as text). `at` is its key path, for the error.
+/// the text (200,000 spheres took 630 MB as `toml::Value`s, 40 MB as
+/// text). `at` is its key path, for the error.
 fn to_toml(v: &Bound<'_, PyAny>, at: &str, depth: usize, out: &mut String) -> PyResult<()> {
     let shown = || {
         if at.is_empty() {
@@ -148,7 +148,7 @@ fn key_of(
 /// dicts (the primitives and lights), their entries a line each, nested
 /// dicts as sections of their own. glint's parser reads a file of this
 /// shape in about the text's size; one with inline tables took 10 times
-/// that (issue 57: 200,000 spheres took 430 MB with one `m = {...}`).
+/// that (200,000 spheres took 430 MB with one `m = {...}`).
 pub fn top_level(d: &Bound<'_, PyDict>, out: &mut String, files: &mut ArrayFiles) -> PyResult<()> {
     section(d, &[], "", 0, out, files)
 }

@@ -69,7 +69,7 @@ pub fn panic_words(payload: &(dyn std::any::Any + Send)) -> String {
 }
 
 /// The command line's advice in a message, and Python's words for it: a
-/// Python user has no `--force` or `--timeout` (issue 57, defect 9).
+/// Python user has no `--force` or `--timeout`.
 const ADVICE: &[(&str, &str)] = &[
     ("(remove it, or use --force)", "(remove it first)"),
     ("give --sample ", "give sample="),
@@ -140,7 +140,7 @@ pub fn image(e: ImageIoError) -> PyErr {
 }
 
 /// Images that would not fit: a `MemoryError`, before they are allocated,
-/// so that the interpreter lives (issue 57, defect 7).
+/// so that the interpreter lives.
 pub fn memory(e: glint::raster::memory::TooLarge) -> PyErr {
     pyo3::exceptions::PyMemoryError::new_err(in_python(e.to_string()))
 }

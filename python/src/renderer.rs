@@ -38,16 +38,16 @@ pub struct Renderer {
     inner: Arc<Mutex<gpu::Renderer>>,
     /// The scene `render` prepared last, by its id and the settings it
     /// was prepared under: rendered again, or updated, where `render` is
-    /// given that scene again (issue 60: a notebook's sweep).
+    /// given that scene again (a notebook's sweep).
     last: Mutex<Option<(LastKey, Py<PreparedScene>)>>,
     /// A dict's shader files, written out for the compiler; removed
     /// with the renderer.
     _texts: Option<tempfile::TempDir>,
     device: String,
-    /// Whether a render's stats have counted the device's opening:
-    /// the first render through this renderer counts it, later ones
-    /// spent nothing on it (issue 60: every render of a prepared scene
-    /// counted it again).
+    /// Whether a render's stats have counted the device's opening: the
+    /// first render through this renderer counts it, later ones spent
+    /// nothing on it (every render of a prepared scene counted it
+    /// again).
     device_counted: Arc<AtomicBool>,
 }
 
@@ -93,7 +93,7 @@ impl Renderer {
                 opts.timeout = Some(Duration::from_secs_f64(t));
             }
             opts.defines = defines.unwrap_or_default().into_iter().collect();
-            // As the binary refuses -D and -I (issue 57, defect 4).
+            // As the binary refuses -D and -I.
             for (name, value) in &opts.defines {
                 gpu::check_define(name, value.as_deref()).map_err(|e| {
                     PyValueError::new_err(format!(
@@ -448,7 +448,7 @@ impl PreparedScene {
         let region = region_of(region);
         let (now, generation) = self.scene.get().current();
         if let Some(r) = region {
-            // As the CPU's: ValueError, not glint.Error (issue 57).
+            // As the CPU's: ValueError, not glint.Error.
             r.within(now.width, now.height).map_err(errors::value)?;
         }
         let (w, h) = region.map_or((now.width, now.height), |r| (r.width, r.height));
@@ -539,8 +539,8 @@ impl PreparedScene {
 #[pyfunction]
 pub fn devices_json(py: Python<'_>) -> PyResult<String> {
     guard(|| {
-        // No driver, or no loader: no devices, as a listing says it
-        // (issue 60); a driver that fails otherwise still raises.
+        // No driver, or no loader: no devices, as a listing says it; a
+        // driver that fails otherwise still raises.
         let devices = match crate::gil::detach(py, gpu::list_devices) {
             Err(gpu::GpuError::NoDevice | gpu::GpuError::NoLoader(_)) => Vec::new(),
             listed => listed.map_err(errors::gpu)?,

@@ -1,4 +1,4 @@
-"""`render(..., aovs=[...])` (issue 60): the eye ray's first hit as arrays
+"""`render(..., aovs=[...])`: the eye ray's first hit as arrays
 beside the colour, on both renderers: ids and counts the same bits,
 distances, normals and albedos within f32's rounding; left out of the
 shader when not asked for."""

@@ -80,7 +80,7 @@ def test_images_round_trip(tmp_path):
     for ext in ["pfm", "exr"]:
         glint.write(image, tmp_path / f"a.{ext}")
         assert glint.read(tmp_path / f"a.{ext}").tobytes() == image.tobytes()
-    # A PNG is sRGB-encoded (issue 60): half a level, through the decoding.
+    # A PNG is sRGB-encoded: half a level, through the decoding.
     glint.write(image / 4, tmp_path / "a.png")
     back = glint.read(tmp_path / "a.png")
     assert np.abs(back - image / 4).max() <= 0.5 / 255 * 2.4 / 1.055
@@ -225,7 +225,7 @@ def test_explain_takes_a_pixel_of_two_whole_numbers(renderer, pixel):
 
 def test_errors_give_pythons_words_not_the_command_lines(tmp_path):
     # A keyword out of range is a ValueError naming it (it was a
-    # glint.Error; issue 73 asks for ValueError, as for width=-1).
+    # glint.Error; a keyword out of range is a ValueError, as width=-1 is).
     with pytest.raises(ValueError) as e:
         glint.load(ROOT / "scenes" / "seed-fig4.toml", width=0)
     assert "--width" not in str(e.value) and "width=0" in str(e.value)
@@ -245,7 +245,7 @@ def test_a_sample_past_the_pixels_is_named_as_python_names_it(renderer):
 
 
 def test_an_obj_files_error_is_said_of_the_obj(tmp_path):
-    """Issue 57, defect 9: a bad OBJ loaded as a scene was reported at line
+    """A bad OBJ loaded as a scene was reported at line
     20 of the scene glint wrote around it, which the caller never sees."""
     obj = tmp_path / "bad.obj"
     obj.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")

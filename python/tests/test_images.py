@@ -9,7 +9,7 @@ import glint
 
 @pytest.mark.parametrize("dtype, top", [(np.uint8, 255), (np.uint16, 65535)])
 def test_an_integer_image_is_written_at_its_levels(tmp_path, dtype, top):
-    # Levels are sRGB-encoded, as a PNG's (issue 60): decoded to linear.
+    # Levels are sRGB-encoded, as a PNG's: decoded to linear.
     levels = np.full((2, 3, 3), top // 2 + 1, dtype=dtype)
     path = tmp_path / "x.pfm"
     glint.write(levels, path)

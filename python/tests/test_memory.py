@@ -29,7 +29,7 @@ def _declared_png(path, side):
 
 
 def test_what_does_not_fit_in_memory_raises_and_the_interpreter_lives(tmp_path):
-    """Issue 57, defect 7: a render at 16384x16384, or a small PNG that
+    """A render at 16384x16384, or a small PNG that
     declares 16384x16384, under a 3 GiB cap aborted the interpreter."""
     import subprocess
     import sys
@@ -57,7 +57,7 @@ print("alive")
 
 
 def test_a_dict_that_holds_itself_or_nests_deep_is_a_value_error():
-    """Issue 57, defect 7: these overflowed the stack (SIGSEGV)."""
+    """These overflowed the stack (SIGSEGV)."""
     d = {"image": {"width": 8, "height": 8}}
     d["camera"] = d
     with pytest.raises(ValueError, match="nested more than"):
@@ -70,7 +70,7 @@ def test_a_dict_that_holds_itself_or_nests_deep_is_a_value_error():
 
 
 def test_a_dict_of_many_spheres_takes_about_what_its_text_does():
-    """Issue 57, defect 7: 200,000 spheres from a dict took 630 MB where
+    """200,000 spheres from a dict took 630 MB where
     glint.loads of the same scene took 40 MB."""
     import subprocess
     import sys

@@ -1,4 +1,4 @@
-"""A notebook session's steps (issue 60): a scene read back as a dict and
+"""A notebook session's steps: a scene read back as a dict and
 from a dict in another folder, one colour convention for PNG, images shown
 inline, setup times that say what a render spent, devices() without a
 driver, and the package imported from inside python/."""
@@ -158,7 +158,7 @@ def test_a_prepared_scenes_second_render_spent_no_setup(renderer):
     _, first = prepared.render(stats=True)
     _, second = prepared.render(stats=True)
     assert first["seconds"]["setup"] > 0
-    # Issue 60: the device's opening was counted again at every render.
+    # The device's opening was counted again at every render.
     assert second["seconds"]["setup"] == 0.0, second["seconds"]
     # Another scene on the same renderer: its compile, not the device again.
     _, other = r.render(small("seed-fig5.toml", 32, 24), stats=True)
@@ -201,7 +201,7 @@ def test_the_package_imports_from_inside_the_python_folder():
 
 @gpu
 def test_a_sphere_swept_through_a_mesh_scene_compiles_once():
-    # Issue 60: every position compiled a new variant (the BVH's node
+    # Every position compiled a new variant (the BVH's node
     # count and depth were in its key).
     d = {
         "image": {"width": 48, "height": 36},
@@ -226,8 +226,8 @@ def test_a_sphere_swept_through_a_mesh_scene_compiles_once():
 
 def test_the_build_refuses_in_one_line_without_cargo(tmp_path):
     # Where cargo is missing, maturin would download a Rust toolchain of
-    # about 1 GB into ~/.cache and say nothing (issue 60); glint's backend
-    # stops first, naming ci/setup.
+    # about 1 GB into ~/.cache and say nothing; glint's backend stops
+    # first, naming ci/setup.
     run = subprocess.run(
         [sys.executable, "-c", "import glint_build"],
         cwd=tmp_path,

@@ -1,4 +1,4 @@
-"""`scene.params` (issue 60): a scene's values changed without a reload,
+"""`scene.params`: a scene's values changed without a reload,
 and renders that show the change, compiling nothing where the shader it
 has can render it, and saying so where it cannot."""
 

@@ -72,11 +72,11 @@ impl Bvh {
     /// The stack the shader declares: for the depth a tree of this many
     /// primitives has (`expected_depth`), or the tree's own where it is
     /// deeper. So moving a primitive, which changes the depth by a level
-    /// or two, keeps the variant and its compiled shader (issue 60: every
-    /// position of a sphere in a mesh scene compiled anew), at the cost of
-    /// a few entries more than the tree needs (a larger private array is
-    /// slower on Mesa 22.3: 192 entries cost 16 %; docs/performance.md).
-    /// `count` is the primitives the tree was built over.
+    /// or two, keeps the variant and its compiled shader (every position
+    /// of a sphere in a mesh scene compiled anew), at the cost of a few
+    /// entries more than the tree needs (a larger private array is slower
+    /// on Mesa 22.3: 192 entries cost 16 %; docs/performance.md). `count`
+    /// is the primitives the tree was built over.
     pub fn shader_stack(&self, count: usize) -> usize {
         (WIDTH - 1) * self.depth.max(expected_depth(count)) as usize
     }

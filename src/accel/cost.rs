@@ -1,8 +1,8 @@
-//! What a ray costs through a built tree (issue 41): the bounds on a
-//! render's time (the GPU's watchdog, the CPU's bound on its work) are
-//! taken from the tree that was built, not from the tree a good scene
-//! would have. A million identical faces cannot be split: every box
-//! overlaps every other, and a ray tests them all.
+//! What a ray costs through a built tree: the bounds on a render's time
+//! (the GPU's watchdog, the CPU's bound on its work) are taken from the
+//! tree that was built, not from the tree a good scene would have. A
+//! million identical faces cannot be split: every box overlaps every
+//! other, and a ray tests them all.
 
 use glam::DVec3;
 

@@ -101,7 +101,7 @@ pub fn pack(node: &Node) -> (Packed, Node) {
         let span = f64::from(top) - f64::from(o);
         let short = |bits: u32| f64::from(step_of(bits)) * 253.0 < span;
         // From an estimate of the exponent, not from 1: the climb took
-        // 100 steps an axis, most of a refit's time (issue 60).
+        // 100 steps an axis, most of a refit's time.
         let mut bits = if span > 0.0 {
             ((span / 253.0).log2().floor() + 127.0).clamp(1.0, 254.0) as u32
         } else {

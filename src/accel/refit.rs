@@ -1,7 +1,7 @@
 //! A built tree fitted again to primitives that moved: the same nodes and
 //! leaves, each box recomputed bottom-up by the build's own rule (the
 //! padded box of every primitive below it). A notebook that moves a sphere
-//! in a mesh scene pays for this, not for a new SAH build (issue 60).
+//! in a mesh scene pays for this, not for a new SAH build.
 //!
 //! The image does not depend on the tree (src/accel/mod.rs), only the time
 //! does: a tree refitted after large moves is walked more slowly than a new

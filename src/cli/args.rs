@@ -152,10 +152,10 @@ impl DeviceArgs {
     }
 
     /// These options as the words of a command line, for a child glint
-    /// (`glint drivers`), all but `--device`: the child's device is the
-    /// one its driver offers. Paths are made absolute, so that the words
-    /// mean the same from any folder (issue 42, defect 9: a reproducer's
-    /// command repeated `-I ../inc` as typed, relative to where the run was).
+    /// (`glint drivers`), all but `--device`: the child's device is the one
+    /// its driver offers. Paths are made absolute, so that the words mean the
+    /// same from any folder (a reproducer's command repeated `-I ../inc` as
+    /// typed, relative to where the run was).
     #[cfg(feature = "gpu")]
     pub fn forward(&self) -> Vec<std::ffi::OsString> {
         use glint::settings::Choice;

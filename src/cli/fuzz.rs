@@ -1,7 +1,7 @@
-//! `glint fuzz`: generated scenes held to the oracle (issue 56;
-//! docs/guarantees.md, Generated scenes): random ones for a number of
-//! minutes or cases, the CI set, or every small scene; each failure shrunk
-//! and written out as a scene file with its seed.
+//! `glint fuzz`: generated scenes held to the oracle (docs/guarantees.md,
+//! Generated scenes): random ones for a number of minutes or cases, the CI
+//! set, or every small scene; each failure shrunk and written out as a
+//! scene file with its seed.
 
 use std::path::PathBuf;
 use std::process::ExitCode;

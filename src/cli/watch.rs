@@ -117,7 +117,7 @@ pub fn run(a: &WatchArgs) -> anyhow::Result<ExitCode> {
             Err(mpsc::RecvTimeoutError::Disconnected) => anyhow::bail!("the file watcher stopped"),
         }
         // A folder deleted and made again is a new folder, which the old
-        // watch does not see (issue 31): watch it afresh.
+        // watch does not see: watch it afresh.
         for ((dir, mode), known) in dirs.iter().zip(identities.iter_mut()) {
             let now = identity(dir);
             if now != *known {

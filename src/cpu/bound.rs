@@ -1,13 +1,12 @@
 //! The most rays a CPU render of a scene can cast, and the bound past which
-//! the CPU refuses it (issue 21, defect 5). A material that both reflects
-//! and transmits splits a ray in two at each bounce, so a ray tree can
-//! double at every level of `max_depth`: 15 nested glass shells at depth
-//! 64 are a valid scene of about 10^19 rays a pixel. The GPU stops such a
-//! render at its watchdog; the CPU has none, so it refuses it up front.
+//! the CPU refuses it. A material that both reflects and transmits splits a
+//! ray in two at each bounce, so a ray tree can double at every level of
+//! `max_depth`: 15 nested glass shells at depth 64 are a valid scene of
+//! about 10^19 rays a pixel. The GPU stops such a render at its watchdog;
+//! the CPU has none, so it refuses it up front.
 //!
-//! A ray's cost is bounded too, by the tree the scene's primitives make
-//! (issue 41, defect 13): a million identical faces cannot be split, and
-//! every ray tests them all.
+//! A ray's cost is bounded too, by the tree the scene's primitives make: a
+//! million identical faces cannot be split, and every ray tests them all.
 
 use crate::accel;
 use crate::scene::Scene;

@@ -53,7 +53,7 @@ pub enum Seen {
     },
     /// The driver did what no correct driver does: lost the device, left
     /// the image unwritten or garbled, or returned an error that is not a
-    /// limit (issue 42, defect 8).
+    /// limit.
     Fault {
         /// What glint or the driver said.
         message: String,

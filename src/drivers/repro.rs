@@ -197,8 +197,8 @@ pub fn copy_scene(path: &Path, scene: &Scene, dir: &Path) -> Result<PathBuf, Dri
     let copy = dir.join(path.file_name().unwrap_or(path.as_os_str()));
     std::fs::copy(path, &copy).map_err(DriversError::file("copy", path))?;
     // Compared resolved, as the scene's own paths and the scene's folder
-    // may be spelt differently (issue 42, defect 9: "s.toml" is in ".",
-    // and its "mesh.obj" did not start with "./", so it was not copied).
+    // may be spelt differently ("s.toml" is in ".", and its "mesh.obj"
+    // did not start with "./", so it was not copied).
     let resolved = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_owned());
     let home = resolved(crate::files::folder_of(path));
     for input in &scene.input_files {
@@ -218,7 +218,7 @@ pub fn copy_scene(path: &Path, scene: &Scene, dir: &Path) -> Result<PathBuf, Dri
 /// the scene, with the failing driver alone.
 fn command_line(f: &Failure, scene_copy: &Path) -> String {
     // The manifest by its absolute path: the command runs from the
-    // reproducer's folder, not where `drivers` ran (defect 9).
+    // reproducer's folder, not where `drivers` ran.
     let icd = std::path::absolute(f.icd).unwrap_or_else(|_| f.icd.to_owned());
     let mut words = vec![format!("VK_DRIVER_FILES={}", quote(&icd.to_string_lossy()))];
     if let Ok(e) = std::env::var("GLINT_EXPERIMENT") {
@@ -268,7 +268,7 @@ fn quote(word: &str) -> String {
 }
 
 /// A name or a driver's words as the README shows them: control
-/// characters escaped (issue 42, defect 14).
+/// characters escaped.
 fn shown(s: &str) -> String {
     crate::printable::text(s)
 }
@@ -336,8 +336,8 @@ fn readme(f: &Failure, command: &str, shader_problem: Option<String>) -> String 
 
 /// A driver's manifest as the reproducer keeps it, read as every input is
 /// (a regular file, at most 1 MiB): a FIFO or a link to /dev/zero among
-/// the loader's folders would block the run or fill its memory (issue 42,
-/// defect 11). What cannot be read is said in its place.
+/// the loader's folders would block the run or fill its memory. What
+/// cannot be read is said in its place.
 fn manifest_text(icd: &Path) -> String {
     crate::input::read_text(icd, crate::input::ReadAs::Manifest)
         .unwrap_or_else(|e| format!("(not read: {e})"))

@@ -85,7 +85,7 @@ pub enum Verdict {
         /// What stopped the run.
         message: String,
     },
-    /// Not run: the run's --budget ran out first (issue 42, defect 10).
+    /// Not run: the run's --budget ran out first.
     NotRun {
         /// Why.
         reason: String,

@@ -429,8 +429,8 @@ pub fn floor_bounds(reference: &[Entry]) -> Vec<Bound> {
 /// Widens `bounds` by one trial's entries `t`. A trial's tree says nothing
 /// of the quantities after its first change of shape (another primitive,
 /// verdict or ray), and calls that one unstable. A trial at a time, so that
-/// no more than one trial's entries are held (issue 57, defect 6: a tree
-/// of 1,953 rays held nine, and `explain` peaked at 0.7-1 GB).
+/// no more than one trial's entries are held (a tree of 1,953 rays held
+/// nine, and `explain` peaked at 0.7-1 GB).
 pub fn widen(bounds: &mut [Bound], reference: &[Entry], t: &Tree) {
     let mut walked = 0;
     for ((e, b), te) in reference.iter().zip(bounds.iter_mut()).zip(walk(t)) {

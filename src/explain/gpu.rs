@@ -69,8 +69,8 @@ pub fn record_on_gpu(
     let words = record_words(renderer, scene, settings, sample)?;
     match tree_of_words(&words, settings.precision, name) {
         Ok(t) => Ok(in_frame(t, scene, settings.intersect)),
-        // Name the file that records nothing (issue 57, defect 10: a
-        // replaced trace.glsl was blamed on "a main shader of your own").
+        // Name the file that records nothing (a replaced trace.glsl was
+        // blamed on "a main shader of your own").
         Err(ExplainError::Record(e)) if e == UNRECORDED => {
             let files = renderer.unrecording();
             if files.is_empty() {
@@ -182,11 +182,11 @@ fn plain_pixel(
 }
 
 /// Holds every explanation's pixel to the one the plain variant of
-/// `settings` writes (issue 57, defect 2: explain judged the recorded tree
-/// alone, and said "every tree agrees" of a render that was wrong): the
-/// mean of the pixel's recorded samples must be that pixel, else each of
-/// its explanations says the render differs from its recorded trees, and
-/// does not agree.
+/// `settings` writes (explain judged the recorded tree alone, and said
+/// "every tree agrees" of a render that was wrong): the mean of the
+/// pixel's recorded samples must be that pixel, else each of its
+/// explanations says the render differs from its recorded trees, and does
+/// not agree.
 pub fn check_renders(
     renderer: &mut Renderer,
     scene: &Scene,

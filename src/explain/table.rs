@@ -39,7 +39,7 @@ pub fn marks(tree: &Tree, reference: &[Entry], bounds: &[Bound]) -> Vec<bool> {
 
 /// A tree of more rays than this is shown in part: the first ray, the
 /// rays on the path to each first divergence, and a line for the rest
-/// (issue 57, defect 6: 1,953 rays printed 55 MB).
+/// (1,953 rays printed 55 MB).
 pub const FULL_RAYS: usize = 64;
 
 /// The rays of `reference` (the f64 tree) to show in full, where it has

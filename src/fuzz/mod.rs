@@ -1,9 +1,9 @@
-//! The oracle over the whole scene space (issue 56; docs/guarantees.md,
-//! Generated scenes): each generated scene ([`crate::generate`]) is held
-//! to properties that could fail, differential (the GPU's f32 and the
-//! CPU's f32 against the f64 reference, the scene managements against
-//! each other) and metamorphic (a dark light, the order of the file,
-//! depth where nothing reflects, a moved scene). A failure shrinks to a
+//! The oracle over the whole scene space (docs/guarantees.md, Generated
+//! scenes): each generated scene ([`crate::generate`]) is held to
+//! properties that could fail, differential (the GPU's f32 and the CPU's
+//! f32 against the f64 reference, the scene managements against each
+//! other) and metamorphic (a dark light, the order of the file, depth
+//! where nothing reflects, a moved scene). A failure shrinks to a
 //! smallest scene that still fails the same way ([`shrink`]).
 
 #[cfg(feature = "gpu")]
@@ -58,7 +58,7 @@ pub enum Property {
     /// The GPU's ray counts are the CPU f32's.
     GpuCounts,
     /// `explain` of the middle pixel holds its recorded trees to the pixel
-    /// the render wrote (issue 57, defect 2).
+    /// the render wrote.
     GpuExplain,
 }
 

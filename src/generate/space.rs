@@ -240,7 +240,7 @@ pub fn pairwise_rows() -> usize {
 
 /// The CI set: the core exhaustively (each kind absent or present, every
 /// choice of lights, reflection and transmission each on and off: where
-/// the no-lights defect of issue 57 lives), with the other factors (a
+/// the no-lights fault of the generated scenes lived), with the other factors (a
 /// present kind's count of 1 or 2, the texture, shadows, sampling and
 /// depth) from a covering array of strength 2 over every factor, row by
 /// row; then that covering array's own rows.

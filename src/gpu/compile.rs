@@ -190,8 +190,8 @@ impl Sources {
         // stock main.comp read the same files, and a one-sphere scene with
         // no light is the ceiling's own variant, so without it the two
         // shared a cache entry and such a scene rendered the ceiling's
-        // output (issue 57, defect 1). A user's main file is hashed, path
-        // and text, with the files below.
+        // output. A user's main file is hashed, path and text, with the
+        // files below.
         h.write(b"main");
         h.write(
             self.main_builtin
@@ -240,7 +240,7 @@ impl Sources {
 
 /// A user's shader file: its path as messages name it, and its text: a
 /// regular file within `Kind::Shader`'s bound, UTF-8, without NUL bytes
-/// (glslang takes C strings; issue 31, defect 16).
+/// (glslang takes C strings).
 fn read_source(path: &Path) -> Result<(String, String), String> {
     let shown = crate::printable::path(path);
     let text = crate::input::read_text(path, crate::input::ReadAs::Shader)
@@ -362,8 +362,8 @@ pub struct Compiled {
 
 /// The stack glslang compiles on. Its passes recurse once per level of an
 /// expression's tree, and a sum of 20,001 terms overflowed the main
-/// thread's 8 MiB (an abort, issue 41). Only the pages it touches are
-/// memory; the sources' bound (`MAX_SOURCE_BYTES`) bounds the depth, and
+/// thread's 8 MiB (an abort). Only the pages it touches are memory; the
+/// sources' bound (`MAX_SOURCE_BYTES`) bounds the depth, and
 /// `tests/shaders.rs` compiles the deepest sum that fits.
 pub const COMPILE_STACK: usize = 1 << 30;
 

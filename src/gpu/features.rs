@@ -107,7 +107,7 @@ pub const EXPERIMENTS: &[&str] = &[
 ];
 
 /// Refuses a `GLINT_EXPERIMENT` that names an experiment glint does not
-/// have (issue 43: it was ignored, so a test of a misspelt one passed).
+/// have (it was ignored, so a test of a misspelt one passed).
 pub(super) fn check_experiment() -> Result<(), GpuError> {
     let v = std::env::var("GLINT_EXPERIMENT").unwrap_or_default();
     let unknown: Vec<&str> = v
@@ -184,8 +184,7 @@ impl Features {
         // nodes a tree of the scene's primitives can have (one fewer than
         // them: a node has two children or more), and padded to it: its
         // length is in the shader, and the tree's own count, which moving
-        // a primitive changes, would make each position a new variant
-        // (issue 60).
+        // a primitive changes, would make each position a new variant.
         let node_slots = uploads.nodes.as_ref().map(|n| {
             let most = scene.prims.bounded_count().saturating_sub(1).max(1);
             (most.max(n.len), n.byte_len() / n.len.max(1))
@@ -291,10 +290,9 @@ impl Features {
 }
 
 /// Where `wanted`, the read form `GLINT_EXPERIMENT` asks for, is one that `device` cannot give
-/// the scene laid out as `uploads`, the reason: device addresses on a
-/// device without them, texel buffers for an array longer than one. Such a
-/// run is refused rather than given another form (issue 43: a test of
-/// address reads compared texel buffers with texel buffers where a device
+/// the scene laid out as `uploads`, the reason: device addresses on a device without them,
+/// texel buffers for an array longer than one. Such a run is refused rather than given another
+/// form (a test of address reads compared texel buffers with texel buffers where a device
 /// lacked addresses).
 pub(super) fn refused_reads(
     wanted: Option<Form>,

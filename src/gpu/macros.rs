@@ -1,11 +1,11 @@
 //! A bound on what the shader's `#define`s can expand to, checked before
 //! glslang preprocesses them: glslang has no bound of its own, and forty
 //! lines of `#define A1 A0 A0`, `#define A2 A1 A1`, … expand to 2^40 tokens,
-//! which it tries to build in memory (issue 31, defect 6). And a bound on
-//! the whole compile: glslang took 2.35 GB and 10 s for a 16 MB include
-//! of straight-line arithmetic (issue 41, defect 10), so the text of every
-//! file read, each macro use counted at what it expands to, is held to
-//! `MAX_EXPANSION` (about 0.5 GB and 2.5 s of glslang here at the bound).
+//! which it tries to build in memory. And a bound on the whole compile:
+//! glslang took 2.35 GB and 10 s for a 16 MB include of straight-line
+//! arithmetic, so the text of every file read, each macro use counted at
+//! what it expands to, is held to `MAX_EXPANSION` (about 0.5 GB and 2.5 s of
+//! glslang here at the bound).
 
 use std::collections::HashMap;
 

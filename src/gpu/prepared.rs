@@ -513,7 +513,7 @@ fn unfinished(
         }
     } else {
         // Neither value the shader writes: a loop budget cannot explain
-        // it, so it is not reported as one (issue 42, defect 8).
+        // it, so it is not reported as one.
         GpuError::Garbled { x, y, alpha }
     })
 }

@@ -565,7 +565,7 @@ mod tests {
     }
 
     /// A read form the device cannot give is refused, naming it, not
-    /// replaced by another (issue 43).
+    /// replaced by another.
     #[test]
     fn a_read_form_the_device_lacks_is_refused() {
         use super::super::features::refused_reads;

@@ -124,8 +124,8 @@ pub fn tile_timeout(scene: &Scene, pixels: u64, bvh: bool) -> Duration {
 mod tests {
     use super::*;
 
-    /// Issue 41, defect 13: a tile of a tree that costs a million a ray
-    /// (identical faces) waits for that cost, not for a good tree's.
+    /// A tile of a tree that costs a million a ray (identical
+    /// faces) waits for that cost, not for a good tree's.
     #[test]
     fn the_watchdog_waits_for_the_tree_that_was_built() {
         let work = PixelWork {

@@ -1,6 +1,6 @@
 //! What a run that SIGINT or SIGTERM stops must not leave behind: its
-//! child processes and its temporary folders (issue 42, defect 4: a child
-//! `glint driver-probe` kept running, re-parented to init, and a 4.7 MB
+//! child processes and its temporary folders (a child `glint
+//! driver-probe` kept running, re-parented to init, and a 4.7 MB
 //! temporary folder stayed). A command lists them here while they exist;
 //! the binary's signal handler calls `clean_up` before it exits.
 
@@ -9,10 +9,9 @@ use std::sync::{Mutex, MutexGuard};
 
 /// What an interrupted run removes, and whether the run is stopping: one
 /// lock, so that a child or a folder is either made and listed before the
-/// clean-up looks, or not made at all (issue 57, defect 11: a probe
-/// spawned while the signal thread cleaned up outlived glint and wrote its
-/// folder back; issue 59: a temporary folder made while the signal thread
-/// exited stayed).
+/// clean-up looks, or not made at all (a probe spawned while the signal
+/// thread cleaned up outlived glint and wrote its folder back; a temporary
+/// folder made while the signal thread exited stayed).
 struct Listed {
     children: Vec<u32>,
     folders: Vec<PathBuf>,

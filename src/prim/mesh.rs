@@ -80,9 +80,9 @@ pub struct Loaded {
 /// a `material`, each object takes its own from the MTL file, numbered from
 /// `first_material` in the scene's list.
 ///
-/// With a `cache`, a file read before and unchanged since (its length and
-/// time of change, and its MTL files') is not read again: a notebook that
-/// moves a sphere beside a mesh re-reads its scene, not its OBJ (issue 60).
+/// With a `cache`, a file read before and unchanged since (its length and time of
+/// change, and its MTL files') is not read again: a notebook that moves a sphere
+/// beside a mesh re-reads its scene, not its OBJ.
 pub fn load(
     f: &MeshFile,
     dir: &Path,
@@ -401,9 +401,9 @@ impl Cache {
     /// Keeps `mesh` as the OBJ file at `path` reads, which was written from
     /// it (`v`, `vn`, `vt` lines of its values read back the same, `f`
     /// lines of its faces): a scene that names that file takes its
-    /// triangles from the arrays, not from parsing the text (issue 60:
-    /// numpy meshes loaded 1.5x slower than the OBJ path). The file must
-    /// be as written: its stamp is taken now, as a read's would be.
+    /// triangles from the arrays, not from parsing the text (numpy meshes
+    /// loaded 1.5x slower than the OBJ path). The file must be as written:
+    /// its stamp is taken now, as a read's would be.
     pub fn insert_arrays(&self, path: &Path, mesh: Arrays) {
         let corners = mesh.faces.clone();
         let model = tobj::Model {

@@ -1,8 +1,8 @@
 //! Reading an OBJ's MTL files within the OBJ's needs: a file of a million
 //! materials is parsed one material at a time, each checked, and only the
-//! materials the OBJ uses (its `usemtl` names) are kept (issue 31: such a
-//! file used to peak at 34–67× its size); and each material's values,
-//! checked, as the scene takes them.
+//! materials the OBJ uses (its `usemtl` names) are kept (such a file used
+//! to peak at 34–67× its size); and each material's values, checked, as
+//! the scene takes them.
 
 use std::collections::HashSet;
 use std::io::BufRead;

@@ -40,7 +40,7 @@ pub enum ImageIoError {
     },
     /// A file whose content is another format than its extension names:
     /// decoded by its content and read as its name says, its values would
-    /// take the wrong colour curve (issue 31, defect 2).
+    /// take the wrong colour curve.
     #[error(
         "{}: its content is {content}, not the {named} its extension names: rename it, or \
          convert it",
@@ -55,8 +55,8 @@ pub enum ImageIoError {
         content: String,
     },
     /// An EXR with more channels than glint decodes: each channel of a
-    /// block is inflated before the unused ones are dropped (issue 31,
-    /// defect 8: 4,000 channels took 48 s).
+    /// block is inflated before the unused ones are dropped (4,000
+    /// channels took 48 s).
     #[error(
         "{}: has {count} channels, more than the {MAX_EXR_CHANNELS} glint decodes (it reads R, G \
          and B): keep those in the file",
@@ -245,9 +245,9 @@ fn read_levels(path: &Path) -> Result<Image, ImageIoError> {
         }
         Format::Png | Format::Exr => {
             // The header is read once, within `HEADER_BYTES` (a colour
-            // profile that inflates to gigabytes is dropped there; issue 31,
-            // defect 9); the pixels may then take the image's own size, 16
-            // bytes a pixel (its widest form), and `HEADER_BYTES` more.
+            // profile that inflates to gigabytes is dropped there); the
+            // pixels may then take the image's own size, 16 bytes a pixel
+            // (its widest form), and `HEADER_BYTES` more.
             let codec = |cause| ImageIoError::Codec {
                 path: path.to_owned(),
                 cause,
@@ -281,8 +281,8 @@ fn read_levels(path: &Path) -> Result<Image, ImageIoError> {
 
 /// The bytes of the PFM file of `kind` at `path`, read within what its
 /// header promises: a 1x1 header over a gigabyte is refused once 14 bytes
-/// are read, not the gigabyte (issue 31), and an image that does not fit
-/// in memory before its pixels are read.
+/// are read, not the gigabyte, and an image that does not fit in memory
+/// before its pixels are read.
 pub(super) fn pfm_file(path: &Path, kind: Kind) -> Result<Vec<u8>, ImageIoError> {
     let bad = |reason| ImageIoError::BadPfm {
         path: path.to_owned(),
@@ -313,8 +313,8 @@ pub(super) fn pfm_file(path: &Path, kind: Kind) -> Result<Vec<u8>, ImageIoError>
 }
 
 /// Refuses to read `path`, a `w`×`h` image, where `per_pixel` bytes a
-/// pixel do not fit in this process's memory (issue 57, defect 7: a 783
-/// KB PNG that declares 16384² aborted the Python interpreter).
+/// pixel do not fit in this process's memory (a 783 KB PNG that
+/// declares 16384² aborted the Python interpreter).
 pub(super) fn fits(path: &Path, w: u32, h: u32, per_pixel: u64) -> Result<(), ImageIoError> {
     let pixels = (u64::from(w) * u64::from(h)).min(MAX_PIXELS);
     super::memory::check(

@@ -1,7 +1,7 @@
 //! Whether images of a size fit in the memory this process may use,
 //! checked before they are allocated: an allocation that fails aborts the
-//! process (issue 42, defect 12: `drivers` at 16384x16384; issue 57,
-//! defect 7: `render` and the Python module, the interpreter with it).
+//! process (`drivers` at 16384x16384; `render` and the Python module, the
+//! interpreter with it).
 
 /// What the rest of a process takes, besides its images.
 pub const OVERHEAD: u64 = 256 << 20;

@@ -256,7 +256,7 @@ fn plot_of(
 mod tests {
     use super::*;
 
-    /// Issue 41: five scenes shared four shapes (seed-fig3 and
+    /// Five scenes shared four shapes (seed-fig3 and
     /// whitted-1980 were both circles); twelve are now told apart.
     #[test]
     fn twelve_scenes_have_twelve_markers() {

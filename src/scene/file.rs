@@ -164,8 +164,8 @@ fn yes() -> bool {
 #[cfg(test)]
 mod tests {
     /// Every primitive kind's array is one that `drivers` shrinks, from the
-    /// table (issue 43: shrink.rs kept its own list, and a kind left off
-    /// it was never shrunk).
+    /// table (shrink.rs kept its own list, and a kind left off it was never
+    /// shrunk).
     #[test]
     fn every_kind_is_an_object_array() {
         let arrays = super::object_arrays();

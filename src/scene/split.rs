@@ -218,8 +218,8 @@ mod tests {
     }
 
     /// Comments, strings and multi-line values are followed, not taken for
-    /// a reason to parse the whole file (issue 41: one `# """` line made a
-    /// 14 MB scene take 445 MB instead of 71).
+    /// a reason to parse the whole file (one `# """` line made a 14 MB
+    /// scene take 445 MB instead of 71).
     #[test]
     fn comments_and_strings_do_not_defeat_the_scan() {
         let text =

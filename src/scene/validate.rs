@@ -69,10 +69,10 @@ pub const MIN_REACH: f64 = 1.0 / MAX_COORDINATE;
 impl Validator<'_> {
     /// Refuses a scene whose objects all lie within `MIN_REACH` of the eye:
     /// camera-relative, its squared lengths would underflow f32, and the
-    /// GPU's f32 render would be flat ambient without a word (issue 31,
-    /// defect 3: a valid scene scaled by 1e-25).
-    /// Refuses more primitives of one kind than the scene management can
-    /// address (`accel::bvh::MAX_PRIMS`, 2^24), before any is built.
+    /// GPU's f32 render would be flat ambient without a word (a valid scene
+    /// scaled by 1e-25). Refuses more primitives of one kind than the scene
+    /// management can address (`accel::bvh::MAX_PRIMS`, 2^24), before any
+    /// is built.
     fn counts(&self, scene: &Scene) -> Result<()> {
         let max = crate::accel::bvh::MAX_PRIMS;
         match over_count(scene, max) {
@@ -120,7 +120,7 @@ impl Validator<'_> {
             );
         // A texture far brighter than every material colour (a texel of
         // 1e38) is named itself, through the material that takes it, rather
-        // than the light that lights it (issue 31).
+        // than the light that lights it.
         let textured = scene
             .materials
             .iter()

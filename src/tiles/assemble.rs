@@ -288,8 +288,8 @@ pub fn assemble(tiles: &[Tile]) -> Result<(Image, Sidecar), TileError> {
 }
 
 /// The tiles of `n` not `present`, as "I/N" for the first few and a count
-/// of the rest: a sidecar may claim any N (issue 31, defect 14: one of
-/// 100,000,000 listed them all, 3.8 GB). Empty where none is missing.
+/// of the rest: a sidecar may claim any N (one of 100,000,000 listed them
+/// all, 3.8 GB). Empty where none is missing.
 fn missing_tiles(n: u32, mut present: Vec<u32>) -> String {
     const NAMED: usize = 5;
     present.sort_unstable();

@@ -282,7 +282,7 @@ pub fn runaway_include(dir: &Path) -> PathBuf {
 /// (from at least 1/4, a normal float every device keeps): real renders of
 /// the two differ in one bit wherever a pixel is the background, so a
 /// bit-for-bit comparison of renders is shown to fail on a real image, not
-/// a copy with a flipped bit (issue 43).
+/// a copy with a flipped bit.
 pub fn one_bit_apart(scene: &Scene) -> (Scene, Scene) {
     let mut a = scene.clone();
     let green = (a.background.y as f32).max(0.25);

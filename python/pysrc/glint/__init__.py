@@ -569,7 +569,7 @@ class Figures:
 
 def _whole_numbers(value: Any, count: int, what: str) -> Tuple[int, ...]:
     """``value`` as ``count`` whole numbers >= 0, else ValueError: a float
-    is not cut to an int, nor a third number dropped (issue 57)."""
+    is not cut to an int, nor a third number dropped."""
     try:
         items = list(value)
     except TypeError:
@@ -606,9 +606,9 @@ def _srgb_decode(levels: npt.NDArray[Any], top: int) -> Image:
 def _image(a: Any, what: str) -> Image:
     # An 8- or 16-bit array holds sRGB display levels, as a PNG does: 255
     # (65535) is 1.0 and 128 is 0.216 linear, so that writing it as a PNG
-    # gives those levels back (issue 57: a uint8 image of 128s was written
-    # white; issue 60: one convention for PNG levels). Other integers and
-    # bools say nothing of a scale: refused.
+    # gives those levels back (a uint8 image of 128s was written white;
+    # one convention for PNG levels). Other integers and bools say nothing
+    # of a scale: refused.
     kind = np.asarray(a).dtype
     if kind == np.uint8 or kind == np.uint16:
         a = _srgb_decode(np.asarray(a), int(np.iinfo(kind).max))

@@ -2,14 +2,14 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 
-// Experiment: how deep each pixel's BVH walks stack their children, and
-// how often they visit (issue 58). Replaces main.comp: every pixel's red
-// value is the most entries the walk's stack held in any ray of its tree
-// (eye, reflection, refraction and shadow rays), through the ON_PUSH()
-// hook that bvh.glsl calls after each visit's pushes; its green value the
-// iterations of the walks' loops that visited inner nodes, through the
-// ON_NODE() hook (with -D PAIR_VISIT a visit to two nodes counts once,
-// where --stats counts two). Render it to a PFM to read the counts:
+// Experiment: how deep each pixel's BVH walks stack their children, and how
+// often they visit. Replaces main.comp: every pixel's red value is the most
+// entries the walk's stack held in any ray of its tree (eye, reflection,
+// refraction and shadow rays), through the ON_PUSH() hook that bvh.glsl calls
+// after each visit's pushes; its green value the iterations of the walks' loops
+// that visited inner nodes, through the ON_NODE() hook (with -D PAIR_VISIT a
+// visit to two nodes counts once, where --stats counts two). Render it to a PFM
+// to read the counts:
 //
 //   glint render scenes/spd/gears.nff -I shaders/experiments/stack -o stack.pfm
 

@@ -83,9 +83,9 @@ real bvh_stack_t[BVH_CAPACITY];
 uint bvh_sp;
 
 #ifdef REGISTER_STACK
-// An experiment (issue 58; docs/performance.md, The walk's control): the
-// stack's top eight entries in registers, moved by constant-index shifts,
-// entry 0 the top; older ones spill to the arrays above. No gain measured.
+// An experiment (docs/performance.md, The walk's control): the stack's top
+// eight entries in registers, moved by constant-index shifts, entry 0 the
+// top; older ones spill to the arrays above. No gain measured.
 uint rw0, rw1, rw2, rw3, rw4, rw5, rw6, rw7;
 real rt0, rt1, rt2, rt3, rt4, rt5, rt6, rt7;
 uint rs_n;
@@ -229,13 +229,13 @@ void push_children(Children c, bool nearest_too) {
 }
 
 #ifdef PAIR_VISIT
-// An experiment (issue 58; docs/performance.md, The walk's control): a
-// visit takes the stack's top as well where it is an inner node entered
-// within t_max, so that one iteration of the divergent loop tests eight
-// boxes, as an 8-wide node's visit would, rather than four. The nearest
-// of the eight is returned; each node's other children are pushed
-// farthest first, the node with the farther nearest child first. Slower
-// on both lavapipes: a box's work, not the loop's, is what a visit costs.
+// An experiment (docs/performance.md, The walk's control): a visit takes
+// the stack's top as well where it is an inner node entered within t_max,
+// so that one iteration of the divergent loop tests eight boxes, as an
+// 8-wide node's visit would, rather than four. The nearest of the eight
+// is returned; each node's other children are pushed farthest first, the
+// node with the farther nearest child first. Slower on both lavapipes: a
+// box's work, not the loop's, is what a visit costs.
 uint bvh_descend(Ray r, vec3r inv, uint index, real t_max) {
     uint other = BVH_EMPTY;
     if (bvh_sp > 0u && bvh_sp + 6u <= BVH_STACK) {

@@ -348,8 +348,8 @@ pub fn build(
 
     // The plans: each light's six faces or one parallel grid, then the eye's.
     // Their spans are the build's working memory: at most WORK_FACTOR
-    // budgets, however many lights there are (issue 57: 3,000 lights over
-    // 3,000 spheres took 2.3 GB before).
+    // budgets, however many lights there are (3,000 lights over 3,000 spheres
+    // took 2.3 GB before).
     let span_bytes = std::mem::size_of::<(u32, Span)>();
     let held = |plans: &[(Option<usize>, Plan)]| {
         plans.iter().map(|(_, p)| p.spans.len()).sum::<usize>() * span_bytes

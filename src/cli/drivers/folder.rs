@@ -9,9 +9,9 @@ const FOLDER_NAME: usize = 40;
 /// A folder's name for `name`, unique to `key` (the path it came from, as
 /// given): the name's letters, digits, '-', '_' and inner '.', at most
 /// [`FOLDER_NAME`] of them, and 8 hex digits of `key`'s hash. Never "." or
-/// "..", so never outside `repro/` (issue 42, defect 1); two inputs of one
-/// name, or of two names that the letters alone make one, get two folders
-/// (defect 3); and a name of any length makes a short one (defect 13).
+/// "..", so never outside `repro/`; two inputs of one name, or of two
+/// names that the letters alone make one, get two folders; and a name of
+/// any length makes a short one.
 pub(super) fn folder(name: &str, key: &Path) -> String {
     use std::hash::Hasher;
     use std::os::unix::ffi::OsStrExt;

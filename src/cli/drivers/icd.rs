@@ -5,9 +5,9 @@
 use std::path::{Path, PathBuf};
 
 /// Refuses an `--icd` that is not a manifest file, saying what the path is
-/// (issue 42, defect 15: a directory, a FIFO and a loop of links were all
-/// "no such file"; issue 57, defect 8: `explain --icd` took a folder or a
-/// FIFO and waited on it), before any child starts.
+/// (a directory, a FIFO and a loop of links were all "no such file";
+/// `explain --icd` took a folder or a FIFO and waited on it), before any
+/// child starts.
 pub fn check_given(files: &[PathBuf]) -> anyhow::Result<()> {
     for f in files {
         glint::input::check(f, glint::input::ReadAs::Manifest)

@@ -59,8 +59,8 @@ pub(super) fn identify(run: &Run, files: &[PathBuf]) -> anyhow::Result<Vec<Drive
 
 /// The drivers that can be tested, and those absent (no device, an
 /// error); an error where none can be: a run that can test nothing is not
-/// a pass (issue 42, defect 6: `--icd X --only` where X gives no device
-/// exited 0 with an empty table).
+/// a pass (`--icd X --only` where X gives no device exited 0 with an
+/// empty table).
 pub(super) fn tested(all: Vec<Driver>) -> anyhow::Result<(Vec<Driver>, Vec<Driver>)> {
     let (drivers, absent): (Vec<Driver>, Vec<Driver>) = all
         .into_iter()

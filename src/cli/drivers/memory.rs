@@ -1,6 +1,6 @@
 //! Whether a run at the size asked for fits in the memory this process
-//! may use, checked before minutes of rendering (issue 42, defect 12:
-//! 16384x16384 aborted on an allocation after the reference was made).
+//! may use, checked before minutes of rendering (16384x16384 aborted on
+//! an allocation after the reference was made).
 
 use glint::raster::memory::{image_bytes, limit, OVERHEAD};
 

@@ -95,8 +95,8 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
         "--device does not apply to `glint drivers`: it runs each driver's own device (name a driver with --icd FILE --only)"
     );
     let limits = plan::Limits::of(a)?;
-    // The options every child would refuse, refused once here (issue 42,
-    // defect 5: each driver became "no device" or "refused", exit 0).
+    // The options every child would refuse, refused once here (each
+    // driver became "no device" or "refused", exit 0).
     a.device.options()?.check()?;
     icd::check_given(&a.icd)?;
     let size = plan::size(a)?;
@@ -124,7 +124,7 @@ pub fn run(a: &DriversArgs) -> anyhow::Result<ExitCode> {
     // The reproducers are written into a folder of their own beside
     // repro/, which replaces repro/ as the tables are written: an
     // interrupted run leaves the last run's tables and reproducers as they
-    // were (issue 42, defect 4: they were deleted first).
+    // were (they were deleted first).
     let repro_root = a.output.join("repro");
     check_reproducers(&repro_root, &inputs)?;
     let all = progress::waiting("naming each driver's device", || {

@@ -48,8 +48,7 @@ pub(super) fn matrix(
 /// Writes the reproducers (`staging` replaces `repro_root`) and the
 /// tables, says what was written, and gives the exit status: 0 says every
 /// cell ran and some image was held to its reference; a run of refusals,
-/// errors or cells past the budget tested nothing, or not everything
-/// (issue 42, defects 5, 6 and 10).
+/// errors or cells past the budget tested nothing, or not everything.
 pub(super) fn finish(
     matrix: &Matrix,
     a: &DriversArgs,

@@ -33,8 +33,8 @@ impl Limits {
         };
         let deadline = seconds("--deadline", a.deadline.unwrap_or(120.0))?;
         // Below a second a probe is killed while its process and the driver
-        // load, and every driver, with a device or none, would read "hung"
-        // (issue 57, item 13): that is no verdict on a driver.
+        // load, and every driver, with a device or none, would read "hung":
+        // that is no verdict on a driver.
         anyhow::ensure!(
             deadline >= MIN_DEADLINE,
             "--deadline {}: must be at least {} s, the time a probe takes to start and load its driver",
@@ -149,8 +149,8 @@ pub(super) fn driver_files(a: &DriversArgs) -> anyhow::Result<Vec<PathBuf>> {
 }
 
 /// Every file the run reads: the scenes and theirs, the shader files, the
-/// ICD files and the drivers' libraries (issue 42, defect 2: a
-/// drivers.csv linked to the library the run loaded replaced it).
+/// ICD files and the drivers' libraries (a drivers.csv linked to the
+/// library the run loaded replaced it).
 pub(super) fn inputs(a: &DriversArgs, scenes: &Scenes, files: &[PathBuf]) -> Vec<PathBuf> {
     let mut inputs = a.device.inputs();
     inputs.extend(a.icd.iter().cloned());

@@ -141,7 +141,7 @@ fn refuses_to_open(e: &GpuError) -> bool {
 /// Sorts the renderer's errors into what the matrix reports. A Vulkan
 /// error is a driver's fault unless it is running out of memory, which a
 /// correct driver may do (a limit, so refused); so are an unwritten or
-/// garbled image (issue 42, defect 8: these were "error", glint's own).
+/// garbled image (these were "error", glint's own).
 fn seen_of(e: GpuError) -> Seen {
     use ash::vk::Result as R;
     let message = e.to_string();
@@ -298,10 +298,10 @@ fn tail(path: &Path) -> String {
 
 /// Whether the Khronos validation layer is installed where the loader
 /// finds it: then every probe runs under it, and a message is a result.
-/// Asked of the loader, once (issue 42, defect 7: three fixed folders were
-/// guessed, and with $XDG_DATA_DIRS elsewhere every child then failed
-/// asking for a layer its loader could not find). Without it the probes
-/// run without validation, and the tables say so.
+/// Asked of the loader, once (three fixed folders were guessed, and with
+/// $XDG_DATA_DIRS elsewhere every child then failed asking for a layer its
+/// loader could not find). Without it the probes run without validation,
+/// and the tables say so.
 pub fn validation_layer() -> bool {
     static HAS: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     *HAS.get_or_init(|| glint::gpu::validation_layer_installed().unwrap_or(false))

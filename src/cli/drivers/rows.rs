@@ -125,7 +125,7 @@ pub(super) fn reference(scene: &Scene, accel: glint::accel::Accel) -> anyhow::Re
 }
 
 /// Each scene's row: its stem, or the path as given where two scenes share
-/// a stem (issue 42, defect 3: a/s.toml and b/s.toml were two rows "s").
+/// a stem (a/s.toml and b/s.toml were two rows "s").
 fn row_names(paths: &[PathBuf]) -> Vec<String> {
     let stems: Vec<String> = paths.iter().map(|p| scene_name(p)).collect();
     // Counted once: a run of --generated 100000 compared every pair.

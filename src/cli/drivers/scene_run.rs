@@ -84,9 +84,9 @@ impl Run<'_> {
             stderr,
         );
         let mut size = first_size;
-        // The shrink's own time (issue 42, defect 10: a hang was shrunk at
-        // the full deadline for each of up to 15 tries). A try gets what
-        // is left of it; one cut short by it is no evidence either way.
+        // The shrink's own time (a hang was shrunk at the full deadline
+        // for each of up to 15 tries). A try gets what is left of it; one
+        // cut short by it is no evidence either way.
         let until = Instant::now() + self.shrink_budget;
         let until = self.ends.map_or(until, |e| e.min(until));
         let try_deadline = || {
@@ -229,7 +229,7 @@ impl Run<'_> {
             .arg(dir)
             .args(&self.device_args);
         // Bounded like every child: a driver that hangs in its compile
-        // must not hang the run (issue 42, defect 10).
+        // must not hang the run.
         let stderr = dir.with_extension("stderr.txt");
         let status = probe::bounded(c, &stderr, self.deadline).map_err(|e| e.to_string())?;
         let said = std::fs::read_to_string(&stderr).unwrap_or_default();

@@ -50,8 +50,8 @@ fn pid_in(name: &str, prefix: &str, suffix: &str) -> Option<u32> {
 
 /// Removes what runs killed by SIGKILL left in `dir`: their staging
 /// folders (`.glint-drivers-<pid>.new` and `.old`, each holding the mark)
-/// whose process no longer runs (issue 57, defect 12; `render` removes its
-/// own temporary files the same way).
+/// whose process no longer runs (`render` removes its own temporary files
+/// the same way).
 pub(super) fn remove_stale(dir: &Path) {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;
@@ -76,7 +76,7 @@ const ROOM: usize = 1 << 20;
 
 /// Refuses a temporary folder without room for the probes' files, naming
 /// it: on a full file system every probe's report and stderr were lost,
-/// and every driver read "crashed" (issue 57, item 13).
+/// and every driver read "crashed".
 pub(super) fn room(dir: &Path) -> anyhow::Result<()> {
     let file = dir.join(".room");
     let wrote = std::fs::write(&file, vec![0u8; ROOM]);
@@ -108,8 +108,8 @@ impl Staging {
 
     /// Puts this run's reproducers at `root` in place of the last run's:
     /// swapped in one step where the system can (renameat2's exchange), so
-    /// that no moment is without a repro/ the tables link to (issue 57,
-    /// item 13); else by two renames, the last run's aside, then these in.
+    /// that no moment is without a repro/ the tables link to;
+    /// else by two renames, the last run's aside, then these in.
     pub(super) fn replace(mut self, root: &Path) -> anyhow::Result<()> {
         let old = self.dir.with_extension("old");
         if root.exists() && exchange(&self.dir, root) {

@@ -240,8 +240,8 @@ fn markdown(m: &Matrix) -> String {
 
 /// A name, a path or a driver's words as the terminal, drivers.md and
 /// index.html show them: control characters escaped and cut short, as
-/// errors show them (issue 42, defect 14: a manifest named with a terminal
-/// escape cleared the screen when its name was printed).
+/// errors show them (a manifest named with a terminal escape cleared the
+/// screen when its name was printed).
 fn shown(s: &str) -> String {
     glint::printable::text(s)
 }

@@ -1,6 +1,6 @@
-//! A prepared scene taking its scene's new values in place (issue 60:
-//! `Scene.params` in the Python module): its arrays laid out again and
-//! copied over the ones on the device, its BVH refitted, nothing compiled.
+//! A prepared scene taking its scene's new values in place (`Scene.params`
+//! in the Python module): its arrays laid out again and copied over the
+//! ones on the device, its BVH refitted, nothing compiled.
 
 use std::sync::Arc;
 use std::time::Instant;

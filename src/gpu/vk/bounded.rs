@@ -1,10 +1,10 @@
 //! Opening the device within a time limit. The loader reads every driver
-//! manifest it finds and loads the library each one names; a manifest or
-//! a library that is a FIFO, or a driver that hangs in its own setup,
-//! would block the caller for ever (issue 41), and no Vulkan call can be
-//! cancelled. The open runs on a thread of its own, and the caller stops
-//! waiting at the limit: that thread is left behind, and whatever it opens
-//! in the end is closed again when its answer finds no one to take it.
+//! manifest it finds and loads the library each one names; a manifest or a
+//! library that is a FIFO, or a driver that hangs in its own setup, would
+//! block the caller for ever, and no Vulkan call can be cancelled. The
+//! open runs on a thread of its own, and the caller stops waiting at the
+//! limit: that thread is left behind, and whatever it opens in the end is
+//! closed again when its answer finds no one to take it.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Condvar, Mutex, PoisonError};

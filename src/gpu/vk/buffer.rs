@@ -203,7 +203,7 @@ impl Buffer {
     /// buffer of its own, all copied in by one submission of `commands`,
     /// which this waits on. Buffers the GPU has read are written on the
     /// device, never through their mapping (`fill_with`): a prepared
-    /// scene's arrays, updated (issue 60).
+    /// scene's arrays, updated.
     pub fn overwrite(
         device: &Arc<Device>,
         commands: &mut OneShot,

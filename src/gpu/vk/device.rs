@@ -44,7 +44,7 @@ pub struct DeviceInfo {
     /// llvmpipe before Mesa 25.0, which corrupted its heap or crashed in a
     /// worker thread on such variants (`glint fuzz`'s CI set: 3 runs of 3
     /// over 64 generated scenes on Mesa 22.3, none with storage buffers;
-    /// two mixes of kinds were known before, issue 57).
+    /// two mixes of kinds were known before).
     pub reads_uniform_arrays: bool,
     /// Whether compute shaders have the subgroup ballot operations
     /// (`subgroupBallot`, `subgroupBallotExclusiveBitCount`), with which the

@@ -171,7 +171,7 @@ impl PatternAt<'_> {
             }
         };
         // A point's coordinate over the size must stay finite in f32: from
-        // 1/MAX_COORDINATE up (issue 31, defect 17: 1e-40 made NaN).
+        // 1/MAX_COORDINATE up (1e-40 made NaN).
         let smallest = 1.0 / MAX_COORDINATE;
         if !(smallest..=MAX_COORDINATE).contains(&size) {
             return self.check.err(
