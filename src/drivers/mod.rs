@@ -14,5 +14,5 @@ pub mod tree;
 pub mod verdict;
 
 pub use error::DriversError;
-pub use probe::{Ended, Identity, Probe, Seen, IMAGE};
+pub use probe::{Ended, Identity, ProbeReport, Seen, IMAGE};
 pub use verdict::Verdict;

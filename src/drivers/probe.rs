@@ -1,6 +1,6 @@
 //! What a probe (`glint driver-probe`, a driver's run in a child process
 //! of its own) saw, and how it ended as its parent sees it: the child
-//! writes [`Probe`] as JSON beside its image, [`IMAGE`].
+//! writes [`ProbeReport`] as JSON beside its image, [`IMAGE`].
 
 use serde::{Deserialize, Serialize};
 
@@ -67,7 +67,7 @@ pub enum Seen {
 
 /// What the child writes: the device, and how the probe ended.
 #[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct Probe {
+pub struct ProbeReport {
     /// The device, where the driver named one.
     pub device: Option<Identity>,
     #[serde(flatten)]
@@ -80,7 +80,7 @@ pub const IMAGE: &str = "gpu.pfm";
 /// How a child process ended, as the parent sees it.
 pub enum Ended {
     /// It wrote its probe.json.
-    Wrote(Probe),
+    Wrote(ProbeReport),
     /// It died of a signal (its number), or exited without a report.
     Crashed {
         /// The signal that killed it, if one did.

@@ -63,7 +63,7 @@ impl Variant {
     /// lights.glsl: every type's include (one type's functions may call
     /// another's), and the lists of the variant's types that
     /// shaders/light_dispatch.glsl's `light_toward` and `light_cone` run
-    /// over, mirroring `LightKind::toward` and `LightKind::cone`.
+    /// over, mirroring `LightTypeId::toward` and `LightTypeId::cone`.
     pub(super) fn lights(&self) -> String {
         let mut s = String::new();
         for t in LIGHT_TYPES {
@@ -94,7 +94,7 @@ pub const TEXTURES_FILE: &str = "textures.glsl";
 
 /// textures.glsl: each pattern's code (`Texture.meta.x`) and include, and
 /// the lists of patterns that shaders/texture_dispatch.glsl's
-/// `texture_colour` runs over, mirroring `Pattern::colour`: those that read
+/// `texture_colour` runs over, mirroring `PatternId::colour`: those that read
 /// uvs (compiled where the variant has images, `HAS_IMAGES`), then the
 /// others.
 pub fn textures() -> String {

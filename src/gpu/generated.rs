@@ -7,9 +7,9 @@
 //!   (`KINDS_DECLARED(X)` and the others) that shaders/scans.glsl's
 //!   functions, written once in GLSL, run over;
 //! - `lights.glsl`: each light type's include and the dispatch over the
-//!   types (entities.rs), mirroring `crate::scene::LightKind`;
+//!   types (entities.rs), mirroring `crate::scene::LightTypeId`;
 //! - `textures.glsl`: each pattern's include and the dispatch over the
-//!   patterns (entities.rs), mirroring `crate::scene::texture::Pattern`;
+//!   patterns (entities.rs), mirroring `crate::scene::texture::PatternId`;
 //! - `aovs.glsl`: the AOVs' words, their capture and their store, from
 //!   the AOV table (entities.rs, `crate::base::aov::AOVS`).
 //!

@@ -14,7 +14,7 @@ use super::layout::Uploads;
 use super::options::RenderSettings;
 use super::passes::{Executor, Pass, Target};
 use super::refine;
-use super::resident::{scene_blocks, Blocks, Own};
+use super::resident::{scene_blocks, Blocks, StageInput};
 use super::shared::Shared;
 use super::times::{RenderTimes, SetupTimes};
 use super::variant::Variant;
@@ -213,9 +213,9 @@ impl Prepared {
         let own = match gather {
             Gather::Contrast(_) => {
                 empty = refine::entries(&[Entry::default()]);
-                Own::Refine(&empty)
+                StageInput::Refine(&empty)
             }
-            _ => Own::Main(settings.record),
+            _ => StageInput::Main(settings.record),
         };
         let main = BoundStage::new(shared, pipeline, variant, &blocks, tile, own)?;
         let upload_s = layout_s + t1.elapsed().as_secs_f64();

@@ -174,7 +174,7 @@ pub(crate) fn rewrite_scene_blocks(
 
 /// What a stage's own buffers are made from, beside its variant.
 #[derive(Clone, Copy)]
-pub(crate) enum Own<'a> {
+pub(crate) enum StageInput<'a> {
     /// The main stage, and the sample it records, where it records one.
     Main(Option<[u32; 4]>),
     /// A refinement's stage and the list it refines.
@@ -188,7 +188,7 @@ pub(crate) fn stage_blocks(
     device: &Arc<Device>,
     variant: &Variant,
     tile: (u32, u32),
-    own: Own<'_>,
+    own: StageInput<'_>,
 ) -> Result<Blocks, GpuError> {
     let pixels = u64::from(tile.0) * u64::from(tile.1);
     let storage = raw::BufferUsageFlags::STORAGE_BUFFER;
@@ -203,7 +203,7 @@ pub(crate) fn stage_blocks(
                 block.name(),
             )?,
             Block::Record => {
-                let Own::Main(Some(sample)) = own else {
+                let StageInput::Main(Some(sample)) = own else {
                     unreachable!("a recording variant is the main stage's, with its sample")
                 };
                 let words = record::HEADER_WORDS + record::CAPACITY * record::ENTRY_WORDS;
@@ -216,7 +216,7 @@ pub(crate) fn stage_blocks(
                 )?
             }
             Block::Refine => {
-                let Own::Refine(list) = own else {
+                let StageInput::Refine(list) = own else {
                     unreachable!("a refining variant is a refinement's stage, with its list")
                 };
                 list_buffer(device, list)?

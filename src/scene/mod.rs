@@ -28,7 +28,7 @@ pub use brightness::PastBound;
 pub use camera::Camera;
 pub use contrast::Contrast;
 pub use file::object_arrays;
-pub use light::{Light, LightKind, LIGHT_TYPES};
+pub use light::{Light, LightTypeId, LIGHT_TYPES};
 pub use material::{Material, MaterialR};
 pub use model::{is_nff, is_scene, Scene, MAX_DEPTH, MAX_SAMPLES, MAX_SIZE};
 pub use nff::parse_nff;

@@ -82,7 +82,7 @@ impl Scene {
     /// Whether a material has an image texture.
     pub fn has_image_textures(&self) -> bool {
         let image = |t: Option<u32>| {
-            t.is_some_and(|t| self.textures[t as usize].pattern == texture::Pattern::Image)
+            t.is_some_and(|t| self.textures[t as usize].pattern == texture::PatternId::Image)
         };
         self.materials
             .iter()

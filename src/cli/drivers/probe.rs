@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use anyhow::Context;
 use clap::Args;
 
-use glint::drivers::{Ended, Identity, Probe, Seen, IMAGE};
+use glint::drivers::{Ended, Identity, ProbeReport, Seen, IMAGE};
 use glint::gpu::{GpuError, Renderer};
 use glint::raster::io;
 use glint::scene::Scene;
@@ -47,7 +47,7 @@ pub fn run(a: &ProbeArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn probe(a: &ProbeArgs) -> Probe {
+fn probe(a: &ProbeArgs) -> ProbeReport {
     let options = match a.device.options() {
         Ok(o) => o,
         Err(e) => return errored(None, format!("{e:#}")),
@@ -72,7 +72,7 @@ fn probe(a: &ProbeArgs) -> Probe {
         api_version: d.api_version.clone(),
     });
     let Some(scene) = &a.scene else {
-        return Probe {
+        return ProbeReport {
             device,
             seen: Seen::Rendered {
                 variant: None,
@@ -96,7 +96,7 @@ fn probe(a: &ProbeArgs) -> Probe {
             if let Err(e) = io::write(&a.out.join(IMAGE), &r.image, false) {
                 return errored(device, e.to_string());
             }
-            Probe {
+            ProbeReport {
                 device,
                 seen: Seen::Rendered {
                     variant: Some(variant),
@@ -110,12 +110,12 @@ fn probe(a: &ProbeArgs) -> Probe {
 }
 
 /// A probe that went wrong for a reason of glint's or the input's.
-fn errored(device: Option<Identity>, message: String) -> Probe {
+fn errored(device: Option<Identity>, message: String) -> ProbeReport {
     failed(device, Seen::Error { message })
 }
 
-fn failed(device: Option<Identity>, seen: Seen) -> Probe {
-    Probe { device, seen }
+fn failed(device: Option<Identity>, seen: Seen) -> ProbeReport {
+    ProbeReport { device, seen }
 }
 
 /// Whether opening the renderer failed the way a driver says it offers

@@ -9,7 +9,7 @@ use super::{BoundStage, Prepared, Rendered};
 use crate::base::interface::Array;
 use crate::base::real::{Real, Vec3};
 use crate::gpu::refine;
-use crate::gpu::resident::Own;
+use crate::gpu::resident::StageInput;
 use crate::gpu::times::RenderTimes;
 use crate::gpu::variant::{self};
 use crate::gpu::work::RAYS_PER_DISPATCH;
@@ -111,7 +111,7 @@ impl Prepared {
             variant,
             &self.scene,
             tile,
-            Own::Refine(list),
+            StageInput::Refine(list),
         )?;
         self.refine = Some(stage);
         times.upload_s += t0.elapsed().as_secs_f64();

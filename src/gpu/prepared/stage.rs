@@ -9,7 +9,7 @@ use glam::UVec4;
 use crate::base::interface::Array;
 use crate::gpu::blocks::Block;
 use crate::gpu::passes::Target;
-use crate::gpu::resident::{list_buffer, stage_blocks, Blocks, Bound, Own};
+use crate::gpu::resident::{list_buffer, stage_blocks, Blocks, Bound, StageInput};
 use crate::gpu::shared::{Pipeline, Shared};
 use crate::gpu::variant::Variant;
 use crate::gpu::vk::buffer::Buffer;
@@ -53,7 +53,7 @@ impl BoundStage {
         variant: Variant,
         scene: &Blocks,
         tile: (u32, u32),
-        own: Own<'_>,
+        own: StageInput<'_>,
     ) -> Result<Self, GpuError> {
         let device = &shared.device;
         let own = stage_blocks(device, &variant, tile, own)?;

@@ -5,7 +5,7 @@ use glam::DVec3;
 
 use serde::de::DeserializeOwned;
 
-use super::{Light, LightFile, LightKind, LIGHT_TYPES};
+use super::{Light, LightFile, LightTypeId, LIGHT_TYPES};
 use crate::input::error::SceneError;
 use crate::input::field::{Triple, Validator};
 use crate::input::locate::KeyPath;
@@ -92,7 +92,7 @@ impl Validator<'_> {
     /// The light at `path`: its type, its type's keys alone, its placement
     /// and its colours.
     pub(crate) fn light(&self, path: &KeyPath, l: &LightFile) -> Result<Light, SceneError> {
-        let Some(kind) = LightKind::from_name(&l.kind) else {
+        let Some(kind) = LightTypeId::from_name(&l.kind) else {
             let names: Vec<String> = LIGHT_TYPES
                 .iter()
                 .map(|t| format!("\"{}\"", t.name))

@@ -30,7 +30,7 @@ fn checked(f: &LightFile) -> Result<Light, SceneError> {
 const NO_TYPES_KEY: &str = "no_light_type_takes_this";
 
 /// What type `T` (the table's `kind`) breaks of the contract.
-pub(super) fn problems<T: LightType>(kind: LightKind) -> Vec<String> {
+pub(super) fn problems<T: LightType>(kind: LightTypeId) -> Vec<String> {
     let name = T::NAME;
     let mut out = Vec::new();
     let signature = format!(
@@ -144,7 +144,7 @@ fn a_type_without_its_function_is_named() {
             Self::example()
         }
     }
-    let found = problems::<Broken>(LightKind::Point);
+    let found = problems::<Broken>(LightTypeId::Point);
     assert!(
         found
             .iter()

@@ -14,8 +14,11 @@
 //! Adding a light type: its module, its include, and one line of the table.
 
 mod check;
+pub(crate) mod directional;
 mod file;
 mod model;
+pub(crate) mod point;
+pub(crate) mod spot;
 mod unit;
 
 #[cfg(test)]
@@ -31,11 +34,11 @@ pub use unit::{LightType, LightTypeInfo};
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
 
-/// The table of light types: each type's variant of [`LightKind`], its
-/// module (a file of this folder, declared by the table) and the module's
-/// type. A type's code in the shader is its place here.
+/// The table of light types: each type's variant of [`LightTypeId`] and its
+/// type (a module of this folder each, declared above). A type's code in
+/// the shader is its place here.
 macro_rules! with_light_types {
-    ($then:ident) => {
+    ($then:path) => {
         $then! {
             Point: point::Point,
             Directional: directional::Directional,
@@ -45,31 +48,28 @@ macro_rules! with_light_types {
 }
 
 macro_rules! light_types {
-    ($($variant:ident : $module:ident :: $ty:ident),* $(,)?) => {
-        $(pub(crate) mod $module;)*
-        $(use $module::$ty;)*
-
+    ($($variant:ident : $ty:ty),* $(,)?) => {
         /// A light's type: its place in the table.
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-        pub enum LightKind {
+        pub enum LightTypeId {
             $(#[doc = concat!("`", stringify!($ty), "`.")] $variant,)*
         }
 
         /// The light types, in the table's order.
         pub const LIGHT_TYPES: &[LightTypeInfo] =
-            &[$(LightTypeInfo::of::<$ty>(LightKind::$variant),)*];
+            &[$(LightTypeInfo::of::<$ty>(LightTypeId::$variant),)*];
 
-        impl LightKind {
+        impl LightTypeId {
             pub(super) fn check(self, at: &LightAt) -> Result<Placement, SceneError> {
                 match self {
-                    $(LightKind::$variant => <$ty>::check(at.own::<<$ty as LightType>::File>(<$ty>::NAME)?, at),)*
+                    $(LightTypeId::$variant => <$ty>::check(at.own::<<$ty as LightType>::File>(<$ty>::NAME)?, at),)*
                 }
             }
 
             /// How light `l` of this type reaches the point `p` of normal `n`.
             pub fn toward<R: Real>(self, l: &LightR<R>, p: Vec3<R>, n: Vec3<R>) -> Toward<R> {
                 match self {
-                    $(LightKind::$variant => <$ty>::toward(l, p, n),)*
+                    $(LightTypeId::$variant => <$ty>::toward(l, p, n),)*
                 }
             }
 
@@ -77,19 +77,19 @@ macro_rules! light_types {
             /// direction `to`.
             pub fn cone<R: Real>(self, l: &LightR<R>, p: Vec3<R>, n: Vec3<R>, to: Vec3<R>) -> R {
                 match self {
-                    $(LightKind::$variant => <$ty>::cone(l, p, n, to),)*
+                    $(LightTypeId::$variant => <$ty>::cone(l, p, n, to),)*
                 }
             }
 
             fn attenuated(self, l: &Light) -> bool {
                 match self {
-                    $(LightKind::$variant => <$ty>::attenuated(l),)*
+                    $(LightTypeId::$variant => <$ty>::attenuated(l),)*
                 }
             }
 
             fn peak_divisor(self, l: &Light) -> f64 {
                 match self {
-                    $(LightKind::$variant => <$ty>::peak_divisor(l),)*
+                    $(LightTypeId::$variant => <$ty>::peak_divisor(l),)*
                 }
             }
         }
@@ -97,7 +97,7 @@ macro_rules! light_types {
         #[cfg(test)]
         fn every_type_problems() -> Vec<String> {
             let mut out = Vec::new();
-            $(out.extend(contract_tests::problems::<$ty>(LightKind::$variant));)*
+            $(out.extend(contract_tests::problems::<$ty>(LightTypeId::$variant));)*
             out
         }
     };
@@ -105,14 +105,14 @@ macro_rules! light_types {
 
 with_light_types!(light_types);
 
-impl LightKind {
+impl LightTypeId {
     /// What the table says of it.
     pub fn info(self) -> &'static LightTypeInfo {
         &LIGHT_TYPES[self as usize]
     }
 
     /// The type a scene file names `name`.
-    pub fn from_name(name: &str) -> Option<LightKind> {
+    pub fn from_name(name: &str) -> Option<LightTypeId> {
         LIGHT_TYPES.iter().find(|t| t.name == name).map(|t| t.kind)
     }
 }

@@ -3,14 +3,14 @@
 
 use glam::DVec3;
 
-use super::LightKind;
+use super::LightTypeId;
 use crate::base::real::{Real, Vec3};
 
 /// A light (docs/scene-format.md, Lights).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Light {
     /// What type.
-    pub kind: LightKind,
+    pub kind: LightTypeId,
     /// Where a positioned light is; zero for the others.
     pub position: DVec3,
     /// Unit length: the way a directional light travels, a cone's axis;
@@ -133,7 +133,7 @@ crate::base::interface::gpu_struct!(
 #[derive(Debug, Clone, Copy)]
 pub struct LightR<R> {
     /// `Light::kind`.
-    pub kind: LightKind,
+    pub kind: LightTypeId,
     /// `Light::position`, moved.
     pub position: Vec3<R>,
     /// `Light::direction`.

@@ -52,12 +52,18 @@ impl LightType for Spot {
         if !(cutoff > 0.0 && cutoff <= 90.0) {
             return at.err(
                 Some("cutoff"),
-                format!("must be in (0, 90] degrees, got {}", crate::printable::number(cutoff)),
+                format!(
+                    "must be in (0, 90] degrees, got {}",
+                    crate::printable::number(cutoff)
+                ),
             );
         }
         let exponent = at.number("exponent", file.exponent.unwrap_or(0.0))?;
         if exponent < 0.0 {
-            return at.err(Some("exponent"), format!("must be >= 0, got {}", crate::printable::number(exponent)));
+            return at.err(
+                Some("exponent"),
+                format!("must be >= 0, got {}", crate::printable::number(exponent)),
+            );
         }
         own[COS_CUTOFF] = cutoff.to_radians().cos();
         own[EXPONENT] = exponent;

@@ -4,7 +4,7 @@
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
-use super::{Light, LightAt, LightFile, LightKind, LightR, Placement, Toward};
+use super::{Light, LightAt, LightFile, LightR, LightTypeId, Placement, Toward};
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
 use crate::input::keys::keys_of;
@@ -63,7 +63,7 @@ pub trait LightType {
 #[derive(Debug, Clone, Copy)]
 pub struct LightTypeInfo {
     /// Its variant.
-    pub kind: LightKind,
+    pub kind: LightTypeId,
     /// `LightType::NAME`.
     pub name: &'static str,
     /// `LightType::GLSL`.
@@ -79,7 +79,7 @@ pub struct LightTypeInfo {
 }
 
 impl LightTypeInfo {
-    pub(super) const fn of<T: LightType>(kind: LightKind) -> Self {
+    pub(super) const fn of<T: LightType>(kind: LightTypeId) -> Self {
         Self {
             kind,
             name: T::NAME,

@@ -7,7 +7,7 @@ use glam::DVec3;
 
 use serde::de::DeserializeOwned;
 
-use super::{Pattern, Texture, TextureFile, PATTERNS};
+use super::{PatternId, Texture, TextureFile, PATTERNS};
 use crate::input::error::SceneError;
 use crate::input::field::{Triple, Validator, MAX_COORDINATE};
 use crate::input::locate::KeyPath;
@@ -35,7 +35,7 @@ fn whats(key: &str, taking: bool) -> String {
 
 impl Validator<'_> {
     /// The pattern a texture's table names: by `pattern`, or its file's.
-    fn pattern(&self, path: &KeyPath, t: &TextureFile) -> Result<Pattern> {
+    fn pattern(&self, path: &KeyPath, t: &TextureFile) -> Result<PatternId> {
         let named: Vec<&str> = PATTERNS
             .iter()
             .filter(|p| !p.file)
@@ -141,7 +141,7 @@ pub struct PatternAt<'a> {
     check: &'a Validator<'a>,
     path: &'a KeyPath,
     file: &'a TextureFile,
-    pattern: Pattern,
+    pattern: PatternId,
 }
 
 impl PatternAt<'_> {

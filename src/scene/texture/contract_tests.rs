@@ -52,7 +52,7 @@ fn checked(t: &TextureFile) -> Result<Texture, SceneError> {
 const NO_PATTERNS_KEY: &str = "no_pattern_takes_this";
 
 /// What pattern `P` (the table's `pattern`) breaks of the contract.
-pub(super) fn problems<P: PatternType>(pattern: Pattern) -> Vec<String> {
+pub(super) fn problems<P: PatternType>(pattern: PatternId) -> Vec<String> {
     let name = P::NAME;
     let mut out = Vec::new();
     let signature = format!("vec3r {name}_colour(Texture tx, Hit hit, vec3r p)");

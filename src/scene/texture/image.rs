@@ -122,7 +122,7 @@ pub fn filtered<R: Real>(texels: &[[f32; 3]], t: &TextureR<R>, uv: [R; 2]) -> Ve
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::texture::{Pattern, Texels};
+    use crate::scene::texture::{PatternId, Texels};
 
     /// A 3 × 2 image: texel (x, y) is (x, y, 10).
     fn image() -> (Vec<[f32; 3]>, TextureR<f64>) {
@@ -130,7 +130,7 @@ mod tests {
             .flat_map(|y| (0..3).map(move |x| [x as f32, y as f32, 10.0]))
             .collect();
         let t = TextureR {
-            pattern: Pattern::Image,
+            pattern: PatternId::Image,
             size: 1.0,
             colors: [Vec3::new(1.0, 1.0, 1.0); 2],
             rotation: [1.0, 0.0],

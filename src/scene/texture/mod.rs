@@ -41,10 +41,10 @@ pub use model::{Look, Needs, Texels, Texture, TextureR};
 pub(crate) use unit::sample_colors;
 pub use unit::{PatternInfo, PatternType};
 
-/// The table of patterns: each pattern's variant of [`Pattern`] and its
+/// The table of patterns: each pattern's variant of [`PatternId`] and its
 /// type. A pattern's code in the shader is its place here + 1.
 macro_rules! with_patterns {
-    ($then:ident) => {
+    ($then:path) => {
         $then! {
             Checker: checker::Checker,
             SolidChecker: checker::SolidChecker,
@@ -57,17 +57,17 @@ macro_rules! patterns {
     ($($variant:ident : $ty:ty),* $(,)?) => {
         /// What a texture's colour depends on: its place in the table.
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-        pub enum Pattern {
+        pub enum PatternId {
             $(#[doc = concat!("`", stringify!($ty), "`.")] $variant,)*
         }
 
         /// The patterns, in the table's order.
-        pub const PATTERNS: &[PatternInfo] = &[$(PatternInfo::of::<$ty>(Pattern::$variant),)*];
+        pub const PATTERNS: &[PatternInfo] = &[$(PatternInfo::of::<$ty>(PatternId::$variant),)*];
 
-        impl Pattern {
+        impl PatternId {
             pub(crate) fn check(self, at: &PatternAt) -> Result<Look, SceneError> {
                 match self {
-                    $(Pattern::$variant => <$ty>::check(at.own::<<$ty as PatternType>::File>()?, at),)*
+                    $(PatternId::$variant => <$ty>::check(at.own::<<$ty as PatternType>::File>()?, at),)*
                 }
             }
 
@@ -80,7 +80,7 @@ macro_rules! patterns {
                 p: Vec3<R>,
             ) -> Vec3<R> {
                 match self {
-                    $(Pattern::$variant => <$ty>::colour(t, texels, surface, p),)*
+                    $(PatternId::$variant => <$ty>::colour(t, texels, surface, p),)*
                 }
             }
         }
@@ -88,7 +88,7 @@ macro_rules! patterns {
         #[cfg(test)]
         fn every_pattern_problems() -> Vec<String> {
             let mut out = Vec::new();
-            $(out.extend(contract_tests::problems::<$ty>(Pattern::$variant));)*
+            $(out.extend(contract_tests::problems::<$ty>(PatternId::$variant));)*
             out
         }
     };
@@ -96,7 +96,7 @@ macro_rules! patterns {
 
 with_patterns!(patterns);
 
-impl Pattern {
+impl PatternId {
     /// What the table says of it.
     pub fn info(self) -> &'static PatternInfo {
         &PATTERNS[self as usize]

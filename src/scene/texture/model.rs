@@ -4,7 +4,7 @@
 
 use glam::DVec3;
 
-use super::Pattern;
+use super::PatternId;
 use crate::base::real::{Real, Vec3};
 
 /// What of the surface a pattern reads.
@@ -36,7 +36,7 @@ pub struct Texels {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Texture {
     /// Its pattern.
-    pub pattern: Pattern,
+    pub pattern: PatternId,
     /// The side of a square or cube; an image's repeat in uv.
     pub size: f64,
     /// A pattern's colour of the squares whose cell indices sum to an even
@@ -90,7 +90,7 @@ impl Texture {
     /// An image's texture, untinted, unturned, repeating at 1.
     pub fn image(texels: Texels) -> Texture {
         Texture {
-            pattern: Pattern::Image,
+            pattern: PatternId::Image,
             size: 1.0,
             colors: [DVec3::ONE; 2],
             rotation: [1.0, 0.0],
@@ -164,7 +164,7 @@ crate::base::interface::gpu_struct!(
 #[derive(Debug, Clone, Copy)]
 pub struct TextureR<R> {
     /// `Texture::pattern`.
-    pub pattern: Pattern,
+    pub pattern: PatternId,
     /// `Texture::size`.
     pub size: R,
     /// `Texture::colors`.

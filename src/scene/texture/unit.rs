@@ -4,7 +4,7 @@
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
-use super::{Look, Needs, Pattern, PatternAt, TextureFile, TextureR};
+use super::{Look, Needs, PatternAt, PatternId, TextureFile, TextureR};
 use crate::base::real::{Real, Vec3};
 use crate::input::error::SceneError;
 use crate::input::field::Triple;
@@ -82,7 +82,7 @@ impl Needs {
 #[derive(Debug, Clone, Copy)]
 pub struct PatternInfo {
     /// Its variant.
-    pub pattern: Pattern,
+    pub pattern: PatternId,
     /// `PatternType::NAME`.
     pub name: &'static str,
     /// `PatternType::WHAT`.
@@ -102,7 +102,7 @@ pub struct PatternInfo {
 }
 
 impl PatternInfo {
-    pub(super) const fn of<P: PatternType>(pattern: Pattern) -> Self {
+    pub(super) const fn of<P: PatternType>(pattern: PatternId) -> Self {
         Self {
             pattern,
             name: P::NAME,
