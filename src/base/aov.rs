@@ -60,8 +60,8 @@ pub enum Capture {
 
 impl Capture {
     /// The GLSL expressions, one a word.
-    pub fn words(&self) -> &'static [&'static str] {
-        match self {
+    pub const fn words(&self) -> &'static [&'static str] {
+        match *self {
             Capture::Hit(w) | Capture::Pixel(w) => w,
         }
     }
@@ -181,25 +181,38 @@ pub fn named(name: &str) -> Option<&'static AovType> {
     AOVS.iter().find(|t| t.name == name)
 }
 
-/// The first word of `name`'s words in a pixel's words.
-pub fn word_of(name: &str) -> usize {
-    AOVS.iter()
-        .take_while(|t| t.name != name)
-        .map(|t| t.capture.words().len())
-        .sum()
+/// Whether `a` and `b` are the same name (a `const fn`'s `==`).
+const fn same(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+/// The first word of `name`'s words in a pixel's words; with no such
+/// AOV, the words the table takes. Computed where it is compiled where
+/// `name` is a constant (`Aov::decode`, once a pixel).
+pub const fn word_of(name: &str) -> usize {
+    let mut n = 0;
+    let mut i = 0;
+    while i < AOVS.len() && !same(AOVS[i].name, name) {
+        n += AOVS[i].capture.words().len();
+        i += 1;
+    }
+    n
 }
 
 /// Words the table's AOVs take.
 const fn words_used() -> usize {
-    let mut n = 0;
-    let mut i = 0;
-    while i < AOVS.len() {
-        n += match AOVS[i].capture {
-            Capture::Hit(w) | Capture::Pixel(w) => w.len(),
-        };
-        i += 1;
-    }
-    n
+    word_of("")
 }
 
 /// Words of a pixel's AOVs in the shader's Aovs block: the table's, in
@@ -209,19 +222,21 @@ pub const WORDS: usize = words_used().div_ceil(4) * 4;
 impl Aov {
     /// A pixel's AOVs from the shader's words (laid out as [`AOVS`] says).
     pub fn decode(w: &[u32]) -> Self {
+        const DEPTH: usize = word_of("depth");
+        const NORMAL: usize = word_of("normal");
+        const ALBEDO: usize = word_of("albedo");
+        const PRIM: usize = word_of("prim_id");
+        const RAYS: usize = word_of("rays");
         let f = |i: usize| f64::from(f32::from_bits(w[i]));
-        let (depth, normal, albedo) = (word_of("depth"), word_of("normal"), word_of("albedo"));
-        let prim = w[word_of("prim_id")];
+        let (depth, normal, albedo) = (DEPTH, NORMAL, ALBEDO);
+        let prim = w[PRIM];
         let hit = (prim != NONE).then(|| EyeHit {
             depth: f(depth),
             normal: [f(normal), f(normal + 1), f(normal + 2)],
             albedo: [f(albedo), f(albedo + 1), f(albedo + 2)],
             prim: (prim >> KIND_SHIFT, prim & ((1 << KIND_SHIFT) - 1)),
         });
-        Aov {
-            hit,
-            rays: w[word_of("rays")],
-        }
+        Aov { hit, rays: w[RAYS] }
     }
 }
 
